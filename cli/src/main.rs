@@ -1,0 +1,2 @@
+//! `daec`: the command line of the DAE compiler.
+fn main() {}

@@ -1,0 +1,6 @@
+//! `dae-lang`: the compiler for DAE models written in the `.dae` language.
+#![warn(missing_docs)]
+
+pub mod ast;
+pub mod diag;
+pub mod model;

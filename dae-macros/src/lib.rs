@@ -1,0 +1,1 @@
+//! Procedural macros for DAE models; all logic lives in `dae-lang`.

@@ -1,0 +1,1 @@
+//! Example models and scenes of the DAE compiler (see `examples/models/` and `examples/examples/`).
