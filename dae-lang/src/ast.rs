@@ -22,7 +22,10 @@ impl Span {
 
     /// The smallest span that covers both.
     pub fn join(self, other: Span) -> Span {
-        Span { start: self.start.min(other.start), end: self.end.max(other.end) }
+        Span {
+            start: self.start.min(other.start),
+            end: self.end.max(other.end),
+        }
     }
 }
 
@@ -175,7 +178,12 @@ impl Item {
                 target.span = Span::default();
                 rhs.erase_spans();
             }
-            Item::Constraint { name, lhs, rhs, span } => {
+            Item::Constraint {
+                name,
+                lhs,
+                rhs,
+                span,
+            } => {
                 *span = Span::default();
                 if let Some(n) = name {
                     n.span = Span::default();

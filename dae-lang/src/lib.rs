@@ -2,5 +2,9 @@
 #![warn(missing_docs)]
 
 pub mod ast;
+pub mod codegen;
+pub mod compiled;
 pub mod diag;
 pub mod model;
+pub mod tape;
+pub mod tokens;

@@ -1,0 +1,285 @@
+//! Straight-line programs ("tapes"): the common form of every compiled function.
+//!
+//! The symbolic DAG of a model is hash-consed, so each node is already a unique
+//! sub-expression. Emitting the nodes reachable from a function's outputs in topological
+//! order, once each, is common-subexpression elimination across all the outputs of that
+//! function. The result is a [`Tape`]: instruction `k` writes slot `k` from operands that
+//! are constants, inputs or earlier slots. Two back ends read it: the Rust code generator
+//! (one `let` per slot) and the interpreter ([`Tape::eval`]), so the interpreter is an
+//! oracle for the generated code that shares no evaluation code with it.
+
+use crate::model::Func;
+
+/// Something a function reads from its caller.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Input {
+    /// Model parameter `i`.
+    Param(u32),
+    /// Differential state `i`.
+    State(u32),
+    /// Algebraic unknown `i`.
+    Alg(u32),
+    /// Realization parameter `mu_i` of constraint `i`.
+    Mu(u32),
+    /// Time.
+    Time,
+}
+
+/// An operand of an instruction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Operand {
+    /// A literal.
+    Const(f64),
+    /// A value read from the caller.
+    Input(Input),
+    /// The result of an earlier instruction.
+    Slot(u32),
+}
+
+/// One-operand operations.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum UnaryOp {
+    /// `-a`
+    Neg,
+    /// A one-argument built-in function (never `Atan2`, `Pow`, `Min`, `Max`).
+    Call(Func),
+    /// `a^n` for a small integer `n` (evaluated with `powi`).
+    Powi(i32),
+}
+
+/// Two-operand operations.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BinaryOp {
+    /// `a + b`
+    Add,
+    /// `a - b`
+    Sub,
+    /// `a * b`
+    Mul,
+    /// `a / b`
+    Div,
+    /// `a^b` with a non-integer or symbolic exponent (evaluated with `powf`).
+    Pow,
+    /// `atan2(a, b)`
+    Atan2,
+    /// `min(a, b)`
+    Min,
+    /// `max(a, b)`
+    Max,
+}
+
+/// One instruction; its result goes to the slot with its own position.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Instr {
+    /// A unary operation.
+    Unary(UnaryOp, Operand),
+    /// A binary operation.
+    Binary(BinaryOp, Operand, Operand),
+}
+
+/// A straight-line program with numbered outputs.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Tape {
+    instrs: Vec<Instr>,
+    outputs: Vec<Operand>,
+}
+
+/// The inputs of one evaluation.
+#[derive(Clone, Copy, Debug)]
+pub struct Inputs<'a> {
+    /// Parameter values.
+    pub params: &'a [f64],
+    /// States.
+    pub states: &'a [f64],
+    /// Algebraic unknowns.
+    pub algs: &'a [f64],
+    /// Realization parameters `mu`.
+    pub mu: &'a [f64],
+    /// Time.
+    pub t: f64,
+}
+
+impl Tape {
+    /// An empty tape.
+    pub fn new() -> Self {
+        Tape::default()
+    }
+
+    /// Append an instruction; returns the operand that refers to its result.
+    pub fn push(&mut self, instr: Instr) -> Operand {
+        debug_assert!(
+            self.operands_valid(&instr),
+            "operand refers to a later slot"
+        );
+        self.instrs.push(instr);
+        Operand::Slot((self.instrs.len() - 1) as u32)
+    }
+
+    /// Declare the next output.
+    pub fn push_output(&mut self, value: Operand) {
+        self.outputs.push(value);
+    }
+
+    /// The instructions, in evaluation order.
+    pub fn instrs(&self) -> &[Instr] {
+        &self.instrs
+    }
+
+    /// The outputs, in order.
+    pub fn outputs(&self) -> &[Operand] {
+        &self.outputs
+    }
+
+    /// Number of slots an evaluation needs (the length of the `slots` buffer of
+    /// [`Tape::eval`]).
+    pub fn n_slots(&self) -> usize {
+        self.instrs.len()
+    }
+
+    /// Arithmetic operations of one evaluation (one per instruction).
+    pub fn op_count(&self) -> usize {
+        self.instrs.len()
+    }
+
+    fn operands_valid(&self, instr: &Instr) -> bool {
+        let ok = |o: &Operand| match o {
+            Operand::Slot(k) => (*k as usize) < self.instrs.len(),
+            _ => true,
+        };
+        match instr {
+            Instr::Unary(_, a) => ok(a),
+            Instr::Binary(_, a, b) => ok(a) && ok(b),
+        }
+    }
+
+    /// Evaluate into `out` (`out.len() == outputs().len()`), using `slots`
+    /// (`slots.len() >= n_slots()`) as scratch. Allocates nothing.
+    ///
+    /// # Panics
+    /// If a buffer is too short or an input index is out of range for `inputs` (a
+    /// programming error of the caller, never a user error).
+    pub fn eval(&self, inputs: &Inputs<'_>, slots: &mut [f64], out: &mut [f64]) {
+        for (k, instr) in self.instrs.iter().enumerate() {
+            let v = match *instr {
+                Instr::Unary(op, a) => unary(op, read(a, inputs, slots)),
+                Instr::Binary(op, a, b) => {
+                    binary(op, read(a, inputs, slots), read(b, inputs, slots))
+                }
+            };
+            slots[k] = v;
+        }
+        for (o, operand) in out.iter_mut().zip(&self.outputs) {
+            *o = read(*operand, inputs, slots);
+        }
+    }
+}
+
+fn read(o: Operand, inputs: &Inputs<'_>, slots: &[f64]) -> f64 {
+    match o {
+        Operand::Const(c) => c,
+        Operand::Slot(k) => slots[k as usize],
+        Operand::Input(Input::Param(i)) => inputs.params[i as usize],
+        Operand::Input(Input::State(i)) => inputs.states[i as usize],
+        Operand::Input(Input::Alg(i)) => inputs.algs[i as usize],
+        Operand::Input(Input::Mu(i)) => inputs.mu[i as usize],
+        Operand::Input(Input::Time) => inputs.t,
+    }
+}
+
+/// The language's `sign`: -1, 0 or 1, and NaN for NaN (unlike `f64::signum`, which
+/// gives 1 for 0). The generated code uses the same definition.
+pub fn sign(x: f64) -> f64 {
+    if x > 0.0 {
+        1.0
+    } else if x < 0.0 {
+        -1.0
+    } else if x == 0.0 {
+        0.0
+    } else {
+        f64::NAN
+    }
+}
+
+fn unary(op: UnaryOp, a: f64) -> f64 {
+    match op {
+        UnaryOp::Neg => -a,
+        UnaryOp::Powi(n) => a.powi(n),
+        UnaryOp::Call(f) => match f {
+            Func::Sin => a.sin(),
+            Func::Cos => a.cos(),
+            Func::Tan => a.tan(),
+            Func::Asin => a.asin(),
+            Func::Acos => a.acos(),
+            Func::Atan => a.atan(),
+            Func::Sinh => a.sinh(),
+            Func::Cosh => a.cosh(),
+            Func::Tanh => a.tanh(),
+            Func::Exp => a.exp(),
+            Func::Ln => a.ln(),
+            Func::Sqrt => a.sqrt(),
+            Func::Abs => a.abs(),
+            Func::Sign => sign(a),
+            // Two-argument functions are binary instructions; a tape never holds
+            // them as unary calls (the builders guarantee it).
+            Func::Atan2 | Func::Pow | Func::Min | Func::Max => f64::NAN,
+        },
+    }
+}
+
+fn binary(op: BinaryOp, a: f64, b: f64) -> f64 {
+    match op {
+        BinaryOp::Add => a + b,
+        BinaryOp::Sub => a - b,
+        BinaryOp::Mul => a * b,
+        BinaryOp::Div => a / b,
+        BinaryOp::Pow => a.powf(b),
+        BinaryOp::Atan2 => a.atan2(b),
+        BinaryOp::Min => a.min(b),
+        BinaryOp::Max => a.max(b),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn eval_shares_slots_between_outputs() {
+        // y0 = (x0 + p0)^2, y1 = sin(x0 + p0) * t
+        let mut tape = Tape::new();
+        let x = Operand::Input(Input::State(0));
+        let p = Operand::Input(Input::Param(0));
+        let sum = tape.push(Instr::Binary(BinaryOp::Add, x, p));
+        let sq = tape.push(Instr::Unary(UnaryOp::Powi(2), sum));
+        let sn = tape.push(Instr::Unary(UnaryOp::Call(Func::Sin), sum));
+        let y1 = tape.push(Instr::Binary(
+            BinaryOp::Mul,
+            sn,
+            Operand::Input(Input::Time),
+        ));
+        tape.push_output(sq);
+        tape.push_output(y1);
+        let inputs = Inputs {
+            params: &[0.5],
+            states: &[1.0],
+            algs: &[],
+            mu: &[],
+            t: 2.0,
+        };
+        let mut slots = vec![0.0; tape.n_slots()];
+        let mut out = [0.0; 2];
+        tape.eval(&inputs, &mut slots, &mut out);
+        assert_eq!(out[0], 2.25);
+        assert_eq!(out[1], 1.5f64.sin() * 2.0);
+        assert_eq!(tape.op_count(), 4);
+    }
+
+    #[test]
+    fn sign_is_zero_at_zero_and_nan_for_nan() {
+        assert_eq!(sign(0.0), 0.0);
+        assert_eq!(sign(-0.0), 0.0);
+        assert_eq!(sign(3.0), 1.0);
+        assert_eq!(sign(-2.0), -1.0);
+        assert!(sign(f64::NAN).is_nan());
+    }
+}
