@@ -60,7 +60,9 @@ pub enum SimError {
         t: f64,
     },
     /// `J_s = diag(mu^(r-1)) J_Omega` could not be factored at a control update.
-    #[error("singular J_s at t = {t}: constraints {names:?} have no independent pivot (the algebraic unknowns do not appear independently in their (r-1)-th derivatives)")]
+    #[error(
+        "singular J_s at t = {t}: constraints {names:?} have no independent pivot (the algebraic unknowns do not appear independently in their (r-1)-th derivatives)"
+    )]
     SingularJacobian {
         /// Simulation time of the update.
         t: f64,
@@ -70,7 +72,9 @@ pub enum SimError {
         names: Vec<String>,
     },
     /// The reaching phase (all `|s_i| <= eps_i`) was not finished within the limit.
-    #[error("reaching phase not finished after {limit} s (at t = {t}): constraints {names:?} still outside their layers, s = {s:?}")]
+    #[error(
+        "reaching phase not finished after {limit} s (at t = {t}): constraints {names:?} still outside their layers, s = {s:?}"
+    )]
     ReachingTimeout {
         /// The configured limit (duration from the start).
         limit: f64,

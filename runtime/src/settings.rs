@@ -199,7 +199,10 @@ impl Settings {
                 .find(|(_, x)| !x.is_finite() || (strict && **x <= 0.0) || **x < 0.0)
             {
                 let need = if strict { "> 0" } else { ">= 0" };
-                return bad(field, format!("value {i} is {x}, must be finite and {need}"));
+                return bad(
+                    field,
+                    format!("value {i} is {x}, must be finite and {need}"),
+                );
             }
         }
         if !(self.step > 0.0 && self.step.is_finite()) {
@@ -208,7 +211,10 @@ impl Settings {
         if !(self.t_start.is_finite() && self.t_end.is_finite() && self.t_end > self.t_start) {
             return bad(
                 "t_end",
-                format!("[{}, {}] is not a finite, non-empty interval", self.t_start, self.t_end),
+                format!(
+                    "[{}, {}] is not a finite, non-empty interval",
+                    self.t_start, self.t_end
+                ),
             );
         }
         if let Policy::Fixed(p) = self.policy {
@@ -216,11 +222,14 @@ impl Settings {
                 return bad("policy", format!("fixed period {p} must be finite and > 0"));
             }
         }
-        if !(self.settle >= 0.0) {
+        if self.settle.is_nan() || self.settle < 0.0 {
             return bad("settle", format!("{} must be >= 0", self.settle));
         }
-        if !(self.reaching_limit > 0.0) {
-            return bad("reaching_limit", format!("{} must be > 0", self.reaching_limit));
+        if self.reaching_limit.is_nan() || self.reaching_limit <= 0.0 {
+            return bad(
+                "reaching_limit",
+                format!("{} must be > 0", self.reaching_limit),
+            );
         }
         Ok(())
     }

@@ -222,7 +222,10 @@ pub struct CsvSink<W: Write> {
 impl<W: Write> CsvSink<W> {
     /// Stream to `out`.
     pub fn new(out: W) -> Self {
-        Self { out, updates: Vec::new() }
+        Self {
+            out,
+            updates: Vec::new(),
+        }
     }
     /// Times of all control updates so far.
     pub fn update_times(&self) -> &[f64] {
@@ -274,7 +277,12 @@ pub struct Decimate<S> {
 impl<S: Sink> Decimate<S> {
     /// Wrap `inner`, initially keeping every sample.
     pub fn new(inner: S) -> Self {
-        Self { inner, every: 1, min_spacing: 0.0, last_t: f64::NEG_INFINITY }
+        Self {
+            inner,
+            every: 1,
+            min_spacing: 0.0,
+            last_t: f64::NEG_INFINITY,
+        }
     }
     /// Keep only steps that are multiples of `k` (`k = 0` is treated as 1).
     pub fn every(mut self, k: u64) -> Self {

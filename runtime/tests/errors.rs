@@ -6,16 +6,30 @@ use common::Tracking;
 use dae_runtime::{Quantity, Settings, SimError, Simulator, Trace};
 
 fn settings() -> Settings {
-    Settings::new(vec![1e-3], vec![0.05], vec![0.2]).step(1e-3).t_end(2.0)
+    Settings::new(vec![1e-3], vec![0.05], vec![0.2])
+        .step(1e-3)
+        .t_end(2.0)
 }
 
 #[test]
 fn nan_in_the_middle_of_a_run_names_the_state_and_time_and_keeps_the_trace() {
-    let model = Tracking { nan_after: 0.7005, ..Tracking::default() };
+    let model = Tracking {
+        nan_after: 0.7005,
+        ..Tracking::default()
+    };
     let mut trace = Trace::new();
-    let err = Simulator::new(&model, settings()).unwrap().run(&mut trace).unwrap_err();
+    let err = Simulator::new(&model, settings())
+        .unwrap()
+        .run(&mut trace)
+        .unwrap_err();
     match err {
-        SimError::NonFinite { kind, index, ref name, value, t } => {
+        SimError::NonFinite {
+            kind,
+            index,
+            ref name,
+            value,
+            t,
+        } => {
             assert_eq!(kind, Quantity::State);
             assert_eq!((index, name.as_str()), (0, "x"));
             assert!(value.is_nan());
@@ -25,7 +39,10 @@ fn nan_in_the_middle_of_a_run_names_the_state_and_time_and_keeps_the_trace() {
         }
         other => panic!("unexpected error {other}"),
     }
-    assert!(err.to_string().contains("`x`") && err.to_string().contains("0.701"), "{err}");
+    assert!(
+        err.to_string().contains("`x`") && err.to_string().contains("0.701"),
+        "{err}"
+    );
     // Every step before the failure was recorded, all finite and on the solution.
     assert_eq!(trace.len(), 701);
     let last = trace.len() - 1;
@@ -41,10 +58,20 @@ fn nan_in_the_middle_of_a_run_names_the_state_and_time_and_keeps_the_trace() {
 
 #[test]
 fn singular_jacobian_names_the_constraint_and_time() {
-    let model = Tracking { singular: true, ..Tracking::default() };
-    let err = Simulator::new(&model, settings()).unwrap().run(&mut Trace::new()).unwrap_err();
+    let model = Tracking {
+        singular: true,
+        ..Tracking::default()
+    };
+    let err = Simulator::new(&model, settings())
+        .unwrap()
+        .run(&mut Trace::new())
+        .unwrap_err();
     match err {
-        SimError::SingularJacobian { t, constraints, names } => {
+        SimError::SingularJacobian {
+            t,
+            constraints,
+            names,
+        } => {
             assert_eq!(t, 0.0);
             assert_eq!(constraints, vec![0]);
             assert_eq!(names, vec!["track".to_string()]);
@@ -56,10 +83,19 @@ fn singular_jacobian_names_the_constraint_and_time() {
 #[test]
 fn unfinished_reaching_phase_is_an_error_after_the_limit() {
     // Start 1.0 away from the constraint with a gain that needs ~20 s to get there.
-    let model = Tracking { x0: 1.0, ..Tracking::default() };
-    let s = Settings::new(vec![1e-3], vec![0.05], vec![0.05]).step(1e-3).t_end(5.0).reaching_limit(0.5);
+    let model = Tracking {
+        x0: 1.0,
+        ..Tracking::default()
+    };
+    let s = Settings::new(vec![1e-3], vec![0.05], vec![0.05])
+        .step(1e-3)
+        .t_end(5.0)
+        .reaching_limit(0.5);
     let mut trace = Trace::new();
-    let err = Simulator::new(&model, s).unwrap().run(&mut trace).unwrap_err();
+    let err = Simulator::new(&model, s)
+        .unwrap()
+        .run(&mut trace)
+        .unwrap_err();
     match err {
         SimError::ReachingTimeout { limit, t, names, s } => {
             assert_eq!(limit, 0.5);
@@ -76,11 +112,23 @@ fn unfinished_reaching_phase_is_an_error_after_the_limit() {
 fn settings_that_do_not_fit_the_model_are_rejected() {
     let model = Tracking::default();
     let wrong_len = Settings::new(vec![1e-3, 1e-3], vec![0.05, 0.05], vec![0.2, 0.2]);
-    assert!(matches!(Simulator::new(&model, wrong_len), Err(SimError::Settings { field: "eps", .. })));
+    assert!(matches!(
+        Simulator::new(&model, wrong_len),
+        Err(SimError::Settings { field: "eps", .. })
+    ));
     let zero_mu = Settings::new(vec![1e-3], vec![0.0], vec![0.2]);
-    assert!(matches!(Simulator::new(&model, zero_mu), Err(SimError::Settings { field: "mu", .. })));
+    assert!(matches!(
+        Simulator::new(&model, zero_mu),
+        Err(SimError::Settings { field: "mu", .. })
+    ));
     let bad_step = settings().step(-1.0);
-    assert!(matches!(Simulator::new(&model, bad_step), Err(SimError::Settings { field: "step", .. })));
+    assert!(matches!(
+        Simulator::new(&model, bad_step),
+        Err(SimError::Settings { field: "step", .. })
+    ));
     let empty = settings().t_end(0.0);
-    assert!(matches!(Simulator::new(&model, empty), Err(SimError::Settings { field: "t_end", .. })));
+    assert!(matches!(
+        Simulator::new(&model, empty),
+        Err(SimError::Settings { field: "t_end", .. })
+    ));
 }

@@ -6,9 +6,17 @@ use common::{Chain, Tracking};
 use dae_runtime::{AlphaChoice, Model, Policy, Settings, Simulator, Trace};
 
 /// Max errors of `x[0]` and `z_eq[0]` against the exact solution over `t >= 0.5`.
-fn errors<M: Model>(model: &M, settings: Settings, exact_x: fn(f64) -> f64, exact_z: fn(f64) -> f64) -> (f64, f64) {
+fn errors<M: Model>(
+    model: &M,
+    settings: Settings,
+    exact_x: fn(f64) -> f64,
+    exact_z: fn(f64) -> f64,
+) -> (f64, f64) {
     let mut trace = Trace::new();
-    Simulator::new(model, settings).unwrap().run(&mut trace).unwrap();
+    Simulator::new(model, settings)
+        .unwrap()
+        .run(&mut trace)
+        .unwrap();
     let (mut ex, mut ez) = (0.0f64, 0.0f64);
     for (i, &t) in trace.times().iter().enumerate() {
         if t >= 0.5 {
@@ -26,7 +34,10 @@ fn assert_first_order(label: &str, errs: &[f64]) -> Vec<f64> {
     eprintln!("{label}: errors {errs:?}, rates per decade of eps {rates:?}");
     for (k, p) in errs.windows(2).enumerate() {
         let ratio = p[0] / p[1];
-        assert!((4.0..=25.0).contains(&ratio), "{label}: error ratio {ratio} at refinement {k}");
+        assert!(
+            (4.0..=25.0).contains(&ratio),
+            "{label}: error ratio {ratio} at refinement {k}"
+        );
     }
     rates
 }
@@ -44,7 +55,9 @@ fn index2_x_and_z_eq_converge_linearly_in_eps() {
             .step(1e-5)
             .alpha(AlphaChoice::Exact)
             .t_end(2.0);
-        let (x, z) = errors(&Tracking::default(), settings, f64::sin, |t| t.sin() + t.cos());
+        let (x, z) = errors(&Tracking::default(), settings, f64::sin, |t| {
+            t.sin() + t.cos()
+        });
         ex.push(x);
         ez.push(z);
     }
@@ -75,7 +88,9 @@ fn index4_chain_x_and_z_eq_converge_linearly_in_eps() {
 fn cheap_alpha_keeps_the_layer_bounds_on_the_chain() {
     // Cheap alpha: the gain must cover mu^(r-1) |beta| = mu^3 |sin t| <= mu^3.
     let (eps, mu) = (1e-6, 0.2);
-    let settings = Settings::new(vec![eps], vec![mu], vec![1.5 * mu * mu * mu]).step(1e-5).t_end(2.0);
+    let settings = Settings::new(vec![eps], vec![mu], vec![1.5 * mu * mu * mu])
+        .step(1e-5)
+        .t_end(2.0);
     let (ex, ez) = errors(&Chain, settings, f64::sin, |t| -t.cos());
     eprintln!("index 4 cheap alpha: max |x1 - sin t| = {ex:e}, max |z_eq + cos t| = {ez:e}");
     // |w| <= eps (T 3.10), up to one step of overshoot.
@@ -94,7 +109,9 @@ fn spsm_baseline_converges_linearly_in_eps() {
             .step(1e-4)
             .policy(Policy::Spsm)
             .t_end(3.0);
-        let (x, z) = errors(&Tracking::default(), settings, f64::sin, |t| t.sin() + t.cos());
+        let (x, z) = errors(&Tracking::default(), settings, f64::sin, |t| {
+            t.sin() + t.cos()
+        });
         ex.push(x);
         ez.push(z);
     }

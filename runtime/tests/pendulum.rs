@@ -23,7 +23,10 @@ fn scene(policy: Policy, reaching: Reaching, t_end: f64) -> Settings {
 
 fn run(settings: Settings) -> Summary {
     let p = Pendulum::default();
-    let summary = Simulator::new(&p, settings).unwrap().run(&mut NoTrace).unwrap();
+    let summary = Simulator::new(&p, settings)
+        .unwrap()
+        .run(&mut NoTrace)
+        .unwrap();
     eprintln!("{}", serde_json_like(&summary));
     summary
 }
@@ -47,7 +50,9 @@ fn serde_json_like(s: &Summary) -> String {
 #[test]
 fn jacobian_matches_finite_differences_of_w_second_derivative_in_z() {
     let p = Pendulum::default();
-    let x = [-1.2, 0.3, -1.5, -2.0, 1.1, -3.0, 0.4, -0.2, 0.3, 1.0, 0.5, -0.7];
+    let x = [
+        -1.2, 0.3, -1.5, -2.0, 1.1, -3.0, 0.4, -0.2, 0.3, 1.0, 0.5, -0.7,
+    ];
     let z = [2.0, -1.5];
     let j = p.j_omega(&x);
     let h = 1e-6;
@@ -58,7 +63,11 @@ fn jacobian_matches_finite_differences_of_w_second_derivative_in_z() {
         let (op, om) = (p.omega(&x, &zp), p.omega(&x, &zm));
         for r in 0..2 {
             let fd = (op[r] - om[r]) / (2.0 * h);
-            assert!((fd - j[2 * r + c]).abs() < 1e-6 * (1.0 + fd.abs()), "J[{r}][{c}] {} vs fd {fd}", j[2 * r + c]);
+            assert!(
+                (fd - j[2 * r + c]).abs() < 1e-6 * (1.0 + fd.abs()),
+                "J[{r}][{c}] {} vs fd {fd}",
+                j[2 * r + c]
+            );
         }
     }
 }
@@ -67,18 +76,28 @@ fn jacobian_matches_finite_differences_of_w_second_derivative_in_z() {
 fn w_derivatives_match_finite_differences_along_the_flow() {
     // w' and w'' are checked against central differences of w and w' along x + h f.
     let p = Pendulum::default();
-    let x = [-1.2, 0.3, -1.5, -2.0, 1.1, -3.0, 0.4, -0.2, 0.3, 1.0, 0.5, -0.7];
+    let x = [
+        -1.2, 0.3, -1.5, -2.0, 1.1, -3.0, 0.4, -0.2, 0.3, 1.0, 0.5, -0.7,
+    ];
     let z = [2.0, -1.5];
     let mut f = [0.0; 12];
     p.rhs(0.0, &x, &z, &mut f);
     let h = 1e-6;
     let shift = |c: f64| -> [f64; 12] { std::array::from_fn(|k| x[k] + c * h * f[k]) };
-    let (dp, dm, d0) = (p.derivatives(&shift(1.0), &z), p.derivatives(&shift(-1.0), &z), p.derivatives(&x, &z));
+    let (dp, dm, d0) = (
+        p.derivatives(&shift(1.0), &z),
+        p.derivatives(&shift(-1.0), &z),
+        p.derivatives(&x, &z),
+    );
     for i in 0..2 {
         for j in 0..2 {
             let fd = (dp[3 * i + j] - dm[3 * i + j]) / (2.0 * h);
             let an = d0[3 * i + j + 1];
-            assert!((fd - an).abs() < 1e-5 * (1.0 + an.abs()), "w{i}^({}) {an} vs fd {fd}", j + 1);
+            assert!(
+                (fd - an).abs() < 1e-5 * (1.0 + an.abs()),
+                "w{i}^({}) {an} vs fd {fd}",
+                j + 1
+            );
         }
     }
 }
@@ -89,19 +108,31 @@ fn monitored_scene_keeps_s_within_the_layer_after_reaching() {
     let reach = s.reaching_time.expect("reaching phase finished");
     assert!(reach < 1.0, "reaching took {reach}");
     for i in 0..2 {
-        assert!(s.max_abs_s[i] <= 1.02 * EPS, "|s{}| = {}", i + 1, s.max_abs_s[i]);
+        assert!(
+            s.max_abs_s[i] <= 1.02 * EPS,
+            "|s{}| = {}",
+            i + 1,
+            s.max_abs_s[i]
+        );
         // Constraint error within eps once inside the layer (T 3.10).
         assert!(s.max_abs_w[i] <= EPS, "|w{}| = {}", i + 1, s.max_abs_w[i]);
     }
     let (min, mean) = (s.min_period.unwrap(), s.mean_period.unwrap());
     // The reference re-derivation measured min 0.019 s, mean 0.024 s; the guaranteed
     // T_min of this design is about 0.005 s.
-    assert!(min >= 0.005 && mean > 0.015 && mean < 0.035, "min {min}, mean {mean}");
+    assert!(
+        min >= 0.005 && mean > 0.015 && mean < 0.035,
+        "min {min}, mean {mean}"
+    );
 }
 
 #[test]
 fn fixed_period_scene_stays_close_to_the_surfaces() {
-    let s = run(scene(Policy::Fixed(0.005), Reaching::AttractingSurfaces, 4.0));
+    let s = run(scene(
+        Policy::Fixed(0.005),
+        Reaching::AttractingSurfaces,
+        4.0,
+    ));
     assert!(s.max_abs_s[0] <= 0.06, "|s1| = {}", s.max_abs_s[0]);
     assert!(s.max_abs_s[1] <= 0.08, "|s2| = {}", s.max_abs_s[1]);
     // One update per 50 steps over 4 s, plus the initial one.
@@ -112,8 +143,17 @@ fn fixed_period_scene_stays_close_to_the_surfaces() {
 fn contracting_layers_reach_and_then_keep_the_layer() {
     let s = run(scene(Policy::Monitor, Reaching::ContractingLayers, 4.0));
     assert!(s.reaching_time.unwrap() < 1.0);
-    assert!(s.reaching_updates >= 2, "reaching updates {}", s.reaching_updates);
+    assert!(
+        s.reaching_updates >= 2,
+        "reaching updates {}",
+        s.reaching_updates
+    );
     for i in 0..2 {
-        assert!(s.max_abs_s[i] <= 1.02 * EPS, "|s{}| = {}", i + 1, s.max_abs_s[i]);
+        assert!(
+            s.max_abs_s[i] <= 1.02 * EPS,
+            "|s{}| = {}",
+            i + 1,
+            s.max_abs_s[i]
+        );
     }
 }

@@ -73,7 +73,11 @@ impl Controller {
             });
         }
         let offs = w_offsets(r);
-        let mu_pow = r.iter().zip(mu).map(|(&ri, &mi)| mi.powi(ri as i32 - 1)).collect();
+        let mu_pow = r
+            .iter()
+            .zip(mu)
+            .map(|(&ri, &mi)| mi.powi(ri as i32 - 1))
+            .collect();
         Ok(Self {
             w: vec![0.0; offs[m]],
             offs,
@@ -166,7 +170,11 @@ impl Controller {
         let mut violations = 0;
         for i in 0..self.s.len() {
             let exact_part = self.mu_pow[i] * self.beta[i];
-            let alpha_hat = if self.exact_alpha { self.ah[i] + exact_part } else { self.ah[i] };
+            let alpha_hat = if self.exact_alpha {
+                self.ah[i] + exact_part
+            } else {
+                self.ah[i]
+            };
             let sw = match switch {
                 Switch::Sign => sgn(self.s[i]),
                 Switch::Saturation => (self.s[i] / self.eps[i]).clamp(-1.0, 1.0),
@@ -175,7 +183,8 @@ impl Controller {
             if check {
                 // With J_hat = J_s, D = K and gamma = alpha - alpha_hat (T 3.22).
                 let gamma = if self.exact_alpha { 0.0 } else { exact_part };
-                if !(self.gains[i] > gamma.abs() + self.margin[i]) {
+                // A NaN beta counts as a violation.
+                if gamma.is_nan() || self.gains[i] <= gamma.abs() + self.margin[i] {
                     violations += 1;
                 }
             }

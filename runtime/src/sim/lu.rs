@@ -65,7 +65,7 @@ impl DenseLu {
                     piv = r;
                 }
             }
-            if !(best > tol) {
+            if best.is_nan() || best <= tol {
                 dependent.clear();
                 for r in i..m {
                     let negligible = (i..m).all(|c| self.a[(r, c)].abs() <= tol);

@@ -76,7 +76,9 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
         let layout = Layout {
             states: (0..n).map(|i| model.state_name(i).to_string()).collect(),
             algs: (0..m).map(|i| model.alg_name(i).to_string()).collect(),
-            constraints: (0..m).map(|i| model.constraint_name(i).to_string()).collect(),
+            constraints: (0..m)
+                .map(|i| model.constraint_name(i).to_string())
+                .collect(),
         };
         let vn = || vec![0.0; n];
         let vm = || vec![0.0; m];
@@ -100,7 +102,11 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
             eps_k: settings.eps.clone(),
             sgn_k: vm(),
             outside_k: vec![false; m],
-            stats: Stats { max_s: vm(), max_w: vm(), ..Stats::default() },
+            stats: Stats {
+                max_s: vm(),
+                max_w: vm(),
+                ..Stats::default()
+            },
             set: settings,
         })
     }
@@ -192,13 +198,14 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
     /// Whether the monitored update condition holds after the step just taken.
     fn monitor_trigger(&self) -> bool {
         let s = &self.ctl.s;
-        let steady = self.stats.reaching_time.is_some()
-            || self.set.reaching == Reaching::AttractingSurfaces;
+        let steady =
+            self.stats.reaching_time.is_some() || self.set.reaching == Reaching::AttractingSurfaces;
         let eps = if steady { &self.set.eps } else { &self.eps_k };
         // s_i' is estimated by the finite difference over the step (s - s_prev) / h: it
         // is free (s is evaluated after every step anyway), exact in sign for the motion
         // over the step including the neglected beta part, and needs no extra model call.
-        let outward = (0..s.len()).any(|i| s[i].abs() >= eps[i] && s[i] * (s[i] - self.s_prev[i]) > 0.0);
+        let outward =
+            (0..s.len()).any(|i| s[i].abs() >= eps[i] && s[i] * (s[i] - self.s_prev[i]) > 0.0);
         if outward || steady {
             return outward;
         }
@@ -214,8 +221,9 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
             if s.iter().zip(&self.set.eps).all(|(s, e)| s.abs() <= *e) {
                 self.stats.reaching_time = Some(t);
             } else if t - self.set.t_start > self.set.reaching_limit {
-                let outside: Vec<usize> =
-                    (0..s.len()).filter(|&i| s[i].abs() > self.set.eps[i]).collect();
+                let outside: Vec<usize> = (0..s.len())
+                    .filter(|&i| s[i].abs() > self.set.eps[i])
+                    .collect();
                 return Err(SimError::ReachingTimeout {
                     limit: self.set.reaching_limit,
                     t,
@@ -234,9 +242,10 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
             self.stats.stats_from = Some(t);
         }
         if self.stats.stats_from.is_some() {
-            for i in 0..s.len() {
-                self.stats.max_s[i] = self.stats.max_s[i].max(s[i].abs());
-                self.stats.max_w[i] = self.stats.max_w[i].max(self.ctl.residual(i).abs());
+            let st = &mut self.stats;
+            for (i, (ms, mw)) in st.max_s.iter_mut().zip(&mut st.max_w).enumerate() {
+                *ms = ms.max(s[i].abs());
+                *mw = mw.max(self.ctl.residual(i).abs());
             }
         }
         Ok(())
@@ -246,11 +255,16 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
     fn update<S: Sink + ?Sized>(&mut self, step: u64, sink: &mut S) -> Result<(), SimError> {
         let t = self.t;
         self.ctl.factor(self.model, t, &self.x, &self.z)?;
-        let switch = if self.set.policy == Policy::Spsm { Switch::Saturation } else { Switch::Sign };
+        let switch = if self.set.policy == Policy::Spsm {
+            Switch::Saturation
+        } else {
+            Switch::Sign
+        };
         let in_window = self.stats.stats_from.is_some();
         let check = self.set.check_robustness && in_window;
-        let violations =
-            self.ctl.law(self.model, t, &self.x, &self.z, switch, check, &mut self.v);
+        let violations = self
+            .ctl
+            .law(self.model, t, &self.x, &self.z, switch, check, &mut self.v);
         if let Some((i, &v)) = self.v.iter().enumerate().find(|(_, v)| !v.is_finite()) {
             return Err(self.non_finite(Quantity::Control, i, v));
         }
@@ -282,7 +296,12 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
         Ok(())
     }
 
-    fn record<S: Sink + ?Sized>(&mut self, step: u64, last: bool, sink: &mut S) -> Result<(), SimError> {
+    fn record<S: Sink + ?Sized>(
+        &mut self,
+        step: u64,
+        last: bool,
+        sink: &mut S,
+    ) -> Result<(), SimError> {
         self.ctl.z_eq(&self.z, &mut self.z_eq);
         for i in 0..self.wres.len() {
             self.wres[i] = self.ctl.residual(i);
@@ -306,7 +325,13 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
             Quantity::Algebraic | Quantity::Control => self.model.alg_name(index),
             Quantity::Sliding | Quantity::Residual => self.model.constraint_name(index),
         };
-        SimError::NonFinite { kind, index, name: name.to_string(), value, t: self.t }
+        SimError::NonFinite {
+            kind,
+            index,
+            name: name.to_string(),
+            value,
+            t: self.t,
+        }
     }
 
     fn check_finite(&self) -> Result<(), SimError> {
@@ -377,7 +402,15 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
                     // the end of the step as a non-finite z (with its name and time).
                     let ok = self.ctl.factor(model, ts, &self.xs, &self.zs).is_ok();
                     if ok {
-                        self.ctl.law(model, ts, &self.xs, &self.zs, Switch::Saturation, false, &mut self.kz[stage]);
+                        self.ctl.law(
+                            model,
+                            ts,
+                            &self.xs,
+                            &self.zs,
+                            Switch::Saturation,
+                            false,
+                            &mut self.kz[stage],
+                        );
                     } else {
                         self.kz[stage].fill(f64::NAN);
                     }

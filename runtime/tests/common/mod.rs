@@ -17,7 +17,11 @@ pub struct Tracking {
 
 impl Default for Tracking {
     fn default() -> Self {
-        Self { nan_after: f64::INFINITY, singular: false, x0: 0.0 }
+        Self {
+            nan_after: f64::INFINITY,
+            singular: false,
+            x0: 0.0,
+        }
     }
 }
 
@@ -60,9 +64,22 @@ impl Model for Tracking {
         z[0] = 1.0;
     }
     fn rhs(&self, t: f64, x: &[f64], z: &[f64], dx: &mut [f64]) {
-        dx[0] = if t >= self.nan_after { f64::NAN } else { z[0] - x[0] };
+        dx[0] = if t >= self.nan_after {
+            f64::NAN
+        } else {
+            z[0] - x[0]
+        };
     }
-    fn sliding(&self, t: f64, x: &[f64], z: &[f64], mu: &[f64], w: &mut [f64], s: &mut [f64], ah: &mut [f64]) {
+    fn sliding(
+        &self,
+        t: f64,
+        x: &[f64],
+        z: &[f64],
+        mu: &[f64],
+        w: &mut [f64],
+        s: &mut [f64],
+        ah: &mut [f64],
+    ) {
         w[0] = x[0] - t.sin();
         w[1] = z[0] - x[0] - t.cos();
         s[0] = mu[0] * w[1] + w[0];
@@ -125,7 +142,16 @@ impl Model for Chain {
     fn rhs(&self, _: f64, x: &[f64], z: &[f64], dx: &mut [f64]) {
         dx.copy_from_slice(&[x[1], x[2], z[0]]);
     }
-    fn sliding(&self, t: f64, x: &[f64], z: &[f64], mu: &[f64], w: &mut [f64], s: &mut [f64], ah: &mut [f64]) {
+    fn sliding(
+        &self,
+        t: f64,
+        x: &[f64],
+        z: &[f64],
+        mu: &[f64],
+        w: &mut [f64],
+        s: &mut [f64],
+        ah: &mut [f64],
+    ) {
         let (sn, cs) = t.sin_cos();
         w[0] = x[0] - sn;
         w[1] = x[1] - cs;

@@ -19,7 +19,13 @@ pub struct Pendulum {
 
 impl Default for Pendulum {
     fn default() -> Self {
-        Self { m1: 0.1, m2: 0.1, l1: 2.0, l2: 2.0, g: 9.8 }
+        Self {
+            m1: 0.1,
+            m2: 0.1,
+            l1: 2.0,
+            l2: 2.0,
+            g: 9.8,
+        }
     }
 }
 
@@ -53,7 +59,14 @@ impl Pendulum {
         let n1 = dot(r1, r1).sqrt();
         let n12 = dot(d, d).sqrt();
         let v1 = v3(x, 2);
-        Geometry { u1: scale(r1, 1.0 / n1), n1, u12: scale(d, 1.0 / n12), n12, v1, e: sub(v3(x, 3), v1) }
+        Geometry {
+            u1: scale(r1, 1.0 / n1),
+            n1,
+            u12: scale(d, 1.0 / n12),
+            n12,
+            v1,
+            e: sub(v3(x, 3), v1),
+        }
     }
 
     /// Accelerations of the two particles.
@@ -108,7 +121,9 @@ impl Model for Pendulum {
         0
     }
     fn state_name(&self, i: usize) -> &str {
-        ["R1x", "R1y", "R1z", "R2x", "R2y", "R2z", "V1x", "V1y", "V1z", "V2x", "V2y", "V2z"][i]
+        [
+            "R1x", "R1y", "R1z", "R2x", "R2y", "R2z", "V1x", "V1y", "V1z", "V2x", "V2y", "V2z",
+        ][i]
     }
     fn alg_name(&self, i: usize) -> &str {
         ["z1", "z2"][i]
@@ -141,7 +156,16 @@ impl Model for Pendulum {
         dx[6..9].copy_from_slice(&a1);
         dx[9..].copy_from_slice(&a2);
     }
-    fn sliding(&self, _: f64, x: &[f64], z: &[f64], mu: &[f64], w: &mut [f64], s: &mut [f64], ah: &mut [f64]) {
+    fn sliding(
+        &self,
+        _: f64,
+        x: &[f64],
+        z: &[f64],
+        mu: &[f64],
+        w: &mut [f64],
+        s: &mut [f64],
+        ah: &mut [f64],
+    ) {
         w.copy_from_slice(&self.derivatives(x, z));
         for i in 0..2 {
             let (w0, w1, w2) = (w[3 * i], w[3 * i + 1], w[3 * i + 2]);
