@@ -3,7 +3,9 @@
 mod common;
 
 use common::pendulum::Pendulum;
-use dae_runtime::{Model, NoTrace, Policy, Reaching, Settings, Simulator, Summary};
+use dae_runtime::{
+    AlphaChoice, Model, NoTrace, Policy, Reaching, Settings, Simulator, Summary, Trace,
+};
 
 const MU: [f64; 2] = [0.076, 0.066];
 const BETA: [f64; 2] = [1.3e3, 2.3e3];
@@ -124,6 +126,80 @@ fn monitored_scene_keeps_s_within_the_layer_after_reaching() {
         min >= 0.005 && mean > 0.015 && mean < 0.035,
         "min {min}, mean {mean}"
     );
+}
+
+#[test]
+fn monitored_scene_keeps_s_within_the_layer_from_the_reaching_time_on() {
+    let s = run(scene(Policy::Monitor, Reaching::AttractingSurfaces, 4.0).settle(0.0));
+    assert_eq!(s.stats_from, s.reaching_time);
+    for i in 0..2 {
+        assert!(
+            s.max_abs_s[i] <= 1.02 * EPS,
+            "|s{}| = {}",
+            i + 1,
+            s.max_abs_s[i]
+        );
+    }
+}
+
+#[test]
+fn exact_alpha_keeps_the_layer_without_robustness_violations() {
+    let s =
+        run(scene(Policy::Monitor, Reaching::AttractingSurfaces, 4.0).alpha(AlphaChoice::Exact));
+    assert_eq!(s.robustness_violations, Some(0));
+    for i in 0..2 {
+        assert!(
+            s.max_abs_s[i] <= 1.02 * EPS,
+            "|s{}| = {}",
+            i + 1,
+            s.max_abs_s[i]
+        );
+    }
+}
+
+#[test]
+fn robustness_violations_are_counted_per_update_and_constraint() {
+    // A crossing margin above both gains makes every (update, constraint) pair in the
+    // window a violation, whatever beta is.
+    let all = run(
+        scene(Policy::Fixed(0.005), Reaching::AttractingSurfaces, 2.0)
+            .crossing_margin(vec![100.0; 2]),
+    );
+    // Window [1, 2]: updates at 1.000, 1.005, ..., 2.000.
+    assert_eq!(all.robustness_violations, Some(2 * 201));
+    // Independent count: the margin does not change the trajectory, so record it once,
+    // evaluate gamma_i = mu_i^2 |beta_i| at every update in the window from the recorded
+    // states, and choose margins that put the threshold k_i - k_i^c between the gammas.
+    let p = Pendulum::default();
+    let settings = scene(Policy::Fixed(0.005), Reaching::AttractingSurfaces, 2.0);
+    let mut trace = Trace::new();
+    let base = Simulator::new(&p, settings.clone())
+        .unwrap()
+        .run(&mut trace)
+        .unwrap();
+    let from = base.stats_from.unwrap();
+    let mut gammas = [Vec::new(), Vec::new()];
+    for &tu in trace.update_times().iter().filter(|&&t| t >= from) {
+        let k = trace.times().iter().position(|&t| t == tu).unwrap();
+        let mut beta = [0.0; 2];
+        p.beta(tu, trace.x(k), trace.z(k), &mut beta);
+        for i in 0..2 {
+            gammas[i].push(MU[i] * MU[i] * beta[i].abs());
+        }
+    }
+    let mut margins = vec![0.0; 2];
+    let mut expected = 0;
+    for i in 0..2 {
+        let mut sorted = gammas[i].clone();
+        sorted.sort_by(f64::total_cmp);
+        let q = sorted.len() / 3;
+        let threshold = 0.5 * (sorted[q] + sorted[q + 1]);
+        margins[i] = settings.gains[i] - threshold;
+        expected += gammas[i].iter().filter(|&&g| g >= threshold).count() as u64;
+    }
+    let counted = run(settings.crossing_margin(margins));
+    assert_eq!(counted.robustness_violations, Some(expected));
+    assert!(expected > 0);
 }
 
 #[test]
