@@ -99,15 +99,18 @@
 //! ```
 #![warn(missing_docs)]
 
-mod error;
 mod model;
+
+pub use model::{Model, w_offsets};
+
+// The simulator: settings, control law, integration, traces, summary, errors.
+mod error;
 mod settings;
 mod sim;
 mod summary;
 mod trace;
 
 pub use error::{Quantity, SimError};
-pub use model::{Model, w_offsets};
 pub use settings::{AlphaChoice, Integrator, Policy, Reaching, Settings};
 pub use sim::Simulator;
 pub use summary::Summary;
