@@ -1,0 +1,91 @@
+//! Typed run-time errors of the simulator.
+
+use std::fmt;
+
+/// Which kind of quantity became non-finite.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Quantity {
+    /// A differential state `x_i`.
+    State,
+    /// An algebraic unknown `z_i`.
+    Algebraic,
+    /// The control `v_i = z_i'` computed at an update.
+    Control,
+    /// A sliding variable `s_i`.
+    Sliding,
+    /// A constraint residual `w_i`.
+    Residual,
+}
+
+impl fmt::Display for Quantity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Quantity::State => "state",
+            Quantity::Algebraic => "algebraic unknown",
+            Quantity::Control => "control rate v of algebraic unknown",
+            Quantity::Sliding => "sliding variable of constraint",
+            Quantity::Residual => "residual of constraint",
+        })
+    }
+}
+
+/// An error raised by [`Simulator::new`](crate::Simulator::new) or
+/// [`Simulator::run`](crate::Simulator::run).
+///
+/// A run that fails keeps everything its sink recorded up to the failure: the sink is
+/// owned by the caller, so a [`Trace`](crate::Trace) can still be inspected or written
+/// out with [`Trace::write_csv`](crate::Trace::write_csv) after the error.
+#[derive(Debug, thiserror::Error)]
+pub enum SimError {
+    /// The settings do not fit the model or are out of range.
+    #[error("invalid settings: {field}: {reason}")]
+    Settings {
+        /// The offending setting.
+        field: &'static str,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// A value became NaN or infinite.
+    #[error("{kind} `{name}` became non-finite ({value}) at t = {t}")]
+    NonFinite {
+        /// What kind of quantity.
+        kind: Quantity,
+        /// Its index among quantities of that kind.
+        index: usize,
+        /// Its name in the model (for sliding variables and residuals, the constraint).
+        name: String,
+        /// The offending value.
+        value: f64,
+        /// Simulation time at which it was detected.
+        t: f64,
+    },
+    /// `J_s = diag(mu^(r-1)) J_Omega` could not be factored at a control update.
+    #[error(
+        "singular J_s at t = {t}: constraints {names:?} have no independent pivot (the algebraic unknowns do not appear independently in their (r-1)-th derivatives)"
+    )]
+    SingularJacobian {
+        /// Simulation time of the update.
+        t: f64,
+        /// Indices of the constraints whose rows are dependent.
+        constraints: Vec<usize>,
+        /// Their names.
+        names: Vec<String>,
+    },
+    /// The reaching phase (all `|s_i| <= eps_i`) was not finished within the limit.
+    #[error(
+        "reaching phase not finished after {limit} s (at t = {t}): constraints {names:?} still outside their layers, s = {s:?}"
+    )]
+    ReachingTimeout {
+        /// The configured limit (duration from the start).
+        limit: f64,
+        /// Simulation time at which the limit was exceeded.
+        t: f64,
+        /// Names of the constraints still outside their layers.
+        names: Vec<String>,
+        /// Their sliding variables.
+        s: Vec<f64>,
+    },
+    /// Writing to the trace sink failed.
+    #[error("trace sink failed: {0}")]
+    Sink(#[from] std::io::Error),
+}

@@ -1,0 +1,236 @@
+//! Simulation settings with a builder-like API.
+
+use serde::{Deserialize, Serialize};
+
+use crate::SimError;
+
+/// How `x` (and, between updates, `z` along its exact ramp) is integrated over a step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Integrator {
+    /// Explicit Euler, one `f` evaluation per step.
+    Euler,
+    /// Classical fourth-order Runge-Kutta, four `f` evaluations per step. Inside the
+    /// stages `z` follows its exact zero-order-hold ramp `z_b + v (t - t_b)`.
+    Rk4,
+}
+
+/// When the control `v` is recomputed.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Policy {
+    /// DBSMC with monitoring (variable period): after every step, update as soon as some
+    /// `s_i` is on or beyond its layer boundary and moving outward.
+    Monitor,
+    /// DBSMC without monitoring: update every `period` seconds, rounded to a whole
+    /// number of steps (at least one).
+    Fixed(f64),
+    /// The continuous predecessor (SPSM): `sat(s/eps)` in place of `sgn(s)` and `v`
+    /// recomputed at every integrator stage, i.e. an ordinary (stiff) ODE.
+    Spsm,
+}
+
+/// Update rule while the motion is still outside some layer (only used by
+/// [`Policy::Monitor`]; the other policies do not depend on it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Reaching {
+    /// Keep the design gains and layers; update when a trajectory outside its layer
+    /// starts to move away from its surface (`s_i s_i' > 0`) or one inside reaches the
+    /// far side of its layer. This is the steady monitoring rule applied from the start.
+    AttractingSurfaces,
+    /// At update `k` use `eps_i,k = max(|s_i,k|, eps_i)`; update when a trajectory that
+    /// was outside at the update reaches its surface (its `s_i` changes sign) or one that
+    /// was inside reaches the far side of its layer (or any moves outward past
+    /// `eps_i,k`); repeat until all are inside.
+    ContractingLayers,
+}
+
+/// Which `alpha_hat` the control law uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum AlphaChoice {
+    /// The cheap estimate from [`Model::sliding`](crate::Model::sliding): the neglected
+    /// `mu^(r-1) beta` must be covered by the gains.
+    Cheap,
+    /// The exact `alpha = alpha_hat + mu^(r-1) beta` (one [`Model::beta`](crate::Model::beta)
+    /// evaluation per update).
+    Exact,
+}
+
+/// Everything a run needs besides the model. Per-constraint vectors are indexed like the
+/// model's constraints.
+///
+/// ```
+/// use dae_runtime::{Integrator, Policy, Settings};
+/// let s = Settings::new(vec![0.2, 0.2], vec![0.076, 0.066], vec![7.5, 10.0])
+///     .step(1e-4)
+///     .integrator(Integrator::Rk4)
+///     .policy(Policy::Monitor)
+///     .t_end(10.0)
+///     .settle(1.0);
+/// assert_eq!(s.step, 1e-4);
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Settings {
+    /// Boundary-layer half widths `eps_i > 0`.
+    pub eps: Vec<f64>,
+    /// Sliding-surface time constants `mu_i > 0`.
+    pub mu: Vec<f64>,
+    /// Gains `k_i > 0`.
+    pub gains: Vec<f64>,
+    /// Crossing margins `k_i^c >= 0` used when counting robustness violations
+    /// (T 3.22); zero unless configured.
+    pub crossing_margin: Vec<f64>,
+    /// Fixed integration step `h > 0`.
+    pub step: f64,
+    /// Integrator for `x`.
+    pub integrator: Integrator,
+    /// Update policy.
+    pub policy: Policy,
+    /// Reaching-phase rule (monitoring only).
+    pub reaching: Reaching,
+    /// Cheap or exact `alpha_hat`.
+    pub alpha: AlphaChoice,
+    /// Start time.
+    pub t_start: f64,
+    /// End time.
+    pub t_end: f64,
+    /// Statistics (periods, max |s|, max |w|, violations) are taken from
+    /// `max(reaching time, t_start + settle)` on.
+    pub settle: f64,
+    /// Maximum duration of the reaching phase; exceeding it is an error.
+    pub reaching_limit: f64,
+    /// Evaluate `beta` at every update to count robustness violations even with the
+    /// cheap `alpha_hat` (one extra `beta` evaluation per update). On by default.
+    pub check_robustness: bool,
+}
+
+impl Settings {
+    /// Settings with the given layers, time constants and gains, and defaults: RK4 with
+    /// `h = 1e-4`, monitoring, attracting surfaces, cheap `alpha_hat`, `t` from 0 to 1,
+    /// no settle time, no reaching limit, zero crossing margins, robustness counting on.
+    pub fn new(eps: Vec<f64>, mu: Vec<f64>, gains: Vec<f64>) -> Self {
+        let m = eps.len();
+        Self {
+            eps,
+            mu,
+            gains,
+            crossing_margin: vec![0.0; m],
+            step: 1e-4,
+            integrator: Integrator::Rk4,
+            policy: Policy::Monitor,
+            reaching: Reaching::AttractingSurfaces,
+            alpha: AlphaChoice::Cheap,
+            t_start: 0.0,
+            t_end: 1.0,
+            settle: 0.0,
+            reaching_limit: f64::INFINITY,
+            check_robustness: true,
+        }
+    }
+    /// Set the integration step.
+    pub fn step(mut self, h: f64) -> Self {
+        self.step = h;
+        self
+    }
+    /// Set the integrator.
+    pub fn integrator(mut self, integrator: Integrator) -> Self {
+        self.integrator = integrator;
+        self
+    }
+    /// Set the update policy.
+    pub fn policy(mut self, policy: Policy) -> Self {
+        self.policy = policy;
+        self
+    }
+    /// Set the reaching-phase rule.
+    pub fn reaching(mut self, reaching: Reaching) -> Self {
+        self.reaching = reaching;
+        self
+    }
+    /// Choose cheap or exact `alpha_hat`.
+    pub fn alpha(mut self, alpha: AlphaChoice) -> Self {
+        self.alpha = alpha;
+        self
+    }
+    /// Set the start time.
+    pub fn t_start(mut self, t: f64) -> Self {
+        self.t_start = t;
+        self
+    }
+    /// Set the end time.
+    pub fn t_end(mut self, t: f64) -> Self {
+        self.t_end = t;
+        self
+    }
+    /// Set the settle time before statistics are taken.
+    pub fn settle(mut self, duration: f64) -> Self {
+        self.settle = duration;
+        self
+    }
+    /// Set the maximum duration of the reaching phase.
+    pub fn reaching_limit(mut self, duration: f64) -> Self {
+        self.reaching_limit = duration;
+        self
+    }
+    /// Set the crossing margins `k_i^c`.
+    pub fn crossing_margin(mut self, kc: Vec<f64>) -> Self {
+        self.crossing_margin = kc;
+        self
+    }
+    /// Turn robustness counting (and its `beta` evaluation per update) on or off.
+    pub fn check_robustness(mut self, on: bool) -> Self {
+        self.check_robustness = on;
+        self
+    }
+
+    /// Check the settings against a model with `m` constraints.
+    pub(crate) fn validate(&self, m: usize) -> Result<(), SimError> {
+        let bad = |field: &'static str, reason: String| Err(SimError::Settings { field, reason });
+        for (field, v, strict) in [
+            ("eps", &self.eps, true),
+            ("mu", &self.mu, true),
+            ("gains", &self.gains, true),
+            ("crossing_margin", &self.crossing_margin, false),
+        ] {
+            if v.len() != m {
+                return bad(field, format!("{} values for {m} constraints", v.len()));
+            }
+            if let Some((i, x)) = v
+                .iter()
+                .enumerate()
+                .find(|(_, x)| !x.is_finite() || (strict && **x <= 0.0) || **x < 0.0)
+            {
+                let need = if strict { "> 0" } else { ">= 0" };
+                return bad(
+                    field,
+                    format!("value {i} is {x}, must be finite and {need}"),
+                );
+            }
+        }
+        if !(self.step > 0.0 && self.step.is_finite()) {
+            return bad("step", format!("{} must be finite and > 0", self.step));
+        }
+        if !(self.t_start.is_finite() && self.t_end.is_finite() && self.t_end > self.t_start) {
+            return bad(
+                "t_end",
+                format!(
+                    "[{}, {}] is not a finite, non-empty interval",
+                    self.t_start, self.t_end
+                ),
+            );
+        }
+        if let Policy::Fixed(p) = self.policy {
+            if !(p > 0.0 && p.is_finite()) {
+                return bad("policy", format!("fixed period {p} must be finite and > 0"));
+            }
+        }
+        if self.settle.is_nan() || self.settle < 0.0 {
+            return bad("settle", format!("{} must be >= 0", self.settle));
+        }
+        if self.reaching_limit.is_nan() || self.reaching_limit <= 0.0 {
+            return bad(
+                "reaching_limit",
+                format!("{} must be > 0", self.reaching_limit),
+            );
+        }
+        Ok(())
+    }
+}
