@@ -14,7 +14,7 @@ use crate::ast::{Decl, File, Item, ModelAst, Span};
 use crate::diag::Diagnostic;
 use crate::model::{ConstraintDef, DerDef, LetDef, Model, ParamDef, RExpr, VarDef};
 use resolve::{Ctx, Entry, Kind, Scope};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 /// Checks every model of a file and that no two have the same name.
 pub(crate) fn check_file(file: &File) -> Result<Vec<Model>, Vec<Diagnostic>> {
@@ -163,7 +163,12 @@ pub(crate) fn check_model(m: &ModelAst) -> Result<Model, Vec<Diagnostic>> {
 
 /// Registers every declared name; reports reserved words and names declared twice.
 fn declare<'a>(m: &'a ModelAst, diags: &mut Vec<Diagnostic>) -> (Scope<'a>, Decls<'a>) {
-    let mut scope = Scope { names: HashMap::new(), ordered: Vec::new(), model_name: &m.name.name };
+    let mut scope = Scope {
+        names: HashMap::new(),
+        ordered: Vec::new(),
+        duplicated: HashSet::new(),
+        model_name: &m.name.name,
+    };
     let mut decls = Decls::default();
     for item in &m.items {
         let (kind, list): (Kind, Vec<&Decl>) = match item {
@@ -189,6 +194,7 @@ fn declare<'a>(m: &'a ModelAst, diags: &mut Vec<Diagnostic>) -> (Scope<'a>, Decl
                     .related(first.span, format!("first declared here, as {}", first.kind.words()))
                     .hint("rename one of them: each name in a model means one thing"),
                 );
+                scope.duplicated.insert(name);
                 continue;
             }
             let list = match kind {
@@ -262,6 +268,8 @@ fn ders(
         let name = target.name.as_str();
         let entry = match scope.names.get(name) {
             Some(e) if e.kind == Kind::State => *e,
+            // `der` of a name declared twice, once as a state: already reported.
+            Some(_) if scope.duplicated.contains(name) => continue,
             Some(e) => {
                 diags.push(
                     Diagnostic::new(

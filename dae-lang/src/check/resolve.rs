@@ -6,7 +6,7 @@ use super::names::{KEYWORDS, suggest};
 use crate::ast::{Expr, ExprKind, Span};
 use crate::diag::Diagnostic;
 use crate::model::{Func, RExpr, Var};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 /// What a declared name is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -53,6 +53,8 @@ pub(super) struct Scope<'a> {
     pub names: HashMap<&'a str, Entry>,
     /// Declared names in source order (for suggestions that do not depend on hashing).
     pub ordered: Vec<&'a str>,
+    /// Names declared more than once (already reported), to avoid follow-up errors.
+    pub duplicated: HashSet<&'a str>,
     pub model_name: &'a str,
 }
 

@@ -238,12 +238,7 @@ impl Builder {
                 }
                 Rule::pow_op => after_pow = true,
                 _ if after_pow => exponent = Some(self.expr(c)),
-                _ => {
-                    if open.is_some() && self.too_deep_at(&c) {
-                        return self.too_deep(s);
-                    }
-                    base = Some(self.expr(c));
-                }
+                _ => base = Some(self.expr(c)),
             }
         }
         let Some((base, bdepth)) = base else {
@@ -302,25 +297,6 @@ impl Builder {
         Expr { kind: ExprKind::Num(value), span: s }
     }
 
-    /// Whether the parenthesised text `c` is too deep to build by recursion: checked
-    /// before descending, so that building never recurses past the limit.
-    fn too_deep_at(&self, c: &Pair<'_, Rule>) -> bool {
-        // Every level of parentheses costs at least one `(`.
-        let mut depth = 0usize;
-        let mut max = 0usize;
-        for ch in c.as_str().bytes() {
-            match ch {
-                b'(' => {
-                    depth += 1;
-                    max = max.max(depth);
-                }
-                b')' => depth = depth.saturating_sub(1),
-                _ => {}
-            }
-        }
-        max >= MAX_DEPTH
-    }
-
     fn too_deep(&mut self, s: Span) -> (Expr, usize) {
         // One report per expression: an enclosing expression that is also too deep
         // overlaps this span and is not reported again.
@@ -328,7 +304,7 @@ impl Builder {
             self.diags.retain(|d| !(s.start <= d.span.start && d.span.end <= s.end));
             self.diags.push(
                 Diagnostic::new(
-                    format!("expression nested too deeply (more than {MAX_DEPTH} levels)"),
+                    format!("expression too deep (more than {MAX_DEPTH} levels of operations)"),
                     s,
                     "this expression",
                 )
