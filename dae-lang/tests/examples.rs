@@ -143,13 +143,12 @@ fn double_pendulum_3d_has_the_thesis_equations() {
     let l2 = norm(d);
     let (m1, m2, g) = (0.1, 0.1, 9.8);
     let mut expected = v.to_vec();
+    let gravity = [0.0, 0.0, g];
     for k in 0..3 {
-        let gk = if k == 2 { g } else { 0.0 };
-        expected.push((-z1 * r1[k] / l1 + z2 * d[k] / l2) / m1 - gk);
+        expected.push((-z1 * r1[k] / l1 + z2 * d[k] / l2) / m1 - gravity[k]);
     }
-    for k in 0..3 {
-        let gk = if k == 2 { g } else { 0.0 };
-        expected.push(-z2 * d[k] / l2 / m2 - gk);
+    for (dk, gk) in d.iter().zip(gravity) {
+        expected.push(-z2 * dk / l2 / m2 - gk);
     }
     close(&f, &expected);
     close(

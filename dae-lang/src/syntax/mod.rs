@@ -80,11 +80,7 @@ fn too_deep(src: &str) -> Option<Span> {
                 pows.push(0);
                 depth += 1;
             }
-            b')' => {
-                if pows.len() > 1 {
-                    depth -= 1 + pows.pop().unwrap_or(0);
-                }
-            }
+            b')' if pows.len() > 1 => depth -= 1 + pows.pop().unwrap_or(0),
             b'^' => {
                 if let Some(p) = pows.last_mut() {
                     *p += 1;
