@@ -175,3 +175,70 @@ fn missing_argument_is_a_usage_error() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("FILE"), "{}", stderr(&o));
 }
+
+/// The code blocks of a markdown text, in order.
+fn code_blocks(md: &str) -> Vec<String> {
+    let mut blocks = Vec::new();
+    let mut current: Option<String> = None;
+    for line in md.lines() {
+        if line.starts_with("```") {
+            match current.take() {
+                Some(b) => blocks.push(b),
+                None => current = Some(String::new()),
+            }
+        } else if let Some(b) = current.as_mut() {
+            b.push_str(line);
+            b.push('\n');
+        }
+    }
+    blocks
+}
+
+#[test]
+fn the_rendered_error_in_the_user_docs_is_what_daec_prints() {
+    let doc =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/language.md"))
+            .expect("docs/language.md");
+    let blocks = code_blocks(&doc);
+    let model = blocks.iter().find(|b| b.starts_with("model Spring")).expect("the Spring example");
+    let shown =
+        blocks.iter().find(|b| b.starts_with("Error: unknown name `xx`")).expect("its rendering");
+    let path = temp_file("spring.dae", model.as_bytes());
+    let o = Command::new(env!("CARGO_BIN_EXE_daec"))
+        .current_dir(path.parent().unwrap())
+        .args(["check", "spring.dae"])
+        .output()
+        .expect("daec runs");
+    assert_eq!(o.status.code(), Some(1));
+    // The docs drop the trailing spaces ariadne leaves on some lines.
+    let trim = |s: &str| s.lines().map(str::trim_end).collect::<Vec<_>>().join("\n");
+    assert_eq!(trim(&stderr(&o)), trim(shown));
+}
+
+#[test]
+fn the_first_model_in_the_user_docs_checks_as_shown() {
+    let doc =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/language.md"))
+            .expect("docs/language.md");
+    let blocks = code_blocks(&doc);
+    let model =
+        blocks.iter().find(|b| b.starts_with("// Planar pendulum")).expect("the first model");
+    let summary =
+        blocks.iter().find(|b| b.starts_with("pend.dae: 1 model OK")).expect("its summary");
+    let json = blocks.iter().find(|b| b.contains("\"model\": \"Pendulum\"")).expect("its JSON");
+    let path = temp_file("pend.dae", model.as_bytes());
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_daec"))
+            .current_dir(path.parent().unwrap())
+            .args(args)
+            .output()
+            .expect("daec runs")
+    };
+    let o = run(&["check", "pend.dae"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(stdout(&o), *summary);
+    let o = run(&["check", "--json", "pend.dae"]);
+    let got: serde_json::Value = serde_json::from_slice(&o.stdout).expect("valid JSON");
+    let want: serde_json::Value = serde_json::from_str(json).expect("the docs show valid JSON");
+    assert_eq!(got, want);
+}
