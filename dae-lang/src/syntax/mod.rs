@@ -76,6 +76,18 @@ fn too_deep(src: &str) -> Option<Span> {
                 // An unclosed comment is the parser's error to report.
                 None => return None,
             },
+            // Names and numbers are skipped whole, so that the sign of an exponent
+            // (`1e-3`) is not taken for a minus that ends a `^` chain.
+            b'a'..=b'z' | b'A'..=b'Z' | b'_' => {
+                i += token_len(&bytes[i..], |c| c.is_ascii_alphanumeric() || c == b'_');
+                prev = b'a';
+                continue;
+            }
+            b'0'..=b'9' => {
+                i += number_len(&bytes[i..]);
+                prev = b'0';
+                continue;
+            }
             b'(' => {
                 pows.push(0);
                 depth += 1;
@@ -105,6 +117,29 @@ fn too_deep(src: &str) -> Option<Span> {
         i += 1;
     }
     None
+}
+
+/// The length of the leading run of bytes satisfying `f`.
+fn token_len(bytes: &[u8], f: impl Fn(u8) -> bool) -> usize {
+    bytes.iter().position(|&c| !f(c)).unwrap_or(bytes.len())
+}
+
+/// The length of the number at the start of `bytes` (which starts with a digit), as
+/// the grammar reads it: digits, optionally `.` and digits, optionally an exponent.
+fn number_len(bytes: &[u8]) -> usize {
+    let digits = |from: usize| token_len(&bytes[from.min(bytes.len())..], |c| c.is_ascii_digit());
+    let mut n = digits(0);
+    if bytes.get(n) == Some(&b'.') && digits(n + 1) > 0 {
+        n += 1 + digits(n + 1);
+    }
+    if matches!(bytes.get(n), Some(b'e' | b'E')) {
+        let sign = usize::from(matches!(bytes.get(n + 1), Some(b'+' | b'-')));
+        let exp = digits(n + 1 + sign);
+        if exp > 0 {
+            n += 1 + sign + exp;
+        }
+    }
+    n
 }
 
 #[cfg(test)]

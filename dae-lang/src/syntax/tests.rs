@@ -360,6 +360,8 @@ fn deep_nesting_is_an_error_not_a_crash() {
         (deep("sin(", ")", 5000), 275),
         (deep("2^", "", 3000), 147),
         (deep("(2^", ")", 40), 115),
+        // The sign of an exponent does not end a chain of `^`.
+        (deep("2^1e-1^", "", 100), 19 + 7 * 32),
     ] {
         let d = parse(&src).unwrap_err();
         assert_eq!(d.len(), 1, "{d:?}");
