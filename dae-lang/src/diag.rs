@@ -67,21 +67,22 @@ impl Diagnostic {
             .with_color(color)
             .with_index_type(IndexType::Byte)
             .with_char_set(CharSet::Unicode);
-        let mut report = Report::build(ReportKind::Error, (file_name, primary.clone()))
+        // ariadne starts a new snippet (with a misleading header) whenever a label lies
+        // on an earlier line than the previous one; ordering labels by position keeps
+        // all of them in one snippet.
+        let mut labels: Vec<(std::ops::Range<usize>, &str, Color)> =
+            vec![(primary.clone(), &self.label, Color::Red)];
+        labels.extend(self.related.iter().map(|(s, l)| (clamp(*s), l.as_str(), Color::Blue)));
+        labels.sort_by_key(|(r, _, _)| r.start);
+        let mut report = Report::build(ReportKind::Error, (file_name, primary))
             .with_config(config)
-            .with_message(&self.message)
-            .with_label(
-                Label::new((file_name, primary))
-                    .with_message(&self.label)
-                    .with_color(Color::Red)
-                    .with_order(0),
-            );
-        for (i, (span, label)) in self.related.iter().enumerate() {
+            .with_message(&self.message);
+        for (i, (range, label, color)) in labels.into_iter().enumerate() {
             report = report.with_label(
-                Label::new((file_name, clamp(*span)))
+                Label::new((file_name, range))
                     .with_message(label)
-                    .with_color(Color::Blue)
-                    .with_order(i as i32 + 1),
+                    .with_color(color)
+                    .with_order(i32::try_from(i).unwrap_or(i32::MAX)),
             );
         }
         if let Some(hint) = &self.hint {
@@ -167,5 +168,24 @@ mod tests {
         }
         let text = Diagnostic::new("m", Span::new(0, 0), "l").render("f", "", false);
         assert!(text.contains("Error: m"), "{text}");
+        // Spans over line breaks, ends in the middle of a character.
+        let src = "a\r\nbé\nc";
+        for (s, e) in [(1, 2), (1, 3), (2, 3), (0, 5), (4, 6), (5, 6), (6, 7), (3, 9), (8, 9)] {
+            let d = Diagnostic::new("m", Span::new(s, e), "l").related(Span::new(e, s.max(e)), "r");
+            assert!(d.render("f", src, false).contains("Error: m"));
+        }
+    }
+
+    #[test]
+    fn related_places_on_earlier_lines_share_the_snippet() {
+        let src = "model M {\n    state x = 0;\n    der(x) = 1;\n    der(x) = 2;\n}\n";
+        let d =
+            Diagnostic::new("two", Span::new(47, 58), "second").related(Span::new(31, 42), "first");
+        let text = d.render("m.dae", src, false);
+        assert_eq!(text.matches("m.dae:").count(), 1, "{text}");
+        assert!(text.contains("m.dae:4:5"), "{text}");
+        let first = text.find("first").unwrap_or(usize::MAX);
+        let second = text.find("second").unwrap_or(0);
+        assert!(first < second, "labels in source order: {text}");
     }
 }
