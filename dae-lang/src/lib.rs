@@ -1,4 +1,28 @@
 //! `dae-lang`: the compiler for DAE models written in the `.dae` language.
+//!
+//! The front end turns source text into checked models: [`parse`] gives the syntax tree
+//! ([`ast`]), [`check`] resolves and verifies one model ([`model::Model`]), and
+//! [`compile_models`] does both for every model of a file. Errors are [`Diagnostic`]s,
+//! rendered with their source context by [`Diagnostic::render`]. The language is
+//! described in `docs/language.md`.
+//!
+//! ```
+//! let src = "
+//!     model Decay {
+//!         param k = 0.5;
+//!         state x = 2 * k;
+//!         der(x) = -k * x;
+//!     }";
+//! let models = dae_lang::compile_models(src).expect("a valid model");
+//! assert_eq!(models[0].name, "Decay");
+//! assert_eq!(models[0].params[0].default, 0.5);
+//!
+//! let bad = "model M { state x = 0; der(x) = -k * x; }";
+//! let errors = dae_lang::compile_models(bad).unwrap_err();
+//! assert_eq!(errors[0].message, "unknown name `k`");
+//! assert_eq!(dae_lang::line_col(bad, errors[0].span), (1, 34));
+//! println!("{}", errors[0].render("bad.dae", bad, false));
+//! ```
 #![warn(missing_docs)]
 
 pub mod ast;
@@ -8,3 +32,28 @@ pub mod diag;
 pub mod model;
 pub mod tape;
 pub mod tokens;
+
+mod check;
+mod syntax;
+
+pub use diag::{Diagnostic, line_col};
+
+/// Parses a `.dae` source text into its syntax tree.
+pub fn parse(src: &str) -> Result<ast::File, Vec<Diagnostic>> {
+    syntax::parse(src)
+}
+
+/// Checks one model: resolves names, evaluates parameter defaults, orders the `let`
+/// definitions and verifies the structure (one `der` per state, as many constraints
+/// as algebraic variables, ...). Returns every error found, not only the first.
+pub fn check(model: &ast::ModelAst) -> Result<model::Model, Vec<Diagnostic>> {
+    check::check_model(model)
+}
+
+/// Parses and checks every model of a source text.
+///
+/// On failure returns all the errors: the syntax error, or the errors of every model,
+/// in source order.
+pub fn compile_models(src: &str) -> Result<Vec<model::Model>, Vec<Diagnostic>> {
+    check::check_file(&parse(src)?)
+}

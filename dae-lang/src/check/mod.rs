@@ -1,0 +1,452 @@
+//! The checker: from a parsed model ([`ModelAst`]) to a checked [`Model`].
+//!
+//! It resolves names over the whole model, evaluates parameter defaults, orders the
+//! `let` definitions and checks the structure. It goes on after an error so that one
+//! run reports every error of a model; an expression in error is dropped (`None`)
+//! rather than reported again where it is used.
+
+mod eval;
+mod lets;
+mod names;
+mod resolve;
+
+use crate::ast::{Decl, File, Item, ModelAst, Span};
+use crate::diag::Diagnostic;
+use crate::model::{ConstraintDef, DerDef, LetDef, Model, ParamDef, RExpr, VarDef};
+use resolve::{Ctx, Entry, Kind, Scope};
+use std::collections::{HashMap, HashSet};
+
+/// Checks every model of a file and that no two have the same name.
+pub(crate) fn check_file(file: &File) -> Result<Vec<Model>, Vec<Diagnostic>> {
+    let mut diags = Vec::new();
+    let mut models = Vec::new();
+    let mut seen: HashMap<&str, Span> = HashMap::new();
+    for m in &file.models {
+        if let Some(&first) = seen.get(m.name.name.as_str()) {
+            diags.push(
+                Diagnostic::new(
+                    format!("two models named `{}` in one file", m.name.name),
+                    m.name.span,
+                    "second model with this name",
+                )
+                .related(first, "first model with this name")
+                .hint("rename one of the models"),
+            );
+        } else {
+            seen.insert(&m.name.name, m.name.span);
+        }
+        match check_model(m) {
+            Ok(model) => models.push(model),
+            Err(mut d) => diags.append(&mut d),
+        }
+    }
+    if diags.is_empty() {
+        Ok(models)
+    } else {
+        diags.sort_by_key(|d| d.span.start);
+        Err(diags)
+    }
+}
+
+/// The declarations of one model, by kind, in source order (first declarations only).
+#[derive(Default)]
+struct Decls<'a> {
+    params: Vec<&'a Decl>,
+    states: Vec<&'a Decl>,
+    algs: Vec<&'a Decl>,
+    lets: Vec<&'a Decl>,
+}
+
+/// Checks one model.
+pub(crate) fn check_model(m: &ModelAst) -> Result<Model, Vec<Diagnostic>> {
+    let mut diags = Vec::new();
+    if names::is_reserved(&m.name.name) {
+        let (message, hint) = names::reserved_message(&m.name.name);
+        diags.push(Diagnostic::new(message, m.name.span, "reserved word").hint(hint));
+    }
+    let (scope, decls) = declare(m, &mut diags);
+
+    // Parameters, in order: each default may use the ones before it.
+    let mut values: Vec<Option<f64>> = Vec::with_capacity(decls.params.len());
+    for (i, d) in decls.params.iter().enumerate() {
+        let ctx = Ctx::ParamDefault {
+            index: i,
+            name: &d.name.name,
+        };
+        let value = scope
+            .resolve(&d.value, ctx, &mut diags)
+            .and_then(|e| eval::eval(&e, &values));
+        let value = value.filter(|v| {
+            let finite = v.is_finite();
+            if !finite {
+                diags.push(not_finite(
+                    &format!("the default of parameter `{}`", d.name.name),
+                    *v,
+                    d,
+                ));
+            }
+            finite
+        });
+        values.push(value);
+    }
+
+    let init = |list: &[&Decl], diags: &mut Vec<Diagnostic>| -> Vec<Option<RExpr>> {
+        list.iter()
+            .map(|d| {
+                let e = scope.resolve(&d.value, Ctx::Init { name: &d.name.name }, diags)?;
+                match eval::eval(&e, &values) {
+                    Some(v) if !v.is_finite() => {
+                        let what = format!("the initial value of `{}`", d.name.name);
+                        diags.push(not_finite(&what, v, d));
+                        None
+                    }
+                    _ => Some(e),
+                }
+            })
+            .collect()
+    };
+    let state_inits = init(&decls.states, &mut diags);
+    let alg_inits = init(&decls.algs, &mut diags);
+
+    let let_exprs: Vec<Option<RExpr>> = decls
+        .lets
+        .iter()
+        .map(|d| scope.resolve(&d.value, Ctx::Equation, &mut diags))
+        .collect();
+    let let_order = order_lets(&decls.lets, &let_exprs, &mut diags);
+
+    let ders = ders(m, &scope, &decls.states, &mut diags);
+    let constraints = constraints(m, &scope, &mut diags);
+    if decls.algs.len() != constraints.len() {
+        diags.push(count_mismatch(m, decls.algs.len(), constraints.len()));
+    }
+
+    if !diags.is_empty() {
+        diags.sort_by_key(|d| d.span.start);
+        return Err(diags);
+    }
+    // No error was reported, so every `Option` below is `Some`: each `None` comes with a
+    // diagnostic. `flatten` keeps this free of panicking unwraps all the same.
+    let var_defs = |list: &[&Decl], inits: Vec<Option<RExpr>>| -> Vec<VarDef> {
+        list.iter()
+            .zip(inits)
+            .filter_map(|(d, e)| {
+                Some(VarDef {
+                    name: d.name.name.clone(),
+                    init: e?,
+                    span: d.span,
+                })
+            })
+            .collect()
+    };
+    let mut new_index = vec![0; decls.lets.len()];
+    for (new, &old) in let_order.iter().enumerate() {
+        new_index[old] = new;
+    }
+    let mut let_exprs = let_exprs;
+    let lets_out = let_order
+        .iter()
+        .filter_map(|&i| {
+            let mut expr = let_exprs[i].take()?;
+            lets::renumber(&mut expr, &new_index);
+            Some(LetDef {
+                name: decls.lets[i].name.name.clone(),
+                expr,
+                span: decls.lets[i].span,
+            })
+        })
+        .collect();
+    let mut ders_out: Vec<DerDef> = ders.into_iter().flatten().collect();
+    let mut constraints_out: Vec<ConstraintDef> = constraints.into_iter().flatten().collect();
+    ders_out
+        .iter_mut()
+        .for_each(|d| lets::renumber(&mut d.expr, &new_index));
+    constraints_out
+        .iter_mut()
+        .for_each(|c| lets::renumber(&mut c.residual, &new_index));
+    Ok(Model {
+        name: m.name.name.clone(),
+        span: m.name.span,
+        params: decls
+            .params
+            .iter()
+            .zip(values)
+            .filter_map(|(d, v)| {
+                Some(ParamDef {
+                    name: d.name.name.clone(),
+                    default: v?,
+                    span: d.span,
+                })
+            })
+            .collect(),
+        states: var_defs(&decls.states, state_inits),
+        algs: var_defs(&decls.algs, alg_inits),
+        lets: lets_out,
+        ders: ders_out,
+        constraints: constraints_out,
+    })
+}
+
+/// Registers every declared name; reports reserved words and names declared twice.
+fn declare<'a>(m: &'a ModelAst, diags: &mut Vec<Diagnostic>) -> (Scope<'a>, Decls<'a>) {
+    let mut scope = Scope {
+        names: HashMap::new(),
+        ordered: Vec::new(),
+        duplicated: HashSet::new(),
+        model_name: &m.name.name,
+    };
+    let mut decls = Decls::default();
+    for item in &m.items {
+        let (kind, list): (Kind, Vec<&Decl>) = match item {
+            Item::Param(ds, _) => (Kind::Param, ds.iter().collect()),
+            Item::State(ds, _) => (Kind::State, ds.iter().collect()),
+            Item::Alg(ds, _) => (Kind::Alg, ds.iter().collect()),
+            Item::Let(d, _) => (Kind::Let, vec![d]),
+            Item::Der { .. } | Item::Constraint { .. } => continue,
+        };
+        for d in list {
+            let name = d.name.name.as_str();
+            if names::is_reserved(name) {
+                let (message, hint) = names::reserved_message(name);
+                diags.push(Diagnostic::new(message, d.name.span, "reserved word").hint(hint));
+            }
+            if let Some(first) = scope.names.get(name) {
+                diags.push(
+                    Diagnostic::new(
+                        format!("`{name}` is declared twice"),
+                        d.name.span,
+                        format!("declared again here, as {}", kind.words()),
+                    )
+                    .related(
+                        first.span,
+                        format!("first declared here, as {}", first.kind.words()),
+                    )
+                    .hint("rename one of them: each name in a model means one thing"),
+                );
+                scope.duplicated.insert(name);
+                continue;
+            }
+            let list = match kind {
+                Kind::Param => &mut decls.params,
+                Kind::State => &mut decls.states,
+                Kind::Alg => &mut decls.algs,
+                Kind::Let => &mut decls.lets,
+            };
+            scope.names.insert(
+                name,
+                Entry {
+                    kind,
+                    index: list.len(),
+                    span: d.name.span,
+                },
+            );
+            scope.ordered.push(name);
+            list.push(d);
+        }
+    }
+    (scope, decls)
+}
+
+fn not_finite(what: &str, v: f64, d: &Decl) -> Diagnostic {
+    Diagnostic::new(format!("{what} is not finite"), d.value.span, format!("evaluates to {v}"))
+        .hint("look for a division by zero, an overflow, or a function outside its domain (ln, sqrt, asin, acos)")
+}
+
+/// Orders the `let`s so that each follows those it uses; reports cycles.
+fn order_lets(decls: &[&Decl], exprs: &[Option<RExpr>], diags: &mut Vec<Diagnostic>) -> Vec<usize> {
+    let uses: Vec<Vec<usize>> = exprs
+        .iter()
+        .map(|e| {
+            let mut out = Vec::new();
+            if let Some(e) = e {
+                lets::let_uses(e, &mut out);
+            }
+            out
+        })
+        .collect();
+    let order = lets::order(&uses);
+    for cycle in &order.cycles {
+        let names: Vec<&str> = cycle.iter().map(|&i| decls[i].name.name.as_str()).collect();
+        let path = format!("{} -> {}", names.join(" -> "), names[0]);
+        let first = decls[cycle[0]];
+        let mut d = Diagnostic::new(
+            format!("the definitions form a cycle: {path}"),
+            first.name.span,
+            if cycle.len() == 1 {
+                "uses itself".to_string()
+            } else {
+                "this definition starts the cycle".into()
+            },
+        )
+        .hint("a `let` may not use itself, directly or through other `let`s: break the cycle");
+        for &i in &cycle[1..] {
+            d = d.related(
+                decls[i].name.span,
+                format!("`{}` is on the cycle", decls[i].name.name),
+            );
+        }
+        diags.push(d);
+    }
+    order.order
+}
+
+/// The `der` equations, one per state (indexed like `states`).
+fn ders(
+    m: &ModelAst,
+    scope: &Scope<'_>,
+    states: &[&Decl],
+    diags: &mut Vec<Diagnostic>,
+) -> Vec<Option<DerDef>> {
+    let mut out: Vec<Option<DerDef>> = vec![None; states.len()];
+    let mut first_span: Vec<Option<Span>> = vec![None; states.len()];
+    for item in &m.items {
+        let Item::Der { target, rhs, span } = item else {
+            continue;
+        };
+        let expr = scope.resolve(rhs, Ctx::Equation, diags);
+        let name = target.name.as_str();
+        let entry = match scope.names.get(name) {
+            Some(e) if e.kind == Kind::State => *e,
+            // `der` of a name declared twice, once as a state: already reported.
+            Some(_) if scope.duplicated.contains(name) => continue,
+            Some(e) => {
+                diags.push(
+                    Diagnostic::new(
+                        format!("`der({name})`: `{name}` is {}, not a state", e.kind.words()),
+                        target.span,
+                        e.kind.words(),
+                    )
+                    .related(e.span, format!("`{name}` is declared here"))
+                    .hint(format!(
+                        "only states have a derivative: declare `{name}` with `state`"
+                    )),
+                );
+                continue;
+            }
+            None => {
+                let mut d = scope.unknown_name(name, target.span);
+                if name == "t" {
+                    d = Diagnostic::new("`der(t)`: `t` is time, not a state", target.span, "time")
+                        .hint("`der` takes a state declared with `state`");
+                }
+                diags.push(d);
+                continue;
+            }
+        };
+        if let Some(first) = first_span[entry.index] {
+            diags.push(
+                Diagnostic::new(
+                    format!("state `{name}` has two equations `der({name}) = ...`"),
+                    *span,
+                    "second equation",
+                )
+                .related(first, "first equation")
+                .hint("keep one of them: each state has exactly one `der` equation"),
+            );
+            continue;
+        }
+        first_span[entry.index] = Some(*span);
+        out[entry.index] = expr.map(|expr| DerDef { expr, span: *span });
+    }
+    for (i, d) in states.iter().enumerate() {
+        if first_span[i].is_none() {
+            let name = &d.name.name;
+            diags.push(
+                Diagnostic::new(format!("state `{name}` has no equation `der({name}) = ...`"), d.name.span, "declared here")
+                    .hint(format!("add `der({name}) = ...;`, or declare `{name}` with `alg` if it has no derivative")),
+            );
+        }
+    }
+    out
+}
+
+/// The constraints in order, named; reports duplicate names.
+///
+/// An unnamed constraint is named `c<k>`, `k` being its position among all the
+/// constraints of the model (1-based): the third constraint is `c3` whether or not the
+/// first two have names. A generated name equal to a written one is reported.
+fn constraints(
+    m: &ModelAst,
+    scope: &Scope<'_>,
+    diags: &mut Vec<Diagnostic>,
+) -> Vec<Option<ConstraintDef>> {
+    let mut out = Vec::new();
+    // name -> (span, written by the user)
+    let mut seen: HashMap<String, (Span, bool)> = HashMap::new();
+    for item in &m.items {
+        let Item::Constraint {
+            name,
+            lhs,
+            rhs,
+            span,
+        } = item
+        else {
+            continue;
+        };
+        let k = out.len() + 1;
+        let (cname, cspan, written) = match name {
+            Some(n) => (n.name.clone(), n.span, true),
+            None => (format!("c{k}"), *span, false),
+        };
+        if written && names::is_reserved(&cname) {
+            let (message, hint) = names::reserved_message(&cname);
+            diags.push(Diagnostic::new(message, cspan, "reserved word").hint(hint));
+        }
+        if let Some(&(first, first_written)) = seen.get(&cname) {
+            let hint = if written && first_written {
+                "rename one of them: constraint names are unique in a model".to_string()
+            } else {
+                format!(
+                    "an unnamed constraint is named `c<k>` after its position k among the \
+                     constraints, here `{cname}`: give it a name or rename the other one"
+                )
+            };
+            let label = if written {
+                "second use of the name"
+            } else {
+                "named automatically"
+            };
+            let first_label = if first_written {
+                "first use of the name"
+            } else {
+                "named automatically"
+            };
+            diags.push(
+                Diagnostic::new(format!("two constraints named `{cname}`"), cspan, label)
+                    .related(first, first_label)
+                    .hint(hint),
+            );
+        } else {
+            seen.insert(cname.clone(), (cspan, written));
+        }
+        let l = scope.resolve(lhs, Ctx::Equation, diags);
+        let r = scope.resolve(rhs, Ctx::Equation, diags);
+        let residual = l
+            .zip(r)
+            .map(|(l, r)| RExpr::Binary(crate::ast::BinOp::Sub, Box::new(l), Box::new(r)));
+        out.push(residual.map(|residual| ConstraintDef {
+            name: cname,
+            residual,
+            span: *span,
+        }));
+    }
+    out
+}
+
+fn count_mismatch(m: &ModelAst, algs: usize, constraints: usize) -> Diagnostic {
+    let plural =
+        |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+    let a = plural(algs, "algebraic variable", "algebraic variables");
+    let c = plural(constraints, "constraint", "constraints");
+    Diagnostic::new(
+        format!("model `{}` has {a} but {c}", m.name.name),
+        m.name.span,
+        format!("{a}, {c}"),
+    )
+    .hint(
+        "each constraint determines one algebraic variable: declare as many `alg` as `constraint`",
+    )
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,146 @@
+//! The `.dae` file front end: a pest grammar (`dae.pest`) and the translation of its
+//! parse tree into the [`crate::ast`].
+
+mod build;
+mod errors;
+
+use crate::ast::{File, Span};
+use crate::diag::Diagnostic;
+use pest::Parser as _;
+use pest_derive::Parser;
+
+#[derive(Parser)]
+#[grammar = "syntax/dae.pest"]
+struct DaeParser;
+
+/// Deepest nesting of parentheses, calls and `^` chains accepted (see [`too_deep`]).
+/// The parser and the tree builder recurse through several frames per level; 64 levels
+/// stay well inside a 2 MB thread stack even in an unoptimised build.
+pub(crate) const MAX_NESTING: usize = 64;
+
+/// Deepest expression tree accepted (a leaf has depth 1; `a + b + c` has depth 3).
+/// Later stages walk expressions recursively, one small frame per level.
+pub(crate) const MAX_DEPTH: usize = 256;
+
+/// Parses a whole `.dae` source text.
+pub(crate) fn parse(src: &str) -> Result<File, Vec<Diagnostic>> {
+    if let Some(at) = too_deep(src) {
+        return Err(vec![
+            Diagnostic::new(
+                format!(
+                    "expression nested too deeply (more than {MAX_NESTING} levels of \
+                     parentheses, calls and `^`)"
+                ),
+                at,
+                "too deep here",
+            )
+            .hint("split the expression into several `let` definitions"),
+        ]);
+    }
+    match DaeParser::parse(Rule::file, src) {
+        Ok(mut pairs) => match pairs.next() {
+            Some(file) => build::file(file),
+            // pest always yields the `file` pair on success; report rather than panic.
+            None => Err(vec![errors::empty_parse(src)]),
+        },
+        Err(e) => Err(vec![errors::translate(&e, src)]),
+    }
+}
+
+/// The place where the nesting of parentheses and `^` first exceeds [`MAX_NESTING`],
+/// found by a scan of the text before parsing.
+///
+/// The parser and the tree builder recurse once per level of parentheses (calls
+/// included) and once per `^` of a chain such as `a^b^c` (right associative); sums and
+/// chains of unary minus are handled by loops. Bounding these levels before pest runs
+/// keeps every recursion far from the end of the stack, whatever the input.
+fn too_deep(src: &str) -> Option<Span> {
+    let bytes = src.as_bytes();
+    // For each open parenthesis level, the `^` counted so far in its current chain.
+    let mut pows: Vec<usize> = vec![0];
+    let mut depth = 1usize; // sum over levels of (1 + pows)
+    let mut prev = b' '; // previous significant byte
+    let mut i = 0;
+    while i < bytes.len() {
+        let b = bytes[i];
+        match b {
+            b'/' if bytes.get(i + 1) == Some(&b'/') => {
+                i = src[i..].find('\n').map_or(bytes.len(), |k| i + k);
+                continue;
+            }
+            b'/' if bytes.get(i + 1) == Some(&b'*') => match src[i + 2..].find("*/") {
+                Some(k) => {
+                    i += k + 4;
+                    continue;
+                }
+                // An unclosed comment is the parser's error to report.
+                None => return None,
+            },
+            // Names and numbers are skipped whole, so that the sign of an exponent
+            // (`1e-3`) is not taken for a minus that ends a `^` chain.
+            b'a'..=b'z' | b'A'..=b'Z' | b'_' => {
+                i += token_len(&bytes[i..], |c| c.is_ascii_alphanumeric() || c == b'_');
+                prev = b'a';
+                continue;
+            }
+            b'0'..=b'9' => {
+                i += number_len(&bytes[i..]);
+                prev = b'0';
+                continue;
+            }
+            b'(' => {
+                pows.push(0);
+                depth += 1;
+            }
+            b')' if pows.len() > 1 => depth -= 1 + pows.pop().unwrap_or(0),
+            b'^' => {
+                if let Some(p) = pows.last_mut() {
+                    *p += 1;
+                }
+                depth += 1;
+            }
+            b'-' if !(prev.is_ascii_alphanumeric() || matches!(prev, b'_' | b'.' | b')')) => {}
+            b'+' | b'-' | b'*' | b'/' | b',' | b';' | b'=' | b':' | b'{' | b'}' => {
+                if let Some(p) = pows.last_mut() {
+                    depth -= *p;
+                    *p = 0;
+                }
+            }
+            _ => {}
+        }
+        if !b.is_ascii_whitespace() {
+            prev = b;
+        }
+        if depth > MAX_NESTING {
+            return Some(Span::new(i, i + 1));
+        }
+        i += 1;
+    }
+    None
+}
+
+/// The length of the leading run of bytes satisfying `f`.
+fn token_len(bytes: &[u8], f: impl Fn(u8) -> bool) -> usize {
+    bytes.iter().position(|&c| !f(c)).unwrap_or(bytes.len())
+}
+
+/// The length of the number at the start of `bytes` (which starts with a digit), as
+/// the grammar reads it: digits, optionally `.` and digits, optionally an exponent.
+fn number_len(bytes: &[u8]) -> usize {
+    let digits = |from: usize| token_len(&bytes[from.min(bytes.len())..], |c| c.is_ascii_digit());
+    let mut n = digits(0);
+    if bytes.get(n) == Some(&b'.') && digits(n + 1) > 0 {
+        n += 1 + digits(n + 1);
+    }
+    if matches!(bytes.get(n), Some(b'e' | b'E')) {
+        let sign = usize::from(matches!(bytes.get(n + 1), Some(b'+' | b'-')));
+        let exp = digits(n + 1 + sign);
+        if exp > 0 {
+            n += 1 + sign + exp;
+        }
+    }
+    n
+}
+
+#[cfg(test)]
+mod tests;
