@@ -4,3 +4,11 @@
 pub mod ast;
 pub mod diag;
 pub mod model;
+
+mod analysis;
+mod sym;
+
+pub use analysis::{
+    Analysis, AnalysisOptions, ConstraintAnalysis, Lowered, analyze, fixtures, lower,
+};
+pub use sym::{Arena, Fun1, Fun2, Id, Names, Node, Num, Point};

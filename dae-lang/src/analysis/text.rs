@@ -1,0 +1,103 @@
+//! The `daec derive` text: one equation per line, right-hand sides in the language syntax.
+
+use std::fmt::Write;
+
+use super::Analysis;
+
+/// The name of `w^(j)` of a constraint; the last one (`j = r - 1`) is called `Omega`.
+pub(super) fn wname(c: &str, j: usize, index: usize) -> String {
+    if j + 1 == index {
+        return format!("Omega_{c}");
+    }
+    match j {
+        0..=3 => format!("w_{c}{}", "'".repeat(j)),
+        _ => format!("w_{c}^({j})"),
+    }
+}
+
+impl Analysis {
+    /// The derivation as text, one equation per line:
+    ///
+    /// ```text
+    /// // constraint link1: index 3, Omega = w_link1'', depends on z1, z2
+    /// w_link1 = ...
+    /// w_link1' = ...
+    /// Omega_link1 = ...
+    /// J(0, 0) = ...
+    /// beta_link1 = ...
+    /// s_link1 = ...
+    /// alpha_link1 = ...
+    /// alpha_hat_link1 = ...
+    /// ```
+    ///
+    /// Every right-hand side is a self-contained expression of the language over the
+    /// model's parameters, states, algebraic unknowns, `t` and the realization parameters
+    /// `mu1, mu2, ...` (lets are written out). `J(i, k)` is `dOmega_i/dz_k` (row = constraint,
+    /// column = algebraic unknown, both from 0); only structurally non-zero entries appear.
+    pub fn derive_text(&self) -> String {
+        let mut ids = Vec::new();
+        for c in &self.constraints {
+            ids.extend(&c.w);
+            ids.extend(c.jacobian_row.iter().map(|(_, id)| *id));
+            ids.extend([c.beta, c.s, c.alpha, c.alpha_hat]);
+        }
+        let mut printed = self.arena.display_all(&ids, &self.names).into_iter();
+        let mut next = || printed.next().expect("one printed expression per id");
+        let mut out = String::new();
+        let indices: Vec<String> = self.indices().iter().map(|r| r.to_string()).collect();
+        let _ = writeln!(
+            out,
+            "// model {}: {} constraints, indices ({}), cond(J_Omega) = {:.6e} at t = 0",
+            self.model_name,
+            self.constraints.len(),
+            indices.join(", "),
+            self.condition_number
+        );
+        let cols: Vec<String> = self
+            .names
+            .algs
+            .iter()
+            .enumerate()
+            .map(|(k, n)| format!("{k} = {n}"))
+            .collect();
+        let _ = writeln!(
+            out,
+            "// J(i, k) = dOmega_i/dz_k, columns: {}",
+            cols.join(", ")
+        );
+        for (i, c) in self.constraints.iter().enumerate() {
+            let r = c.index;
+            let omega_is = if r == 1 {
+                format!("w_{}", c.name)
+            } else {
+                format!(
+                    "w_{}{}",
+                    c.name,
+                    if r - 1 <= 3 {
+                        "'".repeat(r - 1)
+                    } else {
+                        format!("^({})", r - 1)
+                    }
+                )
+            };
+            let _ = writeln!(
+                out,
+                "\n// constraint {}: index {r}, Omega = {omega_is}, depends on {}, mu{} = realization parameter",
+                c.name,
+                c.depends_on.join(", "),
+                i + 1
+            );
+            for j in 0..r {
+                let _ = writeln!(out, "{} = {}", wname(&c.name, j, r), next());
+            }
+            for (k, _) in &c.jacobian_row {
+                let _ = writeln!(out, "J({i}, {k}) = {}", next());
+            }
+            let _ = writeln!(out, "beta_{} = {}", c.name, next());
+            let _ = writeln!(out, "s_{} = {}", c.name, next());
+            let _ = writeln!(out, "alpha_{} = {}", c.name, next());
+            let _ = writeln!(out, "alpha_hat_{} = {}", c.name, next());
+        }
+        out
+    }
+}
