@@ -112,6 +112,11 @@ impl Arena {
                 let mut terms = Vec::with_capacity(fs.len());
                 for k in 0..fs.len() {
                     let (b, ek) = (fs[k].0, fs[k].1.0);
+                    // b^0 (only in an unsimplified arena) is the constant 1: writing its
+                    // derivative as 0 * b^-1 * b' would be NaN at b = 0.
+                    if ek == 0.0 {
+                        continue;
+                    }
                     let db = self.d(b, seed);
                     if self.is_zero(db) {
                         continue;

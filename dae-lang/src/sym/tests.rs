@@ -361,3 +361,214 @@ fn printed_text_reads_back_to_the_same_node() {
         assert_eq!(read(&mut a, &text), e, "{text}");
     }
 }
+
+// ---------------------------------------------------------------- property tests
+
+/// A random expression over x, y, z, p, t, mu1 and small constants.
+#[derive(Clone, Debug)]
+enum T {
+    Leaf(usize),
+    Num(f64),
+    Neg(Box<T>),
+    Bin(u8, Box<T>, Box<T>),
+    F1(Fun1, Box<T>),
+    F2(Fun2, Box<T>, Box<T>),
+    PowN(Box<T>, f64),
+}
+
+const FUN1: [Fun1; 13] = [
+    Fun1::Sin,
+    Fun1::Cos,
+    Fun1::Tan,
+    Fun1::Asin,
+    Fun1::Acos,
+    Fun1::Atan,
+    Fun1::Sinh,
+    Fun1::Cosh,
+    Fun1::Tanh,
+    Fun1::Exp,
+    Fun1::Ln,
+    Fun1::Abs,
+    Fun1::Sign,
+];
+
+fn tree() -> impl Strategy<Value = T> {
+    let leaf = prop_oneof![
+        (0usize..6).prop_map(T::Leaf),
+        prop_oneof![
+            Just(0.0),
+            Just(1.0),
+            Just(2.0),
+            Just(-1.0),
+            Just(0.5),
+            -3.0..3.0f64
+        ]
+        .prop_map(T::Num),
+    ];
+    leaf.prop_recursive(4, 24, 2, |inner| {
+        prop_oneof![
+            inner.clone().prop_map(|a| T::Neg(Box::new(a))),
+            (0u8..5, inner.clone(), inner.clone()).prop_map(|(o, a, b)| T::Bin(
+                o,
+                Box::new(a),
+                Box::new(b)
+            )),
+            (0usize..13, inner.clone()).prop_map(|(f, a)| T::F1(FUN1[f], Box::new(a))),
+            (0usize..3, inner.clone(), inner.clone()).prop_map(|(f, a, b)| {
+                T::F2(
+                    [Fun2::Atan2, Fun2::Min, Fun2::Max][f],
+                    Box::new(a),
+                    Box::new(b),
+                )
+            }),
+            (
+                inner,
+                prop_oneof![
+                    Just(2.0),
+                    Just(-1.0),
+                    Just(0.5),
+                    Just(3.0),
+                    Just(-0.5),
+                    Just(1.5)
+                ]
+            )
+                .prop_map(|(a, e)| T::PowN(Box::new(a), e)),
+        ]
+    })
+}
+
+fn build(a: &mut Arena, t: &T) -> Id {
+    match t {
+        T::Leaf(i) => leaves(a)[*i],
+        T::Num(v) => a.num(*v),
+        T::Neg(x) => {
+            let x = build(a, x);
+            a.neg(x)
+        }
+        T::Bin(o, x, y) => {
+            let (x, y) = (build(a, x), build(a, y));
+            match o {
+                0 => a.add(x, y),
+                1 => a.sub(x, y),
+                2 => a.mul(x, y),
+                3 => a.div(x, y),
+                _ => a.pow(x, y),
+            }
+        }
+        T::F1(f, x) => {
+            let x = build(a, x);
+            a.f1(*f, x)
+        }
+        T::F2(f, x, y) => {
+            let (x, y) = (build(a, x), build(a, y));
+            a.f2(*f, x, y)
+        }
+        T::PowN(x, e) => {
+            let x = build(a, x);
+            a.powf(x, *e)
+        }
+    }
+}
+
+/// Values of (x, y, z, p, t, mu1).
+fn point() -> impl Strategy<Value = [f64; 6]> {
+    prop::array::uniform6(-2.0..2.0f64)
+}
+
+fn eval_at(a: &Arena, id: Id, v: &[f64; 6]) -> f64 {
+    a.eval(id, &at(&[v[3]], &[v[0], v[1]], &[v[2]], v[4], &[v[5]]))
+}
+
+/// Central difference of `e` along the direction `dir` (in leaf order), with a check that
+/// the function is smooth there: two step sizes must agree (else `None`).
+fn central(a: &Arena, e: Id, v: &[f64; 6], dir: &[f64; 6]) -> Option<f64> {
+    let fd = |h: f64| {
+        let plus: [f64; 6] = std::array::from_fn(|k| v[k] + h * dir[k]);
+        let minus: [f64; 6] = std::array::from_fn(|k| v[k] - h * dir[k]);
+        (eval_at(a, e, &plus) - eval_at(a, e, &minus)) / (2.0 * h)
+    };
+    let (d1, d2) = (fd(1e-4), fd(5e-5));
+    let ok = d1.is_finite()
+        && d2.is_finite()
+        && (d1 - d2).abs() <= 1e-6 * (1.0 + d2.abs())
+        && d2.abs() < 1e6;
+    ok.then_some(d2)
+}
+
+fn on_atan2_cut(a: &Arena, e: Id, v: &[f64; 6]) -> bool {
+    a.reachable(&[e]).into_iter().any(|n| match a.node(n) {
+        Node::F2(Fun2::Atan2, y, x) => eval_at(a, *y, v) == 0.0 && eval_at(a, *x, v) < 0.0,
+        _ => false,
+    })
+}
+
+fn close(got: f64, want: f64, tol: f64) -> bool {
+    (got - want).abs() <= tol * (1.0 + want.abs())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(400))]
+
+    #[test]
+    fn partial_derivatives_match_central_differences(t in tree(), v in point(), k in 0usize..6) {
+        let mut a = Arena::new();
+        let e = build(&mut a, &t);
+        let var = leaves(&mut a)[k];
+        let d = a.diff(e, var);
+        let mut dir = [0.0; 6];
+        dir[k] = 1.0;
+        let got = eval_at(&a, d, &v);
+        if eval_at(&a, e, &v).is_finite() && got.is_finite() {
+            if let Some(fd) = central(&a, e, &v, &dir) {
+                prop_assert!(close(got, fd, 1e-4), "d/d{k} of {}: {got} vs fd {fd}", a.display(e, &names()));
+            }
+        }
+    }
+
+    #[test]
+    fn total_time_derivative_matches_differences_along_the_flow(
+        t in tree(), fx in tree(), fy in tree(), v in point()
+    ) {
+        let mut a = Arena::new();
+        let e = build(&mut a, &t);
+        let (fx, fy) = (build(&mut a, &fx), build(&mut a, &fy));
+        a.set_flow(vec![fx, fy]);
+        let d = a.dt(e);
+        let got = eval_at(&a, d, &v);
+        // Direction of motion: x' = f_x, y' = f_y, t' = 1, z, p, mu fixed.
+        let dir = [eval_at(&a, fx, &v), eval_at(&a, fy, &v), 0.0, 0.0, 1.0, 0.0];
+        if eval_at(&a, e, &v).is_finite() && got.is_finite() && dir.iter().all(|d| d.is_finite() && d.abs() < 1e3) {
+            if let Some(fd) = central(&a, e, &v, &dir) {
+                prop_assert!(close(got, fd, 1e-4), "D of {}: {got} vs fd {fd}", a.display(e, &names()));
+            }
+        }
+    }
+
+    #[test]
+    fn simplified_equals_unsimplified_where_finite(t in tree(), v in point()) {
+        let mut s = Arena::new();
+        let mut r = Arena::unsimplified();
+        let (es, er) = (build(&mut s, &t), build(&mut r, &t));
+        let (vs, vr) = (eval_at(&s, es, &v), eval_at(&r, er, &v));
+        // Signed zeros are not kept (-0.0 is stored as 0.0), which only matters on the
+        // branch cut of atan2 (y = +-0, x < 0), where the value jumps by 2 pi.
+        if vr.is_finite() && !on_atan2_cut(&r, er, &v) {
+            prop_assert!(close(vs, vr, 1e-9), "{}: simplified {vs}, raw {vr}", r.display(er, &names()));
+        }
+        prop_assert!(s.op_count(&[es]) <= r.op_count(&[er]) + 1);
+    }
+
+    #[test]
+    fn printed_text_reads_back_with_the_same_value(t in tree(), v in point(), raw in any::<bool>()) {
+        let mut a = if raw { Arena::unsimplified() } else { Arena::new() };
+        let e = build(&mut a, &t);
+        let text = a.display(e, &names());
+        let back = read(&mut a, &text);
+        if !raw {
+            prop_assert_eq!(back, e, "{}", text);
+        }
+        let (v1, v2) = (eval_at(&a, e, &v), eval_at(&a, back, &v));
+        prop_assert!(v1.to_bits() == v2.to_bits() || close(v2, v1, 1e-12) || (v1.is_nan() && v2.is_nan()),
+            "{text}: {v1} vs {v2}");
+    }
+}
