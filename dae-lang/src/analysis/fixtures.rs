@@ -336,8 +336,8 @@ pub fn planar_chain(n: usize) -> Model {
         b.der(&vx[k], fx / m.clone());
         b.der(&vy[k], fy / m.clone() - g.clone());
     }
-    for i in 0..n {
-        b.constraint(&format!("link{}", i + 1), l[i].clone(), len.clone());
+    for (i, li) in l.into_iter().enumerate() {
+        b.constraint(&format!("link{}", i + 1), li, len.clone());
     }
     b.build()
 }

@@ -1,7 +1,8 @@
 //! Simplifying constructors (see the simplification contract in the module docs).
 //!
 //! Normal form kept by these constructors (when simplification is on):
-//! * constants are folded; a sum or product never has a constant term or factor;
+//! * constants are folded; a sum never has a constant term, a product has a constant
+//!   factor only when its power is not finite (`(-1)^0.5` is kept, not folded to NaN);
 //! * `Add(c, terms)`: at least two parts (terms plus a non-zero `c`), terms sorted and
 //!   unique, coefficients non-zero; a term is never a constant, a sum, or a product whose
 //!   coefficient is not 1 (that coefficient moves into the sum);
@@ -24,6 +25,9 @@ fn pow_num(v: f64, e: f64) -> f64 {
         v.powf(e)
     }
 }
+
+/// The terms of a sum or the factors of a product.
+type Factors = Box<[(Id, Num)]>;
 
 fn is_int(e: f64) -> bool {
     e.fract() == 0.0
@@ -72,7 +76,7 @@ impl Arena {
         }
         let mut c = c;
         let mut acc: Vec<(Id, f64)> = Vec::with_capacity(terms.len());
-        let mut rescale: Vec<(Box<[(Id, Num)]>, f64)> = Vec::new();
+        let mut rescale: Vec<(Factors, f64)> = Vec::new();
         for &(t, a) in terms {
             if a == 0.0 {
                 continue;
@@ -132,7 +136,9 @@ impl Arena {
                 continue;
             }
             match self.node(b) {
-                Node::Const(v) => c *= pow_num(v.0, e),
+                // A power of a constant that is not finite (`(-1)^0.5`, `0^-1`) stays a
+                // factor, so that constants in the arena are finite where the input is.
+                Node::Const(v) if pow_num(v.0, e).is_finite() => c *= pow_num(v.0, e),
                 Node::Mul(c2, fs) if Self::distributes(c2.0, fs, e) => {
                     c *= pow_num(c2.0, e);
                     acc.extend(fs.iter().map(|(b2, e2)| (*b2, e2.0 * e)));
@@ -155,6 +161,7 @@ impl Arena {
         // Merging can make a kept product base distributable (`p^0.5 * p^0.5 = p^1`).
         let again = merged.iter().any(|(b, e)| match self.node(*b) {
             Node::Mul(c2, fs) => Self::distributes(c2.0, fs, e.0),
+            Node::Const(v) => pow_num(v.0, e.0).is_finite(),
             _ => false,
         });
         if again {
@@ -179,12 +186,19 @@ impl Arena {
         }
     }
 
-    /// Whether `(c * prod b_k^e_k)^e` may be written `c^e * prod b_k^(e_k e)` under the
-    /// simplification contract: always for an integer `e`; for other `e` only for one factor,
-    /// `c > 0`, and an inner exponent that is not an even integer (`(x^2)^0.5 = |x|`, and
-    /// `(x*y)^0.5` is finite for `x, y < 0` where `x^0.5 * y^0.5` is not).
+    /// Whether `(c * prod b_k^e_k)^e` is written `c^e * prod b_k^(e_k e)`.
+    ///
+    /// Under the simplification contract this is exact for an integer `e`; for other `e`
+    /// only with one factor, `c > 0`, and an inner exponent that is not an even integer
+    /// (`(x^2)^0.5 = |x|`, and `(x*y)^0.5` is finite for `x, y < 0` where
+    /// `x^0.5 * y^0.5` is not). Over several factors we only distribute `e = +-1`
+    /// (a product or a quotient, free): `(x*y)^2 = x^2 * y^2` would cost a power per factor.
     fn distributes(c: f64, fs: &[(Id, Num)], e: f64) -> bool {
-        is_int(e) || (fs.len() == 1 && c > 0.0 && !is_even_int(fs[0].1.0))
+        if fs.len() == 1 {
+            is_int(e) || (c > 0.0 && !is_even_int(fs[0].1.0))
+        } else {
+            e.abs() == 1.0
+        }
     }
 
     /// `a + b`

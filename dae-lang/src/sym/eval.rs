@@ -69,10 +69,18 @@ impl Arena {
                     }
                 }),
                 Node::Mul(c, fs) => {
-                    let prod = fs
-                        .iter()
-                        .fold(1.0, |s, (b, e)| s * powe(buf[b.index()], e.0));
-                    if c.0 == 1.0 { prod } else { c.0 * prod }
+                    // Numerator and denominator apart: one division, and `x/x` is exactly 1.
+                    let (mut num, mut den) = (1.0, 1.0);
+                    for (b, e) in fs.iter() {
+                        let x = buf[b.index()];
+                        if e.0 >= 0.0 {
+                            num *= powe(x, e.0);
+                        } else {
+                            den *= powe(x, -e.0);
+                        }
+                    }
+                    let q = if den == 1.0 { num } else { num / den };
+                    if c.0 == 1.0 { q } else { c.0 * q }
                 }
                 Node::Pow(a, b) => buf[a.index()].powf(buf[b.index()]),
                 Node::F1(f, a) => f.apply(buf[a.index()]),

@@ -20,9 +20,10 @@
 //! # Simplification contract
 //!
 //! The simplifying constructors (in `build.rs`) return an expression that equals the
-//! requested one wherever the requested one evaluates to a finite number. They may turn a
-//! NaN or an infinity into a finite value (`x*0 = 0`, `x/x = 1`, `x^0.5 * x^0.5 = x`), never
-//! the reverse. Signed zeros are not kept (`-0.0` is stored as `0.0`); the only finite
+//! requested one (up to rounding) wherever every sub-expression of the requested one
+//! evaluates to a finite number. Elsewhere they may differ: `x*0 = 0`, `x/x = 1` and
+//! `x^0.5 * x^0.5 = x` turn a NaN into a number, and `1/(x*0)` is `+inf` where the
+//! unsimplified `1/(-0)` is `-inf`. Signed zeros are not kept (`-0.0` is stored as `0.0`); the only finite
 //! function that tells them apart is `atan2` on its branch cut (`y = -0`, `x < 0`).
 //! [`Arena::unsimplified`] builds an arena with all of this switched off
 //! (hash-consing stays), for measuring what the simplifier buys.

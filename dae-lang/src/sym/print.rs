@@ -172,25 +172,31 @@ impl Printer<'_> {
     }
 
     fn product(&mut self, c: f64, fs: &[(Id, Num)]) -> Piece {
-        let mut num: Vec<Piece> = Vec::new();
-        let mut den: Vec<String> = Vec::new();
         let mag = c.abs();
         let has_num = fs.iter().any(|(_, e)| e.0 >= 0.0);
+        let mut coef = None;
+        let mut den: Vec<String> = Vec::new();
         if mag != 1.0 {
             match exact_reciprocal(mag) {
                 Some(r) if has_num => den.push(unsigned(r)),
-                _ => num.push(number(mag)),
+                _ => coef = Some(unsigned_or_special(mag)),
             }
         }
+        let mut num: Vec<Piece> = Vec::new();
+        let mut leading_sum = false;
         for (b, e) in fs {
             if e.0 >= 0.0 {
+                if num.is_empty() {
+                    leading_sum = e.0 == 1.0 && matches!(self.arena.node(*b), Node::Add(..));
+                }
                 num.push(self.factor(*b, e.0));
             } else {
                 den.push(wrap(self.factor(*b, -e.0), Kind::Pow));
             }
         }
+        let more_than_the_sum = num.len() > 1 || !den.is_empty();
         let (mut s, mut kind) = match num.len() {
-            0 => ("1".to_string(), Kind::Atom),
+            0 => (coef.take().unwrap_or_else(|| "1".to_string()), Kind::Atom),
             1 => num.pop().expect("one numerator factor"),
             _ => {
                 let parts: Vec<String> = num.into_iter().map(|p| wrap(p, Kind::Pow)).collect();
@@ -206,12 +212,29 @@ impl Printer<'_> {
             }
             kind = Kind::Prod;
         }
+        // A number or a minus directly before a sum would be read as scaling that sum (and
+        // distributed into it), a different normal form from scaling the whole product:
+        // `-((x + y)/z)`, `2*((x + y)*z)`, not `-(x + y)/z`.
+        let scaled = coef.is_some() || c < 0.0;
+        if scaled && leading_sum && more_than_the_sum {
+            s = format!("({s})");
+            kind = Kind::Atom;
+        }
+        if let Some(cf) = coef {
+            s = format!("{cf}*{}", wrap((s, kind), Kind::Prod));
+            kind = Kind::Prod;
+        }
         if c < 0.0 {
             (format!("-{}", wrap((s, kind), Kind::Prod)), Kind::Neg)
         } else {
             (s, kind)
         }
     }
+}
+
+/// A non-negative number, or a non-finite one in its bracketed form.
+fn unsigned_or_special(v: f64) -> String {
+    number(v).0
 }
 
 impl Arena {
