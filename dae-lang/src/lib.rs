@@ -9,6 +9,6 @@ mod analysis;
 mod sym;
 
 pub use analysis::{
-    Analysis, AnalysisOptions, ConstraintAnalysis, Lowered, analyze, fixtures, lower,
+    Analysis, AnalysisOptions, ConstraintAnalysis, InitialPoint, Lowered, analyze, fixtures, lower,
 };
 pub use sym::{Arena, Fun1, Fun2, Id, Names, Node, Num, Point};

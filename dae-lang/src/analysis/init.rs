@@ -95,11 +95,9 @@ pub(super) fn check_initial_point(
                 .enumerate()
                 .map(|(j, &w)| (wname(&c.name, j, c.index), w))
                 .collect();
-        for &(k, id) in &c.jacobian_row {
-            named.push((
-                format!("J({i}, {k}) = dOmega_{}/d{}", c.name, a.names.algs[k]),
-                id,
-            ));
+        for &(k, id) in c.jacobian_row.iter().filter(|(k, _)| *k < n) {
+            let z = super::alg_name(&a.names, k);
+            named.push((format!("J({i}, {k}) = dOmega_{}/d{z}", c.name), id));
             jac[i * n + k] = val(id);
         }
         named.push((format!("beta_{}", c.name), c.beta));

@@ -499,7 +499,7 @@ fn derive_text_has_one_line_per_equation() {
     assert_eq!(lines[3], "J(0, 0) = 1");
     assert_eq!(lines[4], "beta_c = cos(t)");
     assert!(
-        text.starts_with("// model Integrators: 1 constraints, indices (3)"),
+        text.starts_with("// model Integrators: 1 constraint, indices (3)"),
         "{text}"
     );
 }

@@ -47,9 +47,10 @@ impl Analysis {
         let indices: Vec<String> = self.indices().iter().map(|r| r.to_string()).collect();
         let _ = writeln!(
             out,
-            "// model {}: {} constraints, indices ({}), cond(J_Omega) = {:.6e} at t = 0",
+            "// model {}: {} constraint{}, indices ({}), cond(J_Omega) = {:.6e} at t = 0",
             self.model_name,
             self.constraints.len(),
+            if self.constraints.len() == 1 { "" } else { "s" },
             indices.join(", "),
             self.condition_number
         );
