@@ -102,6 +102,8 @@ pub struct Analysis {
     pub f: Vec<Id>,
     /// Nodes of the lets.
     pub lets: Vec<Id>,
+    /// Names of the lets (same order).
+    pub let_names: Vec<String>,
     /// One entry per constraint, in declaration order.
     pub constraints: Vec<ConstraintAnalysis>,
     /// The initial point everything was checked at.
@@ -172,6 +174,7 @@ pub fn analyze(model: &Model, opts: &AnalysisOptions) -> Result<Analysis, Vec<Di
         names,
         f,
         lets,
+        let_names: model.lets.iter().map(|l| l.name.clone()).collect(),
         constraints: out,
         initial: InitialPoint {
             params: vec![],

@@ -540,3 +540,20 @@ fn simplification_reduces_the_double_pendulum_operation_counts() {
     assert!(simp.1.0 < raw.1.0 && simp.2.0 < raw.2.0 && simp.3.0 < raw.3.0);
     assert!(simp.1.1 < raw.1.1 && simp.2.1 < raw.2.1 && simp.3.1 < raw.3.1);
 }
+
+#[test]
+fn derive_text_writes_lets_by_name() {
+    let a = analyze(&double_pendulum_3d(), &opts()).unwrap();
+    let text = a.derive_text();
+    assert!(
+        text.contains("\nlet l1 = sqrt(rx1^2 + ry1^2 + rz1^2)\n"),
+        "{text}"
+    );
+    assert!(text.contains("\nlet dx = -rx1 + rx2\n"), "{text}");
+    assert!(
+        text.contains("\nlet l2 = sqrt(dx^2 + dy^2 + dz^2)\n"),
+        "{text}"
+    );
+    assert!(text.contains("\nw_link1 = l1 - L1\n"), "{text}");
+    assert!(text.contains("\nw_link2 = l2 - L2\n"), "{text}");
+}

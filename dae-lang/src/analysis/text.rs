@@ -3,6 +3,7 @@
 use std::fmt::Write;
 
 use super::Analysis;
+use crate::sym::Id;
 
 /// The name of `w^(j)` of a constraint; the last one (`j = r - 1`) is called `Omega`.
 pub(super) fn wname(c: &str, j: usize, index: usize) -> String {
@@ -16,6 +17,18 @@ pub(super) fn wname(c: &str, j: usize, index: usize) -> String {
 }
 
 impl Analysis {
+    /// The first `n` lets as abbreviations, skipping lets that are a bare leaf or number
+    /// (writing `x` for a let `a = x` would only obscure the text).
+    fn abbreviations(&self, n: usize) -> Vec<(Id, String)> {
+        self.lets
+            .iter()
+            .zip(&self.let_names)
+            .take(n)
+            .filter(|(id, _)| !self.arena.children(**id).is_empty())
+            .map(|(id, name)| (*id, name.clone()))
+            .collect()
+    }
+
     /// The derivation as text, one equation per line:
     ///
     /// ```text
@@ -30,9 +43,12 @@ impl Analysis {
     /// alpha_hat_link1 = ...
     /// ```
     ///
-    /// Every right-hand side is a self-contained expression of the language over the
-    /// model's parameters, states, algebraic unknowns, `t` and the realization parameters
-    /// `mu1, mu2, ...` (lets are written out). `J(i, k)` is `dOmega_i/dz_k` (row = constraint,
+    /// The model's lets come first (`let l1 = ...`), each in terms of earlier ones; every
+    /// right-hand side after them is an expression of the language over the model's names
+    /// (parameters, states, algebraic unknowns, lets) and `t`, plus the realization
+    /// parameters `mu1, mu2, ...`. A let is written by name wherever its node occurs whole
+    /// (after simplification a let may also be merged into a larger term, e.g. `l^2`
+    /// becomes the sum it squares). `J(i, k)` is `dOmega_i/dz_k` (row = constraint,
     /// column = algebraic unknown, both from 0); only structurally non-zero entries appear.
     pub fn derive_text(&self) -> String {
         let mut ids = Vec::new();
@@ -41,7 +57,11 @@ impl Analysis {
             ids.extend(c.jacobian_row.iter().map(|(_, id)| *id));
             ids.extend([c.beta, c.s, c.alpha, c.alpha_hat]);
         }
-        let mut printed = self.arena.display_all(&ids, &self.names).into_iter();
+        let abbrev = self.abbreviations(self.lets.len());
+        let mut printed = self
+            .arena
+            .display_all_abbreviated(&ids, &self.names, &abbrev)
+            .into_iter();
         let mut next = || printed.next().expect("one printed expression per id");
         let mut out = String::new();
         let indices: Vec<String> = self.indices().iter().map(|r| r.to_string()).collect();
@@ -66,6 +86,18 @@ impl Analysis {
             "// J(i, k) = dOmega_i/dz_k, columns: {}",
             cols.join(", ")
         );
+        if !self.lets.is_empty() {
+            out.push_str("\n// definitions (the model's lets, in terms of earlier ones)\n");
+        }
+        for (j, (&id, name)) in self.lets.iter().zip(&self.let_names).enumerate() {
+            let own: Vec<(Id, String)> = self
+                .abbreviations(j)
+                .into_iter()
+                .filter(|(a, _)| *a != id)
+                .collect();
+            let text = self.arena.display_all_abbreviated(&[id], &self.names, &own);
+            let _ = writeln!(out, "let {name} = {}", text[0]);
+        }
         for (i, c) in self.constraints.iter().enumerate() {
             let r = c.index;
             let omega_is = if r == 1 {

@@ -251,10 +251,25 @@ impl Arena {
 
     /// Several expressions printed with one memo (faster than repeated [`Arena::display`]).
     pub fn display_all(&self, ids: &[Id], names: &Names) -> Vec<String> {
+        self.display_all_abbreviated(ids, names, &[])
+    }
+
+    /// Like [`Arena::display_all`], but every occurrence of a node in `abbrev` is written as
+    /// the given name (e.g. a model's `let`s, so that the text reads in the model's scope).
+    pub fn display_all_abbreviated(
+        &self,
+        ids: &[Id],
+        names: &Names,
+        abbrev: &[(Id, String)],
+    ) -> Vec<String> {
+        let memo = abbrev
+            .iter()
+            .map(|(id, n)| (*id, (n.clone(), Kind::Atom)))
+            .collect();
         let mut p = Printer {
             arena: self,
             names,
-            memo: HashMap::new(),
+            memo,
         };
         ids.iter().map(|&id| p.pr(id).0).collect()
     }
