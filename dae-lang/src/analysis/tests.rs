@@ -557,3 +557,14 @@ fn derive_text_writes_lets_by_name() {
     assert!(text.contains("\nw_link1 = l1 - L1\n"), "{text}");
     assert!(text.contains("\nw_link2 = l2 - L2\n"), "{text}");
 }
+
+#[test]
+fn a_model_without_constraints_analyses_to_nothing() {
+    let mut b = ModelBuilder::new("Decay");
+    let x = b.state("x", 1.0);
+    b.der(&x, -x.clone());
+    let a = analyze(&b.build(), &opts()).unwrap();
+    assert!(a.constraints.is_empty());
+    assert_eq!(a.condition_number, 1.0);
+    assert_eq!(a.initial.states, vec![1.0]);
+}

@@ -606,3 +606,23 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn evaluation_reuses_the_buffer() {
+    let mut a = Arena::new();
+    let [x, y, ..] = leaves(&mut a);
+    let s = a.add(x, y);
+    let e = a.f1(Fun1::Exp, s);
+    let mut buf = Vec::new();
+    a.eval_all(&at(&[], &[1.0, 2.0], &[], 0.0, &[]), &mut buf);
+    let (ptr, cap) = (buf.as_ptr(), buf.capacity());
+    a.eval_all(&at(&[], &[0.5, -0.5], &[], 0.0, &[]), &mut buf);
+    assert_eq!(
+        (buf.as_ptr(), buf.capacity()),
+        (ptr, cap),
+        "no reallocation"
+    );
+    assert_eq!(buf[e.index()], 1.0);
+    // Missing leaves evaluate to NaN instead of panicking.
+    assert!(a.eval(e, &Point::default()).is_nan());
+}
