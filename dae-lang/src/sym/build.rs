@@ -143,6 +143,13 @@ impl Arena {
                     c *= pow_num(c2.0, e);
                     acc.extend(fs.iter().map(|(b2, e2)| (*b2, e2.0 * e)));
                 }
+                Node::Add(c0, ts) if Self::common_coefficient(c0.0, ts, e).is_some() => {
+                    let g = Self::common_coefficient(c0.0, ts, e).expect("checked");
+                    let unit: Vec<(Id, f64)> = ts.iter().map(|(t, _)| (*t, 1.0)).collect();
+                    c *= pow_num(g, e);
+                    let sum = self.lin(0.0, &unit);
+                    acc.push((sum, e));
+                }
                 _ => acc.push((b, e)),
             }
         }
@@ -184,6 +191,17 @@ impl Arena {
             }
             _ => self.intern(Node::Mul(Num::norm(c), merged.into_boxed_slice())),
         }
+    }
+
+    /// The common coefficient `g` of a sum factor `(g t1 + g t2 + ...)^e` (no constant term,
+    /// all coefficients equal, not 1), taken out as `g^e (t1 + t2 + ...)^e`: derivatives of
+    /// squared norms give `2 a a' + 2 b b'`, and the 2 then cancels against the 1/2 of a
+    /// square root. A negative `g` only for integer `e`. This also keeps a sum factor of a
+    /// product canonical (`(2a + 2b) x` and `2 (a + b) x` are the same node).
+    fn common_coefficient(c0: f64, ts: &[(Id, Num)], e: f64) -> Option<f64> {
+        let g = ts.first()?.1.0;
+        let same = ts.iter().all(|(_, a)| a.0 == g);
+        (c0 == 0.0 && same && g != 1.0 && g.is_finite() && (g > 0.0 || is_int(e))).then_some(g)
     }
 
     /// Whether `(c * prod b_k^e_k)^e` is written `c^e * prod b_k^(e_k e)`.
