@@ -8,7 +8,8 @@
 //!   coefficient is not 1 (that coefficient moves into the sum);
 //! * `Mul(c, factors)`: `c != 0`, factors sorted and unique, exponents non-zero; a factor is
 //!   never a constant and never a product that could be distributed exactly; a scaled single
-//!   sum `c * (a + b)` is distributed into the sum;
+//!   sum `c * (a + b)` is distributed into the sum; a sum factor has no common coefficient
+//!   (`(2a + 2b) x = 2 (a + b) x`);
 //! * numeric powers are exponents in a `Mul`, so `x^1 = x`, `x^0 = 1`, `x*x = x^2`,
 //!   `x^a * x^b = x^(a+b)`, `x/x = 1`, `--x = x` fall out of the merge.
 
