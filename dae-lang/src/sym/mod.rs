@@ -33,6 +33,8 @@ mod diff;
 mod eval;
 mod print;
 #[cfg(test)]
+pub(crate) mod reader;
+#[cfg(test)]
 mod tests;
 
 use std::collections::HashMap;

@@ -135,6 +135,13 @@ impl Printer<'_> {
                 wrap(scaled, Kind::Prod)
             };
             let neg = a < 0.0 || (a.is_nan() && a.is_sign_negative());
+            // A leading unary minus before a product that starts with a sum would be read as
+            // negating (and distributing into) that sum: `-((x + y)/z)`, see `product`.
+            let body = if k == 0 && neg && a.abs() == 1.0 && self.starts_with_sum(*t) {
+                format!("({body})")
+            } else {
+                body
+            };
             match (k, neg) {
                 (0, false) => out.push_str(&body),
                 (0, true) => out.push('-'),
@@ -160,6 +167,18 @@ impl Printer<'_> {
         (out, Kind::Sum)
     }
 
+    /// Whether a product prints with a sum (possibly a let's name) as its first factor,
+    /// followed by more factors.
+    fn starts_with_sum(&self, t: Id) -> bool {
+        match self.arena.node(t) {
+            Node::Mul(_, fs) if fs.len() > 1 => fs
+                .iter()
+                .find(|(_, e)| e.0 >= 0.0)
+                .is_some_and(|(b, e)| e.0 == 1.0 && matches!(self.arena.node(*b), Node::Add(..))),
+            _ => false,
+        }
+    }
+
     fn factor(&mut self, b: Id, e: f64) -> Piece {
         if e == 1.0 {
             (wrap(self.pr(b), Kind::Pow), Kind::Pow)
@@ -176,9 +195,14 @@ impl Printer<'_> {
         let has_num = fs.iter().any(|(_, e)| e.0 >= 0.0);
         let mut coef = None;
         let mut den: Vec<String> = Vec::new();
+        // `x/3` for a coefficient 1/3, unless a sum is in the denominator: `x/(3*(a + b))`
+        // would read back as `x/(3a + 3b)`, another normal form.
+        let sum_below = fs
+            .iter()
+            .any(|(b, e)| e.0 == -1.0 && matches!(self.arena.node(*b), Node::Add(..)));
         if mag != 1.0 {
             match exact_reciprocal(mag) {
-                Some(r) if has_num => den.push(unsigned(r)),
+                Some(r) if has_num && !sum_below => den.push(unsigned(r)),
                 _ => coef = Some(unsigned_or_special(mag)),
             }
         }
