@@ -460,7 +460,7 @@ fn close(got: f64, want: f64, tol: f64) -> bool {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(400))]
+    #![proptest_config(ProptestConfig::with_cases(1000))]
 
     #[test]
     fn partial_derivatives_match_central_differences(t in tree(), v in point(), k in 0usize..6) {
