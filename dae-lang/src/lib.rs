@@ -29,9 +29,12 @@ pub mod ast;
 pub mod codegen;
 pub mod compiled;
 pub mod diag;
+pub mod expand;
 pub mod model;
 pub mod tape;
 pub mod tokens;
+
+mod compile;
 
 mod check;
 mod syntax;
@@ -56,4 +59,41 @@ pub fn check(model: &ast::ModelAst) -> Result<model::Model, Vec<Diagnostic>> {
 /// in source order.
 pub fn compile_models(src: &str) -> Result<Vec<model::Model>, Vec<Diagnostic>> {
     check::check_file(&parse(src)?)
+}
+
+mod analysis;
+mod sym;
+
+pub use analysis::{
+    Analysis, AnalysisOptions, ConstraintAnalysis, InitialPoint, Lowered, analyze, fixtures, lower,
+};
+pub use sym::{Arena, Fun1, Fun2, Id, Names, Node, Num, Point};
+
+pub use compile::emit as emit_tape;
+pub use compiled::CompiledModel;
+
+/// Compile one analysed model into straight-line programs (the input of the code
+/// generator and of the interpreter).
+pub fn compile(model: &model::Model, analysis: &Analysis) -> CompiledModel {
+    compile::compile(model, analysis)
+}
+
+/// The whole pipeline for every model of a source text: parse, check, analyse (with
+/// default [`AnalysisOptions`]) and compile. All errors of all models are returned.
+pub fn compile_source(src: &str) -> Result<Vec<CompiledModel>, Vec<Diagnostic>> {
+    let models = compile_models(src)?;
+    let opts = AnalysisOptions::default();
+    let mut out = Vec::with_capacity(models.len());
+    let mut errors = Vec::new();
+    for m in &models {
+        match analyze(m, &opts) {
+            Ok(a) => out.push(compile(m, &a)),
+            Err(mut e) => errors.append(&mut e),
+        }
+    }
+    if errors.is_empty() {
+        Ok(out)
+    } else {
+        Err(errors)
+    }
 }

@@ -1,0 +1,329 @@
+//! Index analysis and realization (method.md sections 1-2).
+//!
+//! For each constraint `g_i`: differentiate `w_i = g_i` along the flow (z held constant)
+//! until an algebraic unknown appears; that derivative is `Omega_i = w_i^(r_i - 1)` and
+//! `r_i` is the index. Then `J_Omega` row `i` = `dOmega_i/dz`, `beta_i = D[Omega_i]`
+//! (which may contain z), and with a symbolic realization parameter `mu_i`:
+//! `s_i = sum_{j<r} C(r-1, j) mu^j w^(j)`,
+//! `alpha_i = mu^(r-1) beta_i + sum_{j=1}^{r-1} C(r-1, j-1) mu^(j-1) w^(j)` (corrected
+//! coefficients) and the cheap `alpha_hat_i = alpha_i - mu^(r-1) beta_i`.
+//! Finally everything is evaluated at the initial point, where non-finite values and a
+//! singular or ill-conditioned `J_Omega` are errors.
+
+pub mod fixtures;
+mod init;
+mod lower;
+#[cfg(test)]
+mod tests;
+mod text;
+
+use crate::ast::Span;
+use crate::diag::Diagnostic;
+use crate::model::Model;
+use crate::sym::{Arena, Id, Names, dep};
+
+pub(crate) use lower::lower_expr;
+pub use lower::{Lowered, lower};
+
+/// Options of [`analyze`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct AnalysisOptions {
+    /// Most time derivatives taken of a constraint looking for an algebraic unknown
+    /// (so the largest index found is this plus one). Default 8.
+    pub max_differentiations: usize,
+    /// Largest accepted 2-norm condition number of `J_Omega` at the initial point.
+    /// Default 1e12.
+    pub condition_threshold: f64,
+    /// Simplify while building (default true; false only to measure what it buys).
+    pub simplify: bool,
+}
+
+impl Default for AnalysisOptions {
+    fn default() -> Self {
+        AnalysisOptions {
+            max_differentiations: 8,
+            condition_threshold: 1e12,
+            simplify: true,
+        }
+    }
+}
+
+/// The analysis of one constraint.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConstraintAnalysis {
+    /// The constraint's name.
+    pub name: String,
+    /// Where it was written.
+    pub span: Span,
+    /// Its index `r` (1 = an algebraic unknown appears in the constraint itself).
+    pub index: usize,
+    /// `w[j] = w^(j)` for `j = 0 .. r-1` (so `w[r-1]` is `Omega`).
+    pub w: Vec<Id>,
+    /// `Omega = w^(r-1)`, the first derivative that contains an algebraic unknown.
+    pub omega: Id,
+    /// The non-zero entries `(column = algebraic index, dOmega/dz_column)` of this row of
+    /// `J_Omega`, by column.
+    pub jacobian_row: Vec<(usize, Id)>,
+    /// `beta = dOmega/dt + (dOmega/dx) f` (may contain z).
+    pub beta: Id,
+    /// The realization parameter `mu` of this constraint (a leaf, printed `mu<i+1>`).
+    pub mu: Id,
+    /// Sliding surface `s`.
+    pub s: Id,
+    /// `alpha` in `s' = J_s v + alpha`.
+    pub alpha: Id,
+    /// The cheap `alpha_hat = alpha - mu^(r-1) beta`.
+    pub alpha_hat: Id,
+    /// Names of the algebraic unknowns in `Omega` (the sparsity pattern of the row).
+    pub depends_on: Vec<String>,
+}
+
+/// The values at the initial point (default parameters, initial states and algebraic
+/// guesses, `t = 0`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct InitialPoint {
+    /// Parameter defaults.
+    pub params: Vec<f64>,
+    /// Initial states.
+    pub states: Vec<f64>,
+    /// Initial algebraic guesses.
+    pub algs: Vec<f64>,
+}
+
+/// The result of [`analyze`].
+#[derive(Clone, Debug)]
+pub struct Analysis {
+    /// The model's name.
+    pub model_name: String,
+    /// The arena holding every expression below.
+    pub arena: Arena,
+    /// Names for printing.
+    pub names: Names,
+    /// `f[k]`: right-hand side of `der(x_k)`.
+    pub f: Vec<Id>,
+    /// Nodes of the lets.
+    pub lets: Vec<Id>,
+    /// Names of the lets (same order).
+    pub let_names: Vec<String>,
+    /// One entry per constraint, in declaration order.
+    pub constraints: Vec<ConstraintAnalysis>,
+    /// The initial point everything was checked at.
+    pub initial: InitialPoint,
+    /// `J_Omega` at the initial point, row-major, constraints x algebraic unknowns.
+    pub jacobian_at_initial: Vec<f64>,
+    /// Its 2-norm condition number (1 for a model without constraints).
+    pub condition_number: f64,
+}
+
+impl Analysis {
+    /// The indices `r_i`, in constraint order.
+    pub fn indices(&self) -> Vec<usize> {
+        self.constraints.iter().map(|c| c.index).collect()
+    }
+}
+
+/// Binomial coefficient `C(n, k)` as a float (exact for the small n used here).
+fn binomial(n: usize, k: usize) -> f64 {
+    (0..k).fold(1.0, |c, i| c * (n - i) as f64 / (i + 1) as f64)
+}
+
+/// Analyse a checked model: index, `J_Omega`, `beta`, `s`, `alpha`, `alpha_hat`, and the
+/// checks at the initial point. Every problem found is returned, each as a diagnostic
+/// with the span of the item concerned.
+pub fn analyze(model: &Model, opts: &AnalysisOptions) -> Result<Analysis, Vec<Diagnostic>> {
+    let Lowered {
+        mut arena,
+        f,
+        g,
+        lets,
+    } = lower(model, opts.simplify);
+    let names = Names::from_model(model);
+    let mut errors = Vec::new();
+    let mut out = Vec::with_capacity(g.len());
+    for (i, (&gi, def)) in g.iter().zip(&model.constraints).enumerate() {
+        match index_of(&mut arena, gi, opts.max_differentiations) {
+            Ok(w) => out.push(realize(
+                &mut arena,
+                &names,
+                i,
+                def.name.clone(),
+                def.span,
+                w,
+            )),
+            Err(kind) => errors.push(no_index(&arena, &names, model, i, gi, kind, opts)),
+        }
+    }
+    if model.algs.len() != model.constraints.len() {
+        errors.push(Diagnostic {
+            message: format!(
+                "{} algebraic unknowns but {} constraints",
+                model.algs.len(),
+                model.constraints.len()
+            ),
+            span: model.span,
+            label: "J_Omega must be square".into(),
+            hint: Some("declare exactly one constraint per `alg` variable".into()),
+            related: vec![],
+        });
+    }
+    if !errors.is_empty() {
+        return Err(errors);
+    }
+    let mut a = Analysis {
+        model_name: model.name.clone(),
+        arena,
+        names,
+        f,
+        lets,
+        let_names: model.lets.iter().map(|l| l.name.clone()).collect(),
+        constraints: out,
+        initial: InitialPoint {
+            params: vec![],
+            states: vec![],
+            algs: vec![],
+        },
+        jacobian_at_initial: vec![],
+        condition_number: 1.0,
+    };
+    init::check_initial_point(&mut a, model, opts)?;
+    Ok(a)
+}
+
+/// Why a constraint has no index.
+enum NoIndex {
+    /// `w^(j)` does not depend on any state, `t` or algebraic unknown.
+    Constant(usize),
+    /// No algebraic unknown after the maximum number of derivatives.
+    TooMany,
+}
+
+/// `w^(0..r)` up to the first that contains an algebraic unknown.
+fn index_of(arena: &mut Arena, g: Id, max: usize) -> Result<Vec<Id>, NoIndex> {
+    let mut w = vec![g];
+    loop {
+        let last = *w.last().expect("w starts with g");
+        if arena.has_alg(last) {
+            return Ok(w);
+        }
+        if !arena.has_state_or_time(last) {
+            return Err(NoIndex::Constant(w.len() - 1));
+        }
+        if w.len() > max {
+            return Err(NoIndex::TooMany);
+        }
+        w.push(arena.dt(last));
+    }
+}
+
+fn realize(
+    arena: &mut Arena,
+    names: &Names,
+    i: usize,
+    name: String,
+    span: Span,
+    w: Vec<Id>,
+) -> ConstraintAnalysis {
+    let r = w.len();
+    let omega = w[r - 1];
+    let cols = arena.algs_in(omega);
+    let mut jacobian_row = Vec::with_capacity(cols.len());
+    for &k in &cols {
+        let z = arena.alg(k);
+        let d = arena.diff(omega, z);
+        if arena.as_const(d) != Some(0.0) {
+            jacobian_row.push((k, d));
+        }
+    }
+    let beta = arena.dt(omega);
+    let mu = arena.mu(i);
+    let mu_pow = |arena: &mut Arena, j: usize| arena.powf(mu, j as f64);
+    // s = sum_{j=0}^{r-1} C(r-1, j) mu^j w^(j)
+    let mut s_terms = Vec::with_capacity(r);
+    for (j, &wj) in w.iter().enumerate() {
+        let m = mu_pow(arena, j);
+        s_terms.push((arena.mul(m, wj), binomial(r - 1, j)));
+    }
+    let s = arena.lin(0.0, &s_terms);
+    // alpha_hat = sum_{j=1}^{r-1} C(r-1, j-1) mu^(j-1) w^(j); alpha = mu^(r-1) beta + alpha_hat
+    let mut a_terms = Vec::with_capacity(r);
+    for (j, &wj) in w.iter().enumerate().skip(1) {
+        let m = mu_pow(arena, j - 1);
+        a_terms.push((arena.mul(m, wj), binomial(r - 1, j - 1)));
+    }
+    let alpha_hat = arena.lin(0.0, &a_terms);
+    let m = mu_pow(arena, r - 1);
+    let mb = arena.mul(m, beta);
+    let alpha = arena.add(mb, alpha_hat);
+    let depends_on = cols.iter().map(|&k| alg_name(names, k)).collect();
+    ConstraintAnalysis {
+        name,
+        span,
+        index: r,
+        w,
+        omega,
+        jacobian_row,
+        beta,
+        mu,
+        s,
+        alpha,
+        alpha_hat,
+        depends_on,
+    }
+}
+
+fn alg_name(names: &Names, k: usize) -> String {
+    names
+        .algs
+        .get(k)
+        .cloned()
+        .unwrap_or_else(|| format!("z{k}"))
+}
+
+fn no_index(
+    arena: &Arena,
+    names: &Names,
+    model: &Model,
+    i: usize,
+    g: Id,
+    kind: NoIndex,
+    opts: &AnalysisOptions,
+) -> Diagnostic {
+    let def = &model.constraints[i];
+    let vars: Vec<String> = arena
+        .leaves_in(g, dep::STATE | dep::TIME | dep::PARAM)
+        .into_iter()
+        .map(|l| arena.display(l, names))
+        .collect();
+    let vars = if vars.is_empty() {
+        "no variables".to_string()
+    } else {
+        vars.join(", ")
+    };
+    let (message, hint) = match kind {
+        NoIndex::Constant(0) => (
+            format!("constraint `{}` does not depend on any state, algebraic unknown or t", def.name),
+            "a constraint must restrict the motion: make it depend on the states".to_string(),
+        ),
+        NoIndex::Constant(j) => (
+            format!(
+                "constraint `{}` has no index: its time derivative {j} is constant, so no algebraic unknown ever appears",
+                def.name
+            ),
+            "the algebraic unknowns must drive the states this constraint depends on (through some `der`)".to_string(),
+        ),
+        NoIndex::TooMany => (
+            format!(
+                "constraint `{}` has no index: no algebraic unknown appears after {} time derivatives",
+                def.name, opts.max_differentiations
+            ),
+            "the algebraic unknowns must drive the states this constraint depends on (through some `der`)".to_string(),
+        ),
+    };
+    Diagnostic {
+        message,
+        span: def.span,
+        label: format!("depends on {vars}"),
+        hint: Some(hint),
+        related: vec![],
+    }
+}

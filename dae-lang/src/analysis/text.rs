@@ -1,0 +1,136 @@
+//! The `daec derive` text: one equation per line, right-hand sides in the language syntax.
+
+use std::fmt::Write;
+
+use super::Analysis;
+use crate::sym::Id;
+
+/// The name of `w^(j)` of a constraint; the last one (`j = r - 1`) is called `Omega`.
+pub(super) fn wname(c: &str, j: usize, index: usize) -> String {
+    if j + 1 == index {
+        return format!("Omega_{c}");
+    }
+    match j {
+        0..=3 => format!("w_{c}{}", "'".repeat(j)),
+        _ => format!("w_{c}^({j})"),
+    }
+}
+
+impl Analysis {
+    /// The first `n` lets as abbreviations, skipping lets that are a bare leaf or number
+    /// (writing `x` for a let `a = x` would only obscure the text).
+    fn abbreviations(&self, n: usize) -> Vec<(Id, String)> {
+        self.lets
+            .iter()
+            .zip(&self.let_names)
+            .take(n)
+            .filter(|(id, _)| !self.arena.children(**id).is_empty())
+            .map(|(id, name)| (*id, name.clone()))
+            .collect()
+    }
+
+    /// The derivation as text, one equation per line:
+    ///
+    /// ```text
+    /// // constraint link1: index 3, Omega = w_link1'', depends on z1, z2
+    /// w_link1 = ...
+    /// w_link1' = ...
+    /// Omega_link1 = ...
+    /// J(0, 0) = ...
+    /// beta_link1 = ...
+    /// s_link1 = ...
+    /// alpha_link1 = ...
+    /// alpha_hat_link1 = ...
+    /// ```
+    ///
+    /// The model's lets come first (`let l1 = ...`), each in terms of earlier ones; every
+    /// right-hand side after them is an expression of the language over the model's names
+    /// (parameters, states, algebraic unknowns, lets) and `t`, plus the realization
+    /// parameters `mu1, mu2, ...`. A let is written by name wherever its node occurs whole
+    /// (after simplification a let may also be merged into a larger term, e.g. `l^2`
+    /// becomes the sum it squares). `J(i, k)` is `dOmega_i/dz_k` (row = constraint,
+    /// column = algebraic unknown, both from 0); only structurally non-zero entries appear.
+    pub fn derive_text(&self) -> String {
+        let mut ids = Vec::new();
+        for c in &self.constraints {
+            ids.extend(&c.w);
+            ids.extend(c.jacobian_row.iter().map(|(_, id)| *id));
+            ids.extend([c.beta, c.s, c.alpha, c.alpha_hat]);
+        }
+        let abbrev = self.abbreviations(self.lets.len());
+        let mut printed = self
+            .arena
+            .display_all_abbreviated(&ids, &self.names, &abbrev)
+            .into_iter();
+        let mut next = || printed.next().expect("one printed expression per id");
+        let mut out = String::new();
+        let indices: Vec<String> = self.indices().iter().map(|r| r.to_string()).collect();
+        let _ = writeln!(
+            out,
+            "// model {}: {} constraint{}, indices ({}), cond(J_Omega) = {:.6e} at t = 0",
+            self.model_name,
+            self.constraints.len(),
+            if self.constraints.len() == 1 { "" } else { "s" },
+            indices.join(", "),
+            self.condition_number
+        );
+        let cols: Vec<String> = self
+            .names
+            .algs
+            .iter()
+            .enumerate()
+            .map(|(k, n)| format!("{k} = {n}"))
+            .collect();
+        let _ = writeln!(
+            out,
+            "// J(i, k) = dOmega_i/dz_k, columns: {}",
+            cols.join(", ")
+        );
+        if !self.lets.is_empty() {
+            out.push_str("\n// definitions (the model's lets, in terms of earlier ones)\n");
+        }
+        for (j, (&id, name)) in self.lets.iter().zip(&self.let_names).enumerate() {
+            let own: Vec<(Id, String)> = self
+                .abbreviations(j)
+                .into_iter()
+                .filter(|(a, _)| *a != id)
+                .collect();
+            let text = self.arena.display_all_abbreviated(&[id], &self.names, &own);
+            let _ = writeln!(out, "let {name} = {}", text[0]);
+        }
+        for (i, c) in self.constraints.iter().enumerate() {
+            let r = c.index;
+            let omega_is = if r == 1 {
+                format!("w_{}", c.name)
+            } else {
+                format!(
+                    "w_{}{}",
+                    c.name,
+                    if r - 1 <= 3 {
+                        "'".repeat(r - 1)
+                    } else {
+                        format!("^({})", r - 1)
+                    }
+                )
+            };
+            let _ = writeln!(
+                out,
+                "\n// constraint {}: index {r}, Omega = {omega_is}, depends on {}, mu{} = realization parameter",
+                c.name,
+                c.depends_on.join(", "),
+                i + 1
+            );
+            for j in 0..r {
+                let _ = writeln!(out, "{} = {}", wname(&c.name, j, r), next());
+            }
+            for (k, _) in &c.jacobian_row {
+                let _ = writeln!(out, "J({i}, {k}) = {}", next());
+            }
+            let _ = writeln!(out, "beta_{} = {}", c.name, next());
+            let _ = writeln!(out, "s_{} = {}", c.name, next());
+            let _ = writeln!(out, "alpha_{} = {}", c.name, next());
+            let _ = writeln!(out, "alpha_hat_{} = {}", c.name, next());
+        }
+        out
+    }
+}

@@ -1,0 +1,289 @@
+//! From the analysis to the compiled form: each function's outputs emitted as a tape.
+//!
+//! The arena is hash-consed, so emitting each node reachable from a function's outputs
+//! once, children first, is common-subexpression elimination over all outputs of that
+//! function. The arena's n-ary normal form (`c + sum a_k t_k`, `c * prod b_k^e_k`) is
+//! turned back into the cheapest binary operations: `a - b` rather than `a + (-1) b`,
+//! a quotient of products rather than negative powers, `powi` for integer exponents and
+//! `sqrt` for half-integer ones. Powers of one base that occur in several places of a
+//! function (`l^-1`, `l^-3`, ...) share their `sqrt` and `powi` slots.
+
+use std::collections::HashMap;
+
+use crate::analysis::{Analysis, lower_expr};
+use crate::compiled::{CompiledModel, DENSE_JACOBIAN_MAX};
+use crate::model::{Func, Model};
+use crate::sym::{Arena, Fun1, Fun2, Id, Node};
+use crate::tape::{BinaryOp, Input, Instr, Operand, Tape, UnaryOp};
+
+/// Build the compiled form of an analysed model.
+pub fn compile(model: &Model, analysis: &Analysis) -> CompiledModel {
+    // Initial values are expressions over parameters; lower them into a copy of the
+    // arena so they get the same simplification and the same emitter.
+    let mut arena = analysis.arena.clone();
+    let no_lets: Vec<Id> = Vec::new();
+    let init_state: Vec<Id> = model
+        .states
+        .iter()
+        .map(|s| lower_expr(&mut arena, &no_lets, &s.init))
+        .collect();
+    let init_alg: Vec<Id> = model
+        .algs
+        .iter()
+        .map(|a| lower_expr(&mut arena, &no_lets, &a.init))
+        .collect();
+
+    let m = analysis.constraints.len();
+    let mut pattern: Vec<(usize, usize)> = Vec::new();
+    let mut jac_ids: Vec<Option<Id>> = Vec::new();
+    for (row, c) in analysis.constraints.iter().enumerate() {
+        if m <= DENSE_JACOBIAN_MAX {
+            for col in 0..m {
+                pattern.push((row, col));
+                jac_ids.push(
+                    c.jacobian_row
+                        .iter()
+                        .find(|(k, _)| *k == col)
+                        .map(|(_, id)| *id),
+                );
+            }
+        } else {
+            for (col, id) in &c.jacobian_row {
+                pattern.push((row, *col));
+                jac_ids.push(Some(*id));
+            }
+        }
+    }
+    let zero = arena.num(0.0);
+    let jac: Vec<Id> = jac_ids.into_iter().map(|id| id.unwrap_or(zero)).collect();
+
+    let mut sliding: Vec<Id> = analysis
+        .constraints
+        .iter()
+        .flat_map(|c| c.w.iter().copied())
+        .collect();
+    sliding.extend(analysis.constraints.iter().map(|c| c.s));
+    sliding.extend(analysis.constraints.iter().map(|c| c.alpha_hat));
+    let beta: Vec<Id> = analysis.constraints.iter().map(|c| c.beta).collect();
+
+    CompiledModel {
+        name: model.name.clone(),
+        params: model
+            .params
+            .iter()
+            .map(|p| (p.name.clone(), p.default))
+            .collect(),
+        states: model.states.iter().map(|s| s.name.clone()).collect(),
+        algs: model.algs.iter().map(|a| a.name.clone()).collect(),
+        constraints: model.constraints.iter().map(|c| c.name.clone()).collect(),
+        indices: analysis.indices(),
+        jacobian_pattern: pattern,
+        init_state: emit(&arena, &init_state),
+        init_alg: emit(&arena, &init_alg),
+        rhs: emit(&arena, &analysis.f),
+        sliding: emit(&arena, &sliding),
+        jacobian: emit(&arena, &jac),
+        beta: emit(&arena, &beta),
+    }
+}
+
+/// Emit the nodes reachable from `roots` as one tape whose outputs are the roots.
+pub fn emit(arena: &Arena, roots: &[Id]) -> Tape {
+    let mut e = Emitter {
+        arena,
+        tape: Tape::new(),
+        done: HashMap::new(),
+        powers: HashMap::new(),
+    };
+    for &id in &arena.reachable(roots) {
+        let o = e.node(id);
+        e.done.insert(id, o);
+    }
+    for r in roots {
+        let o = e.done[r];
+        e.tape.push_output(o);
+    }
+    e.tape
+}
+
+struct Emitter<'a> {
+    arena: &'a Arena,
+    tape: Tape,
+    /// Operand of every node emitted so far.
+    done: HashMap<Id, Operand>,
+    /// `(base, 2 * exponent)` -> operand, for powers with a half-integer or integer
+    /// exponent, so that `sqrt(b)` and `b^k` are computed once per tape.
+    powers: HashMap<(Id, i64), Operand>,
+}
+
+impl Emitter<'_> {
+    fn get(&self, id: Id) -> Operand {
+        self.done[&id]
+    }
+
+    fn un(&mut self, op: UnaryOp, a: Operand) -> Operand {
+        self.tape.push(Instr::Unary(op, a))
+    }
+
+    fn bin(&mut self, op: BinaryOp, a: Operand, b: Operand) -> Operand {
+        self.tape.push(Instr::Binary(op, a, b))
+    }
+
+    fn node(&mut self, id: Id) -> Operand {
+        match self.arena.node(id) {
+            Node::Const(c) => Operand::Const(c.0),
+            Node::Param(i) => Operand::Input(Input::Param(*i)),
+            Node::State(i) => Operand::Input(Input::State(*i)),
+            Node::Alg(i) => Operand::Input(Input::Alg(*i)),
+            Node::Time => Operand::Input(Input::Time),
+            Node::Mu(i) => Operand::Input(Input::Mu(*i)),
+            Node::Add(c, terms) => {
+                let terms: Vec<(Operand, f64)> =
+                    terms.iter().map(|(t, a)| (self.get(*t), a.0)).collect();
+                self.sum(c.0, &terms)
+            }
+            Node::Mul(c, factors) => {
+                let factors: Vec<(Id, f64)> = factors.iter().map(|(b, e)| (*b, e.0)).collect();
+                self.product(c.0, &factors)
+            }
+            Node::Pow(a, b) => {
+                let (a, b) = (self.get(*a), self.get(*b));
+                self.bin(BinaryOp::Pow, a, b)
+            }
+            Node::F1(f, a) => {
+                let a = self.get(*a);
+                self.un(UnaryOp::Call(fun1(*f)), a)
+            }
+            Node::F2(f, a, b) => {
+                let (a, b) = (self.get(*a), self.get(*b));
+                let op = match f {
+                    Fun2::Atan2 => BinaryOp::Atan2,
+                    Fun2::Min => BinaryOp::Min,
+                    Fun2::Max => BinaryOp::Max,
+                };
+                self.bin(op, a, b)
+            }
+        }
+    }
+
+    /// `c + sum a_k t_k`, with positive terms first so that negative ones become
+    /// subtractions.
+    fn sum(&mut self, c: f64, terms: &[(Operand, f64)]) -> Operand {
+        let mut acc: Option<Operand> = None;
+        let mut ordered: Vec<&(Operand, f64)> = terms.iter().filter(|t| t.1 > 0.0).collect();
+        ordered.extend(terms.iter().filter(|t| t.1 <= 0.0));
+        for &&(t, a) in &ordered {
+            let mag = a.abs();
+            let term = if mag == 1.0 {
+                t
+            } else {
+                self.bin(BinaryOp::Mul, Operand::Const(mag), t)
+            };
+            acc = Some(match acc {
+                None if a < 0.0 => self.un(UnaryOp::Neg, term),
+                None => term,
+                Some(s) if a < 0.0 => self.bin(BinaryOp::Sub, s, term),
+                Some(s) => self.bin(BinaryOp::Add, s, term),
+            });
+        }
+        match acc {
+            None => Operand::Const(c),
+            Some(s) if c > 0.0 => self.bin(BinaryOp::Add, s, Operand::Const(c)),
+            Some(s) if c < 0.0 => self.bin(BinaryOp::Sub, s, Operand::Const(-c)),
+            Some(s) => s,
+        }
+    }
+
+    /// `c * prod b_k^e_k` as `c * (numerator) / (denominator)`.
+    fn product(&mut self, c: f64, factors: &[(Id, f64)]) -> Operand {
+        let mut num: Option<Operand> = None;
+        let mut den: Option<Operand> = None;
+        for &(b, e) in factors {
+            let (slot, mag) = if e > 0.0 {
+                (&mut num, e)
+            } else {
+                (&mut den, -e)
+            };
+            let p = self.power(b, mag);
+            let prev = slot.take();
+            let next = match prev {
+                None => p,
+                Some(acc) => self.bin(BinaryOp::Mul, acc, p),
+            };
+            if e > 0.0 {
+                num = Some(next);
+            } else {
+                den = Some(next);
+            }
+        }
+        let mag = c.abs();
+        let scaled = match num {
+            None => Operand::Const(mag),
+            Some(n) if mag == 1.0 => n,
+            Some(n) => self.bin(BinaryOp::Mul, Operand::Const(mag), n),
+        };
+        let q = match den {
+            None => scaled,
+            Some(d) => self.bin(BinaryOp::Div, scaled, d),
+        };
+        if c < 0.0 { self.un(UnaryOp::Neg, q) } else { q }
+    }
+
+    /// `b^e` for `e > 0`: `powi` for integers, `sqrt` times `powi` for half-integers,
+    /// `powf` otherwise.
+    fn power(&mut self, b: Id, e: f64) -> Operand {
+        let base = self.get(b);
+        if e == 1.0 {
+            return base;
+        }
+        let twice = 2.0 * e;
+        if twice.fract() == 0.0 && twice <= 64.0 {
+            let key = (b, twice as i64);
+            if let Some(o) = self.powers.get(&key) {
+                return *o;
+            }
+            let k = twice as i64;
+            let o = if k % 2 == 0 {
+                self.un(UnaryOp::Powi((k / 2) as i32), base)
+            } else {
+                let root = match self.powers.get(&(b, 1)) {
+                    Some(r) => *r,
+                    None => {
+                        let r = self.un(UnaryOp::Call(Func::Sqrt), base);
+                        self.powers.insert((b, 1), r);
+                        r
+                    }
+                };
+                match k / 2 {
+                    0 => root,
+                    1 => self.bin(BinaryOp::Mul, base, root),
+                    n => {
+                        let p = self.power(b, n as f64);
+                        self.bin(BinaryOp::Mul, p, root)
+                    }
+                }
+            };
+            self.powers.insert(key, o);
+            return o;
+        }
+        self.bin(BinaryOp::Pow, base, Operand::Const(e))
+    }
+}
+
+fn fun1(f: Fun1) -> Func {
+    match f {
+        Fun1::Sin => Func::Sin,
+        Fun1::Cos => Func::Cos,
+        Fun1::Tan => Func::Tan,
+        Fun1::Asin => Func::Asin,
+        Fun1::Acos => Func::Acos,
+        Fun1::Atan => Func::Atan,
+        Fun1::Sinh => Func::Sinh,
+        Fun1::Cosh => Func::Cosh,
+        Fun1::Tanh => Func::Tanh,
+        Fun1::Exp => Func::Exp,
+        Fun1::Ln => Func::Ln,
+        Fun1::Abs => Func::Abs,
+        Fun1::Sign => Func::Sign,
+    }
+}

@@ -1,0 +1,383 @@
+//! The symbolic core: a hash-consed expression arena.
+//!
+//! The shape is egg's: a flat `Vec` of nodes where every child id is smaller than its
+//! parent's, and a `HashMap` from node to id so that building the same expression twice
+//! returns the same id. A DAG built this way shares every common sub-expression, which is
+//! what keeps the repeated time derivatives of the index analysis small.
+//!
+//! # Sums and products are n-ary, with numeric coefficients and exponents
+//!
+//! We store `c + a1*t1 + a2*t2 + ...` as one [`Node::Add`] and `c * b1^e1 * b2^e2 * ...`
+//! as one [`Node::Mul`] (numeric `a_k`, `e_k`), with the terms sorted by id. Subtraction,
+//! unary minus, division and numeric powers (including `sqrt`, as `^0.5`) are coefficients
+//! and exponents of these nodes, not node kinds. Why: with binary nodes, `x - x`, `2*x + 3*x`,
+//! `x*x` or `x^a * x^-b` only cancel when the two operands happen to sit next to each other;
+//! in this normal form collecting like terms and powers is a merge of two sorted lists, so it
+//! always happens, and `a - b` and `-b + a` are the same node (better hash-consing). The
+//! price is that a sum nested in a scaled sum is flattened (a numeric factor is distributed
+//! over a sum), which can duplicate a long sum; it is linear, never a swell.
+//!
+//! # Simplification contract
+//!
+//! The simplifying constructors (in `build.rs`) return an expression that equals the
+//! requested one (up to rounding) wherever every sub-expression of the requested one
+//! evaluates to a finite number. Elsewhere they may differ: `x*0 = 0`, `x/x = 1` and
+//! `x^0.5 * x^0.5 = x` turn a NaN into a number, and `1/(x*0)` is `+inf` where the
+//! unsimplified `1/(-0)` is `-inf`. Signed zeros are not kept (`-0.0` is stored as `0.0`); the only finite
+//! function that tells them apart is `atan2` on its branch cut (`y = -0`, `x < 0`).
+//! [`Arena::unsimplified`] builds an arena with all of this switched off
+//! (hash-consing stays), for measuring what the simplifier buys.
+
+mod build;
+mod diff;
+mod eval;
+mod print;
+#[cfg(test)]
+pub(crate) mod reader;
+#[cfg(test)]
+mod tests;
+
+use std::collections::HashMap;
+use std::hash::{Hash, Hasher};
+
+pub use eval::Point;
+pub use print::Names;
+
+/// The id of a node in an [`Arena`]; children always have smaller ids than parents.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Id(u32);
+
+impl Id {
+    /// The position of the node in the arena (`0..arena.len()`).
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+/// A finite or non-finite `f64` compared and hashed by its bits (`-0.0` is stored as `0.0`).
+#[derive(Clone, Copy, Debug)]
+pub struct Num(pub f64);
+
+impl Num {
+    fn norm(v: f64) -> Num {
+        Num(if v == 0.0 { 0.0 } else { v })
+    }
+}
+
+impl PartialEq for Num {
+    fn eq(&self, o: &Num) -> bool {
+        self.0.to_bits() == o.0.to_bits()
+    }
+}
+impl Eq for Num {}
+impl Hash for Num {
+    fn hash<H: Hasher>(&self, h: &mut H) {
+        self.0.to_bits().hash(h)
+    }
+}
+
+/// One-argument functions of the language (`sqrt` is the power `^0.5`, see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Fun1 {
+    /// `sin`
+    Sin,
+    /// `cos`
+    Cos,
+    /// `tan`
+    Tan,
+    /// `asin`
+    Asin,
+    /// `acos`
+    Acos,
+    /// `atan`
+    Atan,
+    /// `sinh`
+    Sinh,
+    /// `cosh`
+    Cosh,
+    /// `tanh`
+    Tanh,
+    /// `exp`
+    Exp,
+    /// `ln`
+    Ln,
+    /// `abs`
+    Abs,
+    /// `sign`
+    Sign,
+}
+
+/// Two-argument functions other than the power.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Fun2 {
+    /// `atan2(y, x)`
+    Atan2,
+    /// `min(a, b)`
+    Min,
+    /// `max(a, b)`
+    Max,
+}
+
+/// A node of the arena.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum Node {
+    /// A number.
+    Const(Num),
+    /// Parameter `i` of the model.
+    Param(u32),
+    /// Differential state `i`.
+    State(u32),
+    /// Algebraic unknown `i`.
+    Alg(u32),
+    /// Time `t`.
+    Time,
+    /// Realization parameter `mu_{i+1}` of constraint `i` (printed `mu1`, `mu2`, ...).
+    Mu(u32),
+    /// `c + sum a_k * t_k`, terms sorted by id.
+    Add(Num, Box<[(Id, Num)]>),
+    /// `c * prod b_k ^ e_k`, factors sorted by id.
+    Mul(Num, Box<[(Id, Num)]>),
+    /// `a ^ b` with a non-numeric exponent.
+    Pow(Id, Id),
+    /// A one-argument function.
+    F1(Fun1, Id),
+    /// A two-argument function.
+    F2(Fun2, Id, Id),
+}
+
+/// Which kinds of leaves a node depends on (bit set), kept per node for O(1) pruning.
+pub(crate) mod dep {
+    pub const PARAM: u8 = 1;
+    pub const STATE: u8 = 2;
+    pub const ALG: u8 = 4;
+    pub const TIME: u8 = 8;
+    pub const MU: u8 = 16;
+}
+
+/// The hash-consed expression arena. See the module documentation.
+#[derive(Clone, Debug)]
+pub struct Arena {
+    nodes: Vec<Node>,
+    deps: Vec<u8>,
+    memo: HashMap<Node, Id>,
+    simplify: bool,
+    /// Memo of partial derivatives: (node, variable node) -> derivative.
+    dmemo: HashMap<(Id, Id), Id>,
+    /// The flow `f` used by the total time derivative, one id per state.
+    flow: Vec<Id>,
+    /// Memo of total time derivatives for the current flow.
+    tmemo: HashMap<Id, Id>,
+}
+
+impl Default for Arena {
+    fn default() -> Self {
+        Arena::new()
+    }
+}
+
+impl Arena {
+    /// An empty arena whose constructors simplify.
+    pub fn new() -> Arena {
+        Arena {
+            nodes: Vec::new(),
+            deps: Vec::new(),
+            memo: HashMap::new(),
+            simplify: true,
+            dmemo: HashMap::new(),
+            flow: Vec::new(),
+            tmemo: HashMap::new(),
+        }
+    }
+
+    /// An empty arena whose constructors do not simplify (only hash-consing), for measuring.
+    pub fn unsimplified() -> Arena {
+        Arena {
+            simplify: false,
+            ..Arena::new()
+        }
+    }
+
+    /// Whether the constructors simplify.
+    pub fn simplifies(&self) -> bool {
+        self.simplify
+    }
+
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Whether the arena has no nodes.
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    /// The node behind an id.
+    pub fn node(&self, id: Id) -> &Node {
+        &self.nodes[id.index()]
+    }
+
+    /// The numeric value if the node is a constant.
+    pub fn as_const(&self, id: Id) -> Option<f64> {
+        match self.node(id) {
+            Node::Const(v) => Some(v.0),
+            _ => None,
+        }
+    }
+
+    pub(crate) fn deps(&self, id: Id) -> u8 {
+        self.deps[id.index()]
+    }
+
+    /// Whether the expression contains any algebraic unknown.
+    pub fn has_alg(&self, id: Id) -> bool {
+        self.deps(id) & dep::ALG != 0
+    }
+
+    /// Whether the expression contains any state or `t` (so its time derivative may be non-zero).
+    pub fn has_state_or_time(&self, id: Id) -> bool {
+        self.deps(id) & (dep::STATE | dep::TIME) != 0
+    }
+
+    /// Insert a node as is (hash-consed), returning its id.
+    fn intern(&mut self, node: Node) -> Id {
+        if let Some(&id) = self.memo.get(&node) {
+            return id;
+        }
+        let d = match &node {
+            Node::Const(_) => 0,
+            Node::Param(_) => dep::PARAM,
+            Node::State(_) => dep::STATE,
+            Node::Alg(_) => dep::ALG,
+            Node::Time => dep::TIME,
+            Node::Mu(_) => dep::MU,
+            Node::Add(_, ts) | Node::Mul(_, ts) => ts.iter().fold(0, |d, (t, _)| d | self.deps(*t)),
+            Node::Pow(a, b) | Node::F2(_, a, b) => self.deps(*a) | self.deps(*b),
+            Node::F1(_, a) => self.deps(*a),
+        };
+        let id = Id(u32::try_from(self.nodes.len()).expect("arena holds fewer than 2^32 nodes"));
+        self.nodes.push(node.clone());
+        self.deps.push(d);
+        self.memo.insert(node, id);
+        id
+    }
+
+    /// The children of a node, in order.
+    pub fn children(&self, id: Id) -> Vec<Id> {
+        let mut out = Vec::new();
+        self.for_each_child(id, |c| out.push(c));
+        out
+    }
+
+    fn for_each_child(&self, id: Id, mut f: impl FnMut(Id)) {
+        match self.node(id) {
+            Node::Add(_, ts) | Node::Mul(_, ts) => ts.iter().for_each(|(t, _)| f(*t)),
+            Node::Pow(a, b) | Node::F2(_, a, b) => {
+                f(*a);
+                f(*b)
+            }
+            Node::F1(_, a) => f(*a),
+            _ => {}
+        }
+    }
+
+    /// Every node reachable from `roots` (each once), in increasing id order.
+    pub fn reachable(&self, roots: &[Id]) -> Vec<Id> {
+        let mut seen = vec![false; self.len()];
+        let mut stack: Vec<Id> = roots.to_vec();
+        while let Some(id) = stack.pop() {
+            if std::mem::replace(&mut seen[id.index()], true) {
+                continue;
+            }
+            self.for_each_child(id, |c| {
+                if !seen[c.index()] {
+                    stack.push(c)
+                }
+            });
+        }
+        seen.iter()
+            .enumerate()
+            .filter(|(_, s)| **s)
+            .map(|(i, _)| Id(i as u32))
+            .collect()
+    }
+
+    /// The algebraic unknowns (indices) an expression contains, sorted.
+    pub fn algs_in(&self, id: Id) -> Vec<usize> {
+        self.leaves_in(id, dep::ALG)
+            .into_iter()
+            .filter_map(|l| match self.node(l) {
+                Node::Alg(i) => Some(*i as usize),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// The leaves (of the kinds in `mask`) reachable from `id`, sorted by id.
+    pub(crate) fn leaves_in(&self, id: Id, mask: u8) -> Vec<Id> {
+        let mut seen = std::collections::HashSet::new();
+        let mut out = Vec::new();
+        let mut stack = vec![id];
+        while let Some(n) = stack.pop() {
+            if self.deps(n) & mask == 0 || !seen.insert(n) {
+                continue;
+            }
+            match self.node(n) {
+                Node::Param(_) | Node::State(_) | Node::Alg(_) | Node::Time | Node::Mu(_) => {
+                    out.push(n)
+                }
+                _ => self.for_each_child(n, |c| stack.push(c)),
+            }
+        }
+        out.sort();
+        out
+    }
+
+    /// Arithmetic operations to evaluate one node given its children (a cost model:
+    /// every `+ - * /`, power, and function call is one operation; a coefficient of
+    /// `-1` is a subtraction or negation, not a multiplication).
+    fn node_ops(&self, id: Id) -> u64 {
+        match self.node(id) {
+            Node::Add(c, ts) => {
+                let parts = ts.len() as u64 + u64::from(c.0 != 0.0);
+                let scaled = ts.iter().filter(|(_, a)| a.0.abs() != 1.0).count() as u64;
+                let lone_neg =
+                    u64::from(c.0 == 0.0 && ts.first().is_some_and(|(_, a)| a.0 == -1.0));
+                parts.saturating_sub(1) + scaled + lone_neg
+            }
+            Node::Mul(c, fs) => {
+                let unit = c.0.abs() == 1.0;
+                let parts = fs.len() as u64 + u64::from(!unit);
+                let powers = fs.iter().filter(|(_, e)| e.0.abs() != 1.0).count() as u64;
+                let no_numerator = fs.iter().all(|(_, e)| e.0 < 0.0);
+                let recip = u64::from(unit && no_numerator && !fs.is_empty());
+                let neg = u64::from(c.0 == -1.0);
+                parts.saturating_sub(1) + powers + recip + neg
+            }
+            Node::Pow(..) | Node::F1(..) | Node::F2(..) => 1,
+            _ => 0,
+        }
+    }
+
+    /// Operation count of a set of roots with every shared sub-expression counted once
+    /// (what straight-line code after common sub-expression elimination costs).
+    pub fn op_count(&self, roots: &[Id]) -> u64 {
+        self.reachable(roots)
+            .into_iter()
+            .map(|id| self.node_ops(id))
+            .sum()
+    }
+
+    /// Operation count of the roots written out as trees (nothing shared, saturating).
+    pub fn tree_op_count(&self, roots: &[Id]) -> u64 {
+        let reach = self.reachable(roots);
+        let mut cost: HashMap<Id, u64> = HashMap::with_capacity(reach.len());
+        // Increasing id order visits children before parents.
+        for id in reach {
+            let mut c = self.node_ops(id);
+            self.for_each_child(id, |ch| c = c.saturating_add(cost[&ch]));
+            cost.insert(id, c);
+        }
+        roots.iter().fold(0u64, |s, r| s.saturating_add(cost[r]))
+    }
+}

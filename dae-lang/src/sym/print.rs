@@ -1,0 +1,300 @@
+//! Printing in the `.dae` language's own expression syntax.
+//!
+//! Precedence, loosest first: `+ -` (left), `* /` (left), unary `-`, `^` (right
+//! associative, tighter than unary minus). Each printed piece carries the [`Kind`] of its
+//! outermost operator and a parent wraps it in parentheses only when that kind binds more
+//! loosely than the position needs. A leading minus (a negative number or coefficient)
+//! has its own kind, so it is parenthesised anywhere but at the start of a sum or at the
+//! top: `a*(-2)`, `x^(-1)`, `(-x)^2`. Numbers print with Rust's shortest round-trip form
+//! (`{:?}`, integers without `.0`), which the grammar reads back to the same `f64`;
+//! non-finite constants (only reachable from non-finite input) print as `(1/0)`,
+//! `(-1/0)` and `(0/0)`, which evaluate to the same values.
+
+use std::collections::HashMap;
+
+use super::{Arena, Id, Node, Num};
+use crate::model::Model;
+
+/// Names of the leaves for printing. Missing names fall back to `p<i>`, `x<i>`, `z<i>`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Names {
+    /// Parameter names by index.
+    pub params: Vec<String>,
+    /// State names.
+    pub states: Vec<String>,
+    /// Algebraic names.
+    pub algs: Vec<String>,
+}
+
+impl Names {
+    /// The names declared in a model.
+    pub fn from_model(m: &Model) -> Names {
+        Names {
+            params: m.params.iter().map(|p| p.name.clone()).collect(),
+            states: m.states.iter().map(|s| s.name.clone()).collect(),
+            algs: m.algs.iter().map(|a| a.name.clone()).collect(),
+        }
+    }
+}
+
+/// Binding strength of the outermost operator of a printed piece.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+enum Kind {
+    Sum,
+    Neg,
+    Prod,
+    Pow,
+    Atom,
+}
+
+type Piece = (String, Kind);
+
+fn wrap((s, k): Piece, min: Kind) -> String {
+    if k < min { format!("({s})") } else { s }
+}
+
+/// A non-negative finite number as the grammar writes it.
+fn unsigned(v: f64) -> String {
+    if v.fract() == 0.0 && v < 1e15 {
+        format!("{}", v as i64)
+    } else {
+        format!("{v:?}")
+    }
+}
+
+fn number(v: f64) -> Piece {
+    if v.is_nan() {
+        ("(0/0)".into(), Kind::Atom)
+    } else if v.is_infinite() {
+        (if v > 0.0 { "(1/0)" } else { "(-1/0)" }.into(), Kind::Atom)
+    } else if v < 0.0 {
+        (format!("-{}", unsigned(-v)), Kind::Neg)
+    } else {
+        (unsigned(v), Kind::Atom)
+    }
+}
+
+/// `1/v` as an integer when that is exact (to print `x/3` instead of `0.333...*x`).
+fn exact_reciprocal(v: f64) -> Option<f64> {
+    let r = 1.0 / v;
+    (r > 1.0 && r < 1e15 && r.fract() == 0.0 && 1.0 / r == v).then_some(r)
+}
+
+struct Printer<'a> {
+    arena: &'a Arena,
+    names: &'a Names,
+    memo: HashMap<Id, Piece>,
+}
+
+impl Printer<'_> {
+    fn name(list: &[String], prefix: &str, i: u32) -> String {
+        list.get(i as usize)
+            .cloned()
+            .unwrap_or_else(|| format!("{prefix}{i}"))
+    }
+
+    fn pr(&mut self, id: Id) -> Piece {
+        if let Some(p) = self.memo.get(&id) {
+            return p.clone();
+        }
+        let p = match self.arena.node(id) {
+            Node::Const(v) => number(v.0),
+            Node::Param(i) => (Self::name(&self.names.params, "p", *i), Kind::Atom),
+            Node::State(i) => (Self::name(&self.names.states, "x", *i), Kind::Atom),
+            Node::Alg(i) => (Self::name(&self.names.algs, "z", *i), Kind::Atom),
+            Node::Time => ("t".into(), Kind::Atom),
+            Node::Mu(i) => (format!("mu{}", i + 1), Kind::Atom),
+            Node::Add(c, ts) => self.sum(c.0, ts),
+            Node::Mul(c, fs) => self.product(c.0, fs),
+            Node::Pow(a, b) => {
+                let base = wrap(self.pr(*a), Kind::Atom);
+                let exp = wrap(self.pr(*b), Kind::Pow);
+                (format!("{base}^{exp}"), Kind::Pow)
+            }
+            Node::F1(f, a) => (format!("{}({})", f.name(), self.pr(*a).0), Kind::Atom),
+            Node::F2(f, a, b) => (
+                format!("{}({}, {})", f.name(), self.pr(*a).0, self.pr(*b).0),
+                Kind::Atom,
+            ),
+        };
+        self.memo.insert(id, p.clone());
+        p
+    }
+
+    fn sum(&mut self, c: f64, ts: &[(Id, Num)]) -> Piece {
+        let mut out = String::new();
+        for (k, (t, a)) in ts.iter().enumerate() {
+            let a = a.0;
+            let body = if a.abs() == 1.0 {
+                wrap(self.pr(*t), Kind::Prod)
+            } else {
+                let scaled = match self.arena.node(*t) {
+                    Node::Mul(c1, fs) if c1.0 == 1.0 => self.product(a.abs(), fs),
+                    _ => self.product(a.abs(), &[(*t, Num(1.0))]),
+                };
+                wrap(scaled, Kind::Prod)
+            };
+            let neg = a < 0.0 || (a.is_nan() && a.is_sign_negative());
+            // A leading unary minus before a product that starts with a sum would be read as
+            // negating (and distributing into) that sum: `-((x + y)/z)`, see `product`.
+            let body = if k == 0 && neg && a.abs() == 1.0 && self.starts_with_sum(*t) {
+                format!("({body})")
+            } else {
+                body
+            };
+            match (k, neg) {
+                (0, false) => out.push_str(&body),
+                (0, true) => out.push('-'),
+                (_, false) => out.push_str(" + "),
+                (_, true) => out.push_str(" - "),
+            }
+            if k > 0 || neg {
+                out.push_str(&body);
+            }
+        }
+        if ts.is_empty() {
+            return number(c);
+        }
+        if c != 0.0 {
+            if c < 0.0 {
+                out.push_str(" - ");
+                out.push_str(&wrap(number(-c), Kind::Prod));
+            } else {
+                out.push_str(" + ");
+                out.push_str(&wrap(number(c), Kind::Prod));
+            }
+        }
+        (out, Kind::Sum)
+    }
+
+    /// Whether a product prints with a sum (possibly a let's name) as its first factor,
+    /// followed by more factors.
+    fn starts_with_sum(&self, t: Id) -> bool {
+        match self.arena.node(t) {
+            Node::Mul(_, fs) if fs.len() > 1 => fs
+                .iter()
+                .find(|(_, e)| e.0 >= 0.0)
+                .is_some_and(|(b, e)| e.0 == 1.0 && matches!(self.arena.node(*b), Node::Add(..))),
+            _ => false,
+        }
+    }
+
+    fn factor(&mut self, b: Id, e: f64) -> Piece {
+        if e == 1.0 {
+            (wrap(self.pr(b), Kind::Pow), Kind::Pow)
+        } else if e == 0.5 {
+            (format!("sqrt({})", self.pr(b).0), Kind::Atom)
+        } else {
+            let base = wrap(self.pr(b), Kind::Atom);
+            (format!("{base}^{}", wrap(number(e), Kind::Pow)), Kind::Pow)
+        }
+    }
+
+    fn product(&mut self, c: f64, fs: &[(Id, Num)]) -> Piece {
+        let mag = c.abs();
+        let has_num = fs.iter().any(|(_, e)| e.0 >= 0.0);
+        let mut coef = None;
+        let mut den: Vec<String> = Vec::new();
+        // `x/3` for a coefficient 1/3, unless a sum is in the denominator: `x/(3*(a + b))`
+        // would read back as `x/(3a + 3b)`, another normal form.
+        let sum_below = fs
+            .iter()
+            .any(|(b, e)| e.0 == -1.0 && matches!(self.arena.node(*b), Node::Add(..)));
+        if mag != 1.0 {
+            match exact_reciprocal(mag) {
+                Some(r) if has_num && !sum_below => den.push(unsigned(r)),
+                _ => coef = Some(unsigned_or_special(mag)),
+            }
+        }
+        let mut num: Vec<Piece> = Vec::new();
+        let mut leading_sum = false;
+        for (b, e) in fs {
+            if e.0 >= 0.0 {
+                if num.is_empty() {
+                    leading_sum = e.0 == 1.0 && matches!(self.arena.node(*b), Node::Add(..));
+                }
+                num.push(self.factor(*b, e.0));
+            } else {
+                den.push(wrap(self.factor(*b, -e.0), Kind::Pow));
+            }
+        }
+        let more_than_the_sum = num.len() > 1 || !den.is_empty();
+        let (mut s, mut kind) = match num.len() {
+            0 => (coef.take().unwrap_or_else(|| "1".to_string()), Kind::Atom),
+            1 => num.pop().expect("one numerator factor"),
+            _ => {
+                let parts: Vec<String> = num.into_iter().map(|p| wrap(p, Kind::Pow)).collect();
+                (parts.join("*"), Kind::Prod)
+            }
+        };
+        if !den.is_empty() {
+            s = wrap((s, kind), Kind::Prod);
+            if den.len() == 1 {
+                s = format!("{s}/{}", den[0]);
+            } else {
+                s = format!("{s}/({})", den.join("*"));
+            }
+            kind = Kind::Prod;
+        }
+        // A number or a minus directly before a sum would be read as scaling that sum (and
+        // distributed into it), a different normal form from scaling the whole product:
+        // `-((x + y)/z)`, `2*((x + y)*z)`, not `-(x + y)/z`.
+        let scaled = coef.is_some() || c < 0.0;
+        if scaled && leading_sum && more_than_the_sum {
+            s = format!("({s})");
+            kind = Kind::Atom;
+        }
+        if let Some(cf) = coef {
+            s = format!("{cf}*{}", wrap((s, kind), Kind::Prod));
+            kind = Kind::Prod;
+        }
+        if c < 0.0 {
+            (format!("-{}", wrap((s, kind), Kind::Prod)), Kind::Neg)
+        } else {
+            (s, kind)
+        }
+    }
+}
+
+/// A non-negative number, or a non-finite one in its bracketed form.
+fn unsigned_or_special(v: f64) -> String {
+    number(v).0
+}
+
+impl Arena {
+    /// The expression in the `.dae` language's syntax (shared sub-expressions are written
+    /// out in full each time they occur).
+    pub fn display(&self, id: Id, names: &Names) -> String {
+        let mut p = Printer {
+            arena: self,
+            names,
+            memo: HashMap::new(),
+        };
+        p.pr(id).0
+    }
+
+    /// Several expressions printed with one memo (faster than repeated [`Arena::display`]).
+    pub fn display_all(&self, ids: &[Id], names: &Names) -> Vec<String> {
+        self.display_all_abbreviated(ids, names, &[])
+    }
+
+    /// Like [`Arena::display_all`], but every occurrence of a node in `abbrev` is written as
+    /// the given name (e.g. a model's `let`s, so that the text reads in the model's scope).
+    pub fn display_all_abbreviated(
+        &self,
+        ids: &[Id],
+        names: &Names,
+        abbrev: &[(Id, String)],
+    ) -> Vec<String> {
+        let memo = abbrev
+            .iter()
+            .map(|(id, n)| (*id, (n.clone(), Kind::Atom)))
+            .collect();
+        let mut p = Printer {
+            arena: self,
+            names,
+            memo,
+        };
+        ids.iter().map(|&id| p.pr(id).0).collect()
+    }
+}
