@@ -84,7 +84,7 @@ pub(super) fn sliding(
             let (y0, y1) = padded(lo.min(-s.eps), hi.max(s.eps));
             let mut chart = ChartBuilder::on(panel)
                 .margin(8)
-                .x_label_area_size(30)
+                .x_label_area_size(40)
                 .y_label_area_size(60)
                 .build_cartesian_2d(t0..t1, y0..y1)
                 .map_err(draw_err)?;

@@ -148,6 +148,24 @@ pub fn optimise_mu(
 
 /// Optimises every constraint with [`optimise_mu`] and takes `T_min = min_i T_i^min`
 /// (T 3.15). Errors name the constraint ([`DesignError::Constraint`]).
+///
+/// The double pendulum of the thesis (method.md section 5), relaxed gains with (T 4.6):
+///
+/// ```
+/// use dae_runtime::{ConstraintSpec, GainChoice, LayerBound, MuSearch, design};
+///
+/// let link = |beta_abs, m| ConstraintSpec {
+///     r: 3,
+///     eps: 0.2,
+///     m,
+///     beta_abs,
+///     layer: LayerBound::TightIndex3,
+/// };
+/// let d = design(&[link(1.3e3, 9e4), link(2.3e3, 11e4)], GainChoice::Relaxed, &MuSearch::default())?;
+/// assert!((d.constraints[0].mu - 0.076).abs() < 0.001);
+/// assert!((d.t_min - 0.0053).abs() < 1e-4);
+/// # Ok::<(), dae_runtime::DesignError>(())
+/// ```
 pub fn design(
     specs: &[ConstraintSpec],
     gain: GainChoice,
