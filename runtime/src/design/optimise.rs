@@ -1,0 +1,201 @@
+//! The choice of `mu_i` (T corollary 4.1, section 4.3): maximise `T_i^min(mu_i)` with the
+//! gain `k_i(mu_i)` substituted, per constraint; the design's period is the smallest
+//! `T_i^min` (T 3.15).
+
+use super::{ConstraintSpec, DesignError, GainChoice, t_min};
+
+/// Where and how finely [`optimise_mu`] searches.
+///
+/// Method: `T_min(mu)` is sampled at `scan_points` values of `mu` spaced evenly in
+/// `ln mu` over `[lo, hi]`; the best sample must be interior (otherwise
+/// [`DesignError::NoInteriorMaximum`]); then golden-section search on `ln mu` over the
+/// two scan cells around it until the bracket is narrower than `ln_tol`. The scan makes
+/// the result robust against several local maxima (it finds the best one to within a
+/// scan cell); the golden-section step then converges to that maximum. Near a smooth
+/// maximum `T_min` changes only to second order, so `mu` is located to about
+/// `sqrt(f64::EPSILON) ~ 1.5e-8` relative at best, whatever `ln_tol`; `T_min` itself is
+/// found to within a few units in the last place.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MuSearch {
+    /// Smallest `mu` considered (`> 0`).
+    pub lo: f64,
+    /// Largest `mu` considered (`> lo`).
+    pub hi: f64,
+    /// Number of scan points, at least 3.
+    pub scan_points: usize,
+    /// Width of the final bracket in `ln mu`.
+    pub ln_tol: f64,
+}
+
+impl Default for MuSearch {
+    /// `mu` in `[1e-6, 1e3]`, 40 scan points per decade (361), `ln_tol = 1e-10`.
+    fn default() -> Self {
+        MuSearch {
+            lo: 1e-6,
+            hi: 1e3,
+            scan_points: 361,
+            ln_tol: 1e-10,
+        }
+    }
+}
+
+/// The outcome of [`optimise_mu`] for one constraint.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ConstraintDesign {
+    /// The chosen surface parameter. For `r = 1`, `s = w` does not depend on `mu` and
+    /// neither do the gains or `T_min`; `mu` is then reported as 1.
+    pub mu: f64,
+    /// The gain at that `mu`.
+    pub k: f64,
+    /// The guaranteed period `T_i^min` at that `mu` and gain (T 3.14 or a variant).
+    pub t_min: f64,
+}
+
+/// A design for all constraints.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Design {
+    /// One entry per constraint, in input order.
+    pub constraints: Vec<ConstraintDesign>,
+    /// `T_min = min_i T_i^min` (T 3.15): the period that a fixed-period DBSMC may use.
+    pub t_min: f64,
+    /// The constraint that attains `t_min` (the first one on ties).
+    pub limiting: usize,
+}
+
+/// Maximises `T_min(mu)` of one constraint with `k = gain.gain(spec, mu)` substituted
+/// (method in [`MuSearch`]).
+pub fn optimise_mu(
+    spec: &ConstraintSpec,
+    gain: GainChoice,
+    search: &MuSearch,
+) -> Result<ConstraintDesign, DesignError> {
+    spec.validate()?;
+    let eval = |mu: f64| -> Result<ConstraintDesign, DesignError> {
+        let k = gain.gain(spec, mu)?;
+        Ok(ConstraintDesign {
+            mu,
+            k,
+            t_min: t_min(spec, mu, k)?,
+        })
+    };
+    if spec.r == 1 {
+        // s = w: mu enters neither s, nor the gains, nor (T 3.14) (c_1 = 0).
+        return eval(1.0);
+    }
+    let bad = DesignError::BadSearch {
+        lo: search.lo,
+        hi: search.hi,
+        points: search.scan_points,
+    };
+    let tol_ok = search.ln_tol.is_finite() && search.ln_tol > 0.0;
+    if !(search.lo.is_finite() && search.hi.is_finite() && search.lo > 0.0)
+        || search.hi <= search.lo
+        || search.scan_points < 3
+        || !tol_ok
+    {
+        return Err(bad);
+    }
+    let (x_lo, x_hi) = (search.lo.ln(), search.hi.ln());
+    let n = search.scan_points;
+    let x_at = |i: usize| x_lo + (x_hi - x_lo) * i as f64 / (n - 1) as f64;
+    let f = |x: f64| eval(x.exp()).map(|d| d.t_min);
+
+    let mut best = (0, f64::NEG_INFINITY);
+    for i in 0..n {
+        let t = f(x_at(i))?;
+        if t > best.1 {
+            best = (i, t);
+        }
+    }
+    let i = best.0;
+    if i == 0 || i == n - 1 {
+        return Err(DesignError::NoInteriorMaximum {
+            mu: x_at(i).exp(),
+            lo: search.lo,
+            hi: search.hi,
+        });
+    }
+
+    // Golden-section search for the maximum in [x_{i-1}, x_{i+1}].
+    let inv_phi = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut a, mut b) = (x_at(i - 1), x_at(i + 1));
+    let mut c = b - inv_phi * (b - a);
+    let mut d = a + inv_phi * (b - a);
+    let (mut fc, mut fd) = (f(c)?, f(d)?);
+    while b - a > search.ln_tol {
+        if fc >= fd {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - inv_phi * (b - a);
+            fc = f(c)?;
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + inv_phi * (b - a);
+            fd = f(d)?;
+        }
+    }
+    let found = eval((0.5 * (a + b)).exp())?;
+    // Never return worse than the scan's best point (guards a flat top).
+    if found.t_min >= best.1 {
+        Ok(found)
+    } else {
+        eval(x_at(i).exp())
+    }
+}
+
+/// Optimises every constraint with [`optimise_mu`] and takes `T_min = min_i T_i^min`
+/// (T 3.15). Errors name the constraint ([`DesignError::Constraint`]).
+///
+/// The double pendulum of the thesis (method.md section 5), relaxed gains with (T 4.6):
+///
+/// ```
+/// use dae_runtime::{ConstraintSpec, GainChoice, LayerBound, MuSearch, design};
+///
+/// let link = |beta_abs, m| ConstraintSpec {
+///     r: 3,
+///     eps: 0.2,
+///     m,
+///     beta_abs,
+///     layer: LayerBound::TightIndex3,
+/// };
+/// let d = design(&[link(1.3e3, 9e4), link(2.3e3, 11e4)], GainChoice::Relaxed, &MuSearch::default())?;
+/// assert!((d.constraints[0].mu - 0.076).abs() < 0.001);
+/// assert!((d.t_min - 0.0053).abs() < 1e-4);
+/// # Ok::<(), dae_runtime::DesignError>(())
+/// ```
+pub fn design(
+    specs: &[ConstraintSpec],
+    gain: GainChoice,
+    search: &MuSearch,
+) -> Result<Design, DesignError> {
+    if specs.is_empty() {
+        return Err(DesignError::NoConstraints);
+    }
+    let constraints = specs
+        .iter()
+        .enumerate()
+        .map(|(index, spec)| {
+            optimise_mu(spec, gain, search).map_err(|e| DesignError::Constraint {
+                index,
+                source: Box::new(e),
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut limiting = 0;
+    for (i, c) in constraints.iter().enumerate() {
+        if c.t_min < constraints[limiting].t_min {
+            limiting = i;
+        }
+    }
+    Ok(Design {
+        t_min: constraints[limiting].t_min,
+        limiting,
+        constraints,
+    })
+}
+
+#[cfg(test)]
+mod tests;
