@@ -23,8 +23,16 @@ impl Interpreted {
     pub fn new(model: CompiledModel) -> Self {
         let params = model.params.iter().map(|(_, v)| *v).collect();
         let sliding = model.sliding.n_slots() + model.w_len() + 2 * model.algs.len();
-        let longest = model.functions().iter().map(|(_, t)| t.n_slots()).fold(sliding, usize::max);
-        Interpreted { model, params, slots: RefCell::new(vec![0.0; longest]) }
+        let longest = model
+            .functions()
+            .iter()
+            .map(|(_, t)| t.n_slots())
+            .fold(sliding, usize::max);
+        Interpreted {
+            model,
+            params,
+            slots: RefCell::new(vec![0.0; longest]),
+        }
     }
 
     /// The compiled model.
@@ -38,7 +46,13 @@ impl Interpreted {
     }
 
     fn run(&self, tape: &Tape, t: f64, x: &[f64], z: &[f64], mu: &[f64], out: &mut [f64]) {
-        let inputs = Inputs { params: &self.params, states: x, algs: z, mu, t };
+        let inputs = Inputs {
+            params: &self.params,
+            states: x,
+            algs: z,
+            mu,
+            t,
+        };
         tape.eval(&inputs, &mut self.slots.borrow_mut(), out);
     }
 }
@@ -101,7 +115,13 @@ impl Model for Interpreted {
         let nw = w.len();
         let m = s.len();
         let total = nw + 2 * m;
-        let inputs = Inputs { params: &self.params, states: x, algs: z, mu, t };
+        let inputs = Inputs {
+            params: &self.params,
+            states: x,
+            algs: z,
+            mu,
+            t,
+        };
         let mut slots = self.slots.borrow_mut();
         let tape = &self.model.sliding;
         let (scratch, out) = slots.split_at_mut(tape.n_slots());
