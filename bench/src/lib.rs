@@ -6,6 +6,7 @@ mod harness;
 mod initial;
 mod linalg;
 mod scenes;
+mod stability;
 mod standin;
 mod truth;
 
@@ -16,6 +17,10 @@ pub use harness::{
 pub use initial::WithInitial;
 pub use linalg::{Lu, Singular};
 pub use scenes::{SceneError, TRUTH_TOL, chain_scene};
+pub use stability::{
+    DRIFT_GROWTH, Envelope, StabilityRow, Verdict, envelope_run, judge, largest_step_row,
+    stability_row, with_step, write_table,
+};
 pub use standin::{MAX_LINKS, PlanarChainDae};
 pub use truth::{
     ChainWork, Extrapolation, PlanarChain, Reference, TruthError, TruthStats, reference,

@@ -78,10 +78,12 @@ impl<M: Model + ?Sized> Reduced<'_, M> {
 }
 
 /// Integrate the index-1 form of `model` from its initial state and guess with
-/// `diffsol`'s BDF and nalgebra's dense LU.
+/// `diffsol`'s BDF and nalgebra's dense LU; if given, call `observe(t, x, w)` after
+/// every accepted step.
 pub fn bdf_index1<M: Model + ?Sized>(
     model: &M,
     settings: &BdfSettings,
+    mut observe: Option<&mut dyn FnMut(f64, &[f64], &[f64])>,
 ) -> Result<BdfSummary, BaselineError> {
     let clock = Instant::now();
     let (n, m) = (model.n_states(), model.n_constraints());
@@ -155,6 +157,10 @@ pub fn bdf_index1<M: Model + ?Sized>(
         }
         for i in 0..m {
             max_w[i] = max_w[i].max(w[offs[i]].abs());
+            s[i] = w[offs[i]];
+        }
+        if let Some(obs) = observe.as_mut() {
+            obs(t, &x, &s[..m]);
         }
         if x.iter().any(|v| !v.is_finite()) {
             return Err(BaselineError::NonFinite { t });

@@ -49,6 +49,25 @@ impl<M: Model + ?Sized> Scene<'_, M> {
         WithInitial::new(self.model, self.x0.clone(), self.z0.clone())
     }
 
+    /// DBSMC with monitoring at layer `eps`, time constant `mu` and gains
+    /// [`Scene::gains`]`(mu, gain_factor)`, with the step chosen so that one step moves
+    /// `s` by at most a fifth of the layer (`h = 0.2 eps / max k_i`, at most `h_max`):
+    /// crossings are detected at step ends, so the overshoot is `|s'| h ~ k h`. The step
+    /// is kept at or above `1e-6` s so that a run stays affordable; below that the layer
+    /// is overshot and the run's figures show it.
+    pub fn dbsmc(&self, eps: f64, mu: f64, gain_factor: f64, h_max: f64) -> Method {
+        let k = self
+            .gains(mu, gain_factor)
+            .into_iter()
+            .fold(0.0f64, f64::max);
+        Method::Dbsmc {
+            eps,
+            mu,
+            step: (0.2 * eps / k).clamp(1e-6, h_max.max(1e-6)),
+            gain_factor,
+        }
+    }
+
     /// Gains `k_i = factor * mu^(r_i - 1) * beta_bound_i`.
     pub fn gains(&self, mu: f64, factor: f64) -> Vec<f64> {
         self.model
@@ -263,7 +282,7 @@ fn run_once<M: Model + ?Sized>(scene: &Scene<'_, M>, method: &Method) -> Result<
                 t_start: 0.0,
                 t_end: scene.t_end,
             };
-            let s = bdf_index1(&model, &set).map_err(|e| e.to_string())?;
+            let s = bdf_index1(&model, &set, None).map_err(|e| e.to_string())?;
             Ok(Outcome {
                 max_w: max_of(&s.max_abs_w),
                 wall: s.wall_time,
