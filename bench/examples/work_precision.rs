@@ -128,9 +128,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     // Work-precision scenes (consistent starts at rest, truth in minimal coordinates).
     let dp = PlanarChain::double_pendulum();
-    let dp_dae = PlanarChainDae::new(&dp);
-    let chain5 = PlanarChain::new(vec![0.1; 5], vec![0.5; 5], 9.8);
-    let chain5_dae = PlanarChainDae::new(&chain5);
+    let dp_dae = PlanarChainDae::new(&dp)?;
+    let chain5 = PlanarChain::new(vec![0.1; 5], vec![0.5; 5], 9.8)?;
+    let chain5_dae = PlanarChainDae::new(&chain5)?;
     let mut records = Vec::new();
     let s_dp = chain_scene(
         "double_pendulum",
@@ -206,8 +206,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     println!("stability (iii): 3-link chain, end mass 1000 x the others");
-    let heavy = PlanarChain::new(vec![0.1, 0.1, 100.0], vec![1.0; 3], 9.8);
-    let heavy_dae = PlanarChainDae::new(&heavy);
+    let heavy = PlanarChain::new(vec![0.1, 0.1, 100.0], vec![1.0; 3], 9.8)?;
+    let heavy_dae = PlanarChainDae::new(&heavy)?;
     let s_heavy = chain_scene(
         "chain3 heavy end",
         &heavy_dae,
@@ -222,8 +222,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     println!("stability (iv): 4-link chain released almost straight (J_Omega worst conditioned)");
-    let straight = PlanarChain::new(vec![0.1; 4], vec![0.5; 4], 9.8);
-    let straight_dae = PlanarChainDae::new(&straight);
+    let straight = PlanarChain::new(vec![0.1; 4], vec![0.5; 4], 9.8)?;
+    let straight_dae = PlanarChainDae::new(&straight)?;
     let th: Vec<f64> = (0..4).map(|k| -FRAC_PI_2 + 1e-3 * k as f64).collect();
     let s_straight = chain_scene("chain4 straight", &straight_dae, &straight, &th, 2.0)?;
     for m in nominal(&s_straight) {

@@ -7,6 +7,8 @@
 
 use dae_runtime::Model;
 
+use crate::baseline::BaselineError;
+
 /// A model with its initial state and initial algebraic guess replaced.
 #[derive(Debug, Clone)]
 pub struct WithInitial<'a, M: Model + ?Sized> {
@@ -17,10 +19,16 @@ pub struct WithInitial<'a, M: Model + ?Sized> {
 
 impl<'a, M: Model + ?Sized> WithInitial<'a, M> {
     /// Wrap `model`; `x0` and `z0` must have `n` and `m` values.
-    pub fn new(model: &'a M, x0: Vec<f64>, z0: Vec<f64>) -> Self {
-        assert_eq!(x0.len(), model.n_states(), "x0 length");
-        assert_eq!(z0.len(), model.n_constraints(), "z0 length");
-        Self { model, x0, z0 }
+    pub fn new(model: &'a M, x0: Vec<f64>, z0: Vec<f64>) -> Result<Self, BaselineError> {
+        let (n, m) = (model.n_states(), model.n_constraints());
+        if x0.len() != n || z0.len() != m {
+            return Err(BaselineError::Settings(format!(
+                "initial state has {} values and guess {} for a model with {n} states and {m} unknowns",
+                x0.len(),
+                z0.len()
+            )));
+        }
+        Ok(Self { model, x0, z0 })
     }
     /// The wrapped model.
     pub fn inner(&self) -> &'a M {

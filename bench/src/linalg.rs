@@ -76,18 +76,14 @@ impl Lu {
             b.swap(k, self.perm[k]);
         }
         for r in 0..n {
-            let mut acc = b[r];
-            for c in 0..r {
-                acc -= self.a[r * n + c] * b[c];
-            }
-            b[r] = acc;
+            let row = &self.a[r * n..r * n + r];
+            let dot: f64 = row.iter().zip(&b[..r]).map(|(l, y)| l * y).sum();
+            b[r] -= dot;
         }
         for r in (0..n).rev() {
-            let mut acc = b[r];
-            for c in r + 1..n {
-                acc -= self.a[r * n + c] * b[c];
-            }
-            b[r] = acc / self.a[r * n + r];
+            let row = &self.a[r * n + r + 1..(r + 1) * n];
+            let dot: f64 = row.iter().zip(&b[r + 1..n]).map(|(u, y)| u * y).sum();
+            b[r] = (b[r] - dot) / self.a[r * n + r];
         }
     }
 }

@@ -122,9 +122,12 @@ pub fn envelope_run<M: Model + ?Sized>(
     method: &Method,
     window: f64,
 ) -> (Envelope, Result<Vec<f64>, String>) {
-    let model = scene.started();
-    let m = model.n_constraints();
     let mut env = Envelope::new(window);
+    let model = match scene.started() {
+        Ok(m) => m,
+        Err(e) => return (env, Err(e.to_string())),
+    };
+    let m = model.n_constraints();
     let result = match *method {
         Method::Dbsmc {
             eps,

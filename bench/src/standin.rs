@@ -29,7 +29,7 @@
 
 use dae_runtime::Model;
 
-use crate::truth::PlanarChain;
+use crate::truth::{PlanarChain, TruthError};
 
 /// Largest chain the stand-in supports (its per-call scratch lives on the stack).
 pub const MAX_LINKS: usize = 32;
@@ -70,10 +70,14 @@ impl PlanarChainDae {
     /// The Cartesian DAE of `chain`, starting stretched out horizontally to the left
     /// (on the constraint manifold, at rest) with `z = 0` as the initial guess.
     ///
-    /// Panics if the chain has more than [`MAX_LINKS`] links.
-    pub fn new(chain: &PlanarChain) -> Self {
+    /// Chains of more than [`MAX_LINKS`] links are refused.
+    pub fn new(chain: &PlanarChain) -> Result<Self, TruthError> {
         let n = chain.links();
-        assert!(n >= 1 && n <= MAX_LINKS, "1..={MAX_LINKS} links");
+        if !(1..=MAX_LINKS).contains(&n) {
+            return Err(TruthError::InvalidChain(format!(
+                "{n} links; the stand-in supports 1..={MAX_LINKS}"
+            )));
+        }
         let mut x0 = vec![0.0; 4 * n];
         let mut px = 0.0;
         for k in 0..n {
@@ -92,7 +96,7 @@ impl PlanarChainDae {
                 pattern.push((k, j));
             }
         }
-        Self {
+        Ok(Self {
             masses: chain.masses.clone(),
             lengths: chain.lengths.clone(),
             g: chain.g,
@@ -104,13 +108,14 @@ impl PlanarChainDae {
             constraint_names: (1..=n).map(|k| format!("link{k}")).collect(),
             indices: vec![3; n],
             pattern,
-        }
+        })
     }
 
     /// The planar double pendulum exactly as in language.md, including its initial state
     /// `x1 = -1, x2 = -5` (not on the constraint manifold: `|R1| = 1 != L1 = 2`).
     pub fn language_double_pendulum() -> Self {
-        let mut m = Self::new(&PlanarChain::double_pendulum());
+        let mut m =
+            Self::new(&PlanarChain::double_pendulum()).expect("two links are within MAX_LINKS");
         m.x0.fill(0.0);
         m.x0[0] = -1.0;
         m.x0[4] = -5.0;

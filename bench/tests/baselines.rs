@@ -14,9 +14,9 @@ use dae_runtime::{NoTrace, Policy, Settings, Simulator};
 #[test]
 fn index_one_keeps_s_at_round_off_with_one_newton_iteration_per_stage_on_an_affine_model() {
     let chain = PlanarChain::double_pendulum();
-    let dae = PlanarChainDae::new(&chain);
+    let dae = PlanarChainDae::new(&chain).unwrap();
     let scene = chain_scene("dp", &dae, &chain, &[-FRAC_PI_2, -1.0], 1.0).unwrap();
-    let model = scene.started();
+    let model = scene.started().unwrap();
     let set = IndexOneSettings {
         mu: vec![0.05; 2],
         step: 1e-3,
@@ -69,7 +69,7 @@ fn index_one_reproduces_the_closed_form_of_the_tracking_model() {
 #[test]
 fn index_one_and_bdf_match_the_truth_of_the_double_pendulum() {
     let chain = PlanarChain::double_pendulum();
-    let dae = PlanarChainDae::new(&chain);
+    let dae = PlanarChainDae::new(&chain).unwrap();
     let scene = chain_scene("dp", &dae, &chain, &[-FRAC_PI_2, -FRAC_PI_2], 1.0).unwrap();
     let rk = run_method(
         &scene,
@@ -80,7 +80,7 @@ fn index_one_and_bdf_match_the_truth_of_the_double_pendulum() {
         1,
     );
     assert!(rk.ok && rk.pos_err < 1e-9, "index-1 RK4: {rk:?}");
-    let model = scene.started();
+    let model = scene.started().unwrap();
     let set = BdfSettings {
         mu: vec![0.05; 2],
         rtol: 1e-10,
@@ -116,9 +116,9 @@ fn step_search_brackets_a_known_threshold() {
 #[test]
 fn spsm_holds_at_a_small_step_and_not_at_a_large_one() {
     let chain = PlanarChain::double_pendulum();
-    let dae = PlanarChainDae::new(&chain);
+    let dae = PlanarChainDae::new(&chain).unwrap();
     let scene = chain_scene("dp", &dae, &chain, &[-FRAC_PI_2, -FRAC_PI_2], 1.0).unwrap();
-    let model = scene.started();
+    let model = scene.started().unwrap();
     let eps = vec![1e-3; 2];
     let run = |h: f64| {
         let set = Settings::new(eps.clone(), vec![0.05; 2], scene.gains(0.05, 1.5))

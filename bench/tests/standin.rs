@@ -4,8 +4,8 @@ use dae_bench::{PlanarChain, PlanarChainDae};
 use dae_runtime::Model;
 
 fn model() -> (PlanarChainDae, Vec<f64>, Vec<f64>) {
-    let chain = PlanarChain::new(vec![0.1, 0.2, 0.3], vec![0.5, 1.0, 1.5], 9.8);
-    let dae = PlanarChainDae::new(&chain);
+    let chain = PlanarChain::new(vec![0.1, 0.2, 0.3], vec![0.5, 1.0, 1.5], 9.8).unwrap();
+    let dae = PlanarChainDae::new(&chain).unwrap();
     // Off the manifold on purpose: the formulas must hold everywhere.
     let x = vec![
         0.3, -0.4, 0.5, -0.2, 1.0, -1.1, 0.1, 0.7, 1.9, -2.0, -1.0, 0.4,

@@ -31,7 +31,7 @@ fn integrate(chain: &PlanarChain, y: &mut [f64], t_end: f64, tol: f64) {
 #[test]
 fn small_angle_pendulum_returns_after_the_linear_period() {
     // theta0 = 1e-4: the exact period exceeds 2 pi sqrt(L/g) by theta0^2/16 ~ 6e-10.
-    let chain = PlanarChain::new(vec![1.0], vec![1.5], 9.81);
+    let chain = PlanarChain::new(vec![1.0], vec![1.5], 9.81).unwrap();
     let theta0 = 1e-4;
     let period = 2.0 * PI * (1.5f64 / 9.81).sqrt();
     let mut y = [theta0, 0.0];
@@ -50,7 +50,7 @@ fn small_angle_pendulum_returns_after_the_linear_period() {
 #[test]
 fn large_amplitude_pendulum_period_matches_the_elliptic_integral() {
     // Exact period 4 sqrt(L/g) K(sin(theta0/2)) at any amplitude.
-    let chain = PlanarChain::new(vec![0.3], vec![2.0], 9.8);
+    let chain = PlanarChain::new(vec![0.3], vec![2.0], 9.8).unwrap();
     let theta0 = 2.0;
     let period = 4.0 * (2.0f64 / 9.8).sqrt() * ellip_k((theta0 / 2.0f64).sin());
     let mut y = [theta0, 0.0];
@@ -113,8 +113,8 @@ fn chaotic_double_pendulum_conserves_energy_and_agrees_across_tolerances() {
 
 #[test]
 fn cartesian_mapping_satisfies_the_constraints_and_their_derivative() {
-    let chain = PlanarChain::new(vec![0.1, 0.2, 0.3, 0.4], vec![0.5, 1.0, 1.5, 0.7], 9.8);
-    let dae = PlanarChainDae::new(&chain);
+    let chain = PlanarChain::new(vec![0.1, 0.2, 0.3, 0.4], vec![0.5, 1.0, 1.5, 0.7], 9.8).unwrap();
+    let dae = PlanarChainDae::new(&chain).unwrap();
     let y = [0.3, -1.2, 2.5, 0.1, 1.0, -0.5, 2.0, -3.0];
     let x = chain.cartesian(&y);
     let (mut w, mut s, mut ah) = ([0.0; 12], [0.0; 4], [0.0; 4]);
@@ -150,8 +150,8 @@ fn cartesian_mapping_satisfies_the_constraints_and_their_derivative() {
 #[test]
 fn minimal_coordinate_accelerations_match_the_cartesian_dae_with_consistent_forces() {
     // Two independent derivations: Lagrange in angles and Newton with link forces.
-    let chain = PlanarChain::new(vec![0.1, 0.2, 0.3], vec![0.5, 1.0, 1.5], 9.8);
-    let dae = PlanarChainDae::new(&chain);
+    let chain = PlanarChain::new(vec![0.1, 0.2, 0.3], vec![0.5, 1.0, 1.5], 9.8).unwrap();
+    let dae = PlanarChainDae::new(&chain).unwrap();
     let y = [0.3, -1.2, 2.5, 1.0, -0.5, 2.0];
     let x = chain.cartesian(&y);
     let z = dae_bench::consistent_alg(&dae, 0.0, &x, &[0.1; 3], &[0.0; 3]).unwrap();

@@ -12,7 +12,7 @@ use std::time::Instant;
 use dae_runtime::Model;
 use diffsol::{NalgebraLU, NalgebraMat, OdeBuilder, OdeSolverMethod, OdeSolverStopReason, Vector};
 
-use super::{BaselineError, ZSolver};
+use super::{BaselineError, Observer, ZSolver};
 
 /// Settings of [`bdf_index1`].
 #[derive(Debug, Clone, PartialEq)]
@@ -83,7 +83,7 @@ impl<M: Model + ?Sized> Reduced<'_, M> {
 pub fn bdf_index1<M: Model + ?Sized>(
     model: &M,
     settings: &BdfSettings,
-    mut observe: Option<&mut dyn FnMut(f64, &[f64], &[f64])>,
+    mut observe: Option<Observer<'_>>,
 ) -> Result<BdfSummary, BaselineError> {
     let clock = Instant::now();
     let (n, m) = (model.n_states(), model.n_constraints());

@@ -13,6 +13,9 @@ use dae_runtime::{Model, w_offsets};
 
 use crate::linalg::Lu;
 
+/// A callback `observe(t, x, w)` after each step: time, states, constraint residuals.
+pub type Observer<'a> = &'a mut dyn FnMut(f64, &[f64], &[f64]);
+
 /// Errors of the index-1 baselines.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum BaselineError {
@@ -71,7 +74,11 @@ impl ZSolver {
     pub fn new<M: Model + ?Sized>(model: &M, mu: &[f64], tol: f64) -> Result<Self, BaselineError> {
         let m = model.n_constraints();
         let r = model.indices();
-        if mu.len() != m || r.len() != m || r.contains(&0) || mu.iter().any(|v| !(*v > 0.0)) {
+        if mu.len() != m
+            || r.len() != m
+            || r.contains(&0)
+            || mu.iter().any(|v| v.is_nan() || *v <= 0.0)
+        {
             return Err(BaselineError::Settings(format!(
                 "need {m} mu > 0 and indices >= 1, got mu {mu:?}, indices {r:?}"
             )));
@@ -231,7 +238,8 @@ impl<'a, M: Model + ?Sized> IndexOneRk4<'a, M> {
     /// Prepare a run; the state starts at the model's initial state and guess.
     pub fn new(model: &'a M, settings: IndexOneSettings) -> Result<Self, BaselineError> {
         let (n, m) = (model.n_states(), model.n_constraints());
-        if !(settings.step > 0.0) || !(settings.t_end > settings.t_start) {
+        let positive = |v: f64| v.is_finite() && v > 0.0;
+        if !positive(settings.step) || !positive(settings.t_end - settings.t_start) {
             return Err(BaselineError::Settings(format!(
                 "step {} must be > 0 and [{}, {}] non-empty",
                 settings.step, settings.t_start, settings.t_end
@@ -315,7 +323,7 @@ impl<'a, M: Model + ?Sized> IndexOneRk4<'a, M> {
     /// evaluation per step).
     pub fn run(
         &mut self,
-        mut observe: Option<&mut dyn FnMut(f64, &[f64], &[f64])>,
+        mut observe: Option<Observer<'_>>,
     ) -> Result<IndexOneSummary, BaselineError> {
         let clock = Instant::now();
         let (t0, t_end, h) = (self.set.t_start, self.set.t_end, self.set.step);

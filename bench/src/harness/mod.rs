@@ -45,7 +45,7 @@ impl<M: Model + ?Sized> Scene<'_, M> {
     }
 
     /// The model with the scene's initial state.
-    pub fn started(&self) -> WithInitial<'_, M> {
+    pub fn started(&self) -> Result<WithInitial<'_, M>, BaselineError> {
         WithInitial::new(self.model, self.x0.clone(), self.z0.clone())
     }
 
@@ -91,7 +91,7 @@ pub fn pilot_beta_bound<M: Model + ?Sized>(
     h: f64,
 ) -> Result<Vec<f64>, BaselineError> {
     let m = model.n_constraints();
-    let started = WithInitial::new(model, x0.to_vec(), z0.to_vec());
+    let started = WithInitial::new(model, x0.to_vec(), z0.to_vec())?;
     let mut run = IndexOneRk4::new(
         &started,
         IndexOneSettings {
@@ -217,7 +217,7 @@ fn max_of(v: &[f64]) -> f64 {
 }
 
 fn run_once<M: Model + ?Sized>(scene: &Scene<'_, M>, method: &Method) -> Result<Outcome, String> {
-    let model = scene.started();
+    let model = scene.started().map_err(|e| e.to_string())?;
     let m = model.n_constraints();
     match *method {
         Method::Dbsmc {

@@ -20,6 +20,7 @@
 //! definite) at every evaluation.
 
 use crate::linalg::Lu;
+use crate::truth::TruthError;
 
 /// A planar chain of point masses on massless rigid links, first joint pinned at the
 /// origin, gravity along `-y`.
@@ -34,16 +35,33 @@ pub struct PlanarChain {
 }
 
 impl PlanarChain {
-    /// A chain with the given masses and lengths (same count) and gravity.
-    pub fn new(masses: Vec<f64>, lengths: Vec<f64>, g: f64) -> Self {
-        assert_eq!(masses.len(), lengths.len(), "one length per mass");
-        Self { masses, lengths, g }
+    /// A chain with the given masses and lengths (same count, at least one, all finite
+    /// and positive) and gravity (finite).
+    pub fn new(masses: Vec<f64>, lengths: Vec<f64>, g: f64) -> Result<Self, TruthError> {
+        let bad = |v: &f64| !(v.is_finite() && *v > 0.0);
+        if masses.is_empty() || masses.len() != lengths.len() {
+            return Err(TruthError::InvalidChain(format!(
+                "{} masses and {} lengths (need the same number, at least one)",
+                masses.len(),
+                lengths.len()
+            )));
+        }
+        if masses.iter().chain(&lengths).any(bad) || !g.is_finite() {
+            return Err(TruthError::InvalidChain(format!(
+                "masses {masses:?}, lengths {lengths:?} must be finite and > 0, g = {g} finite"
+            )));
+        }
+        Ok(Self { masses, lengths, g })
     }
 
     /// The planar double pendulum of language.md: `m1 = m2 = 0.1`, `L1 = L2 = 2`,
     /// `g = 9.8`.
     pub fn double_pendulum() -> Self {
-        Self::new(vec![0.1, 0.1], vec![2.0, 2.0], 9.8)
+        Self {
+            masses: vec![0.1, 0.1],
+            lengths: vec![2.0, 2.0],
+            g: 9.8,
+        }
     }
 
     /// Number of links (= particles).

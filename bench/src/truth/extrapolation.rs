@@ -16,6 +16,9 @@
 /// Why a reference integration stopped.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum TruthError {
+    /// The chain's masses or lengths are unusable.
+    #[error("invalid chain: {0}")]
+    InvalidChain(String),
     /// The step size fell below round-off relative to `t`.
     #[error("step size underflow at t = {t} (h = {h})")]
     StepUnderflow {
