@@ -225,19 +225,24 @@ pub struct StabilityRow {
     pub figure: String,
 }
 
-/// Growth factor above which a bounded-looking envelope still counts as drifting.
-pub const DRIFT_GROWTH: f64 = 100.0;
+/// Growth factor (late over early envelope) above which a run counts as drifting even
+/// under the tolerance. Bounded runs on the test scenes stay below 8; a constraint
+/// that is not stabilised grows by 70 over 1000 s of the double pendulum.
+pub const DRIFT_GROWTH: f64 = 10.0;
+
+/// Envelope values below this are round-off and do not count as growth.
+pub const DRIFT_FLOOR: f64 = 1e-10;
 
 /// Judge an envelope: `early` = max `|w|` over the first 10 % of the windows, `late` =
 /// over the last half. Diverges if the run failed or `late >= 0.1`; drifts if
-/// `late > tol` or `late / max(early, 1e-12) > DRIFT_GROWTH`; holds otherwise.
+/// `late > tol` or `late / max(early, DRIFT_FLOOR) > DRIFT_GROWTH`; holds otherwise.
 pub fn judge(env: &Envelope, result: &Result<Vec<f64>, String>, tol: f64) -> (Verdict, String) {
     if let Err(e) = result {
         return (Verdict::Diverges, format!("failed: {e}"));
     }
     let early = env.max_between(0.0, 0.1);
     let late = env.max_between(0.5, 1.0);
-    let growth = late / early.max(1e-12);
+    let growth = late / early.max(DRIFT_FLOOR);
     let fig = format!(
         "max|w| first 10%: {early:.2e}, last 50%: {late:.2e} (x{growth:.1}), tol {tol:.0e}"
     );
