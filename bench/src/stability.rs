@@ -286,8 +286,10 @@ pub fn with_step(method: &Method, h: f64) -> Method {
 }
 
 /// Test (v): the largest step in `[h_min, h_max]` (geometric bisection, `iters` halvings)
-/// for which `method` finishes `scene` with `max |w| <= tol`. For the adaptive BDF the
-/// row reports the mean step it takes at its tolerance instead.
+/// for which `method` survives `scene`: the run finishes with all values finite and
+/// `max |w| <= tol`, and for DBSMC and SPSM also reaches its layers and keeps
+/// `max |s_i| <= 2 eps` afterwards (as [`spsm_stable`](crate::spsm_stable)). For the
+/// adaptive BDF the row reports the mean step it takes at its tolerance instead.
 pub fn largest_step_row<M: Model + ?Sized>(
     scene: &Scene<'_, M>,
     method: &Method,
@@ -324,7 +326,11 @@ pub fn largest_step_row<M: Model + ?Sized>(
     let search = largest_stable_step(
         |h| {
             let r = run_method(scene, &with_step(method, h), 1);
-            r.ok && r.max_w <= tol
+            let layer = match method {
+                Method::Dbsmc { eps, .. } | Method::Spsm { eps, .. } => r.max_s <= 2.0 * eps,
+                _ => true,
+            };
+            r.ok && r.max_w <= tol && layer
         },
         h_min,
         h_max,

@@ -4,10 +4,10 @@ mod common;
 
 use std::f64::consts::FRAC_PI_2;
 
-use common::Tracking;
+use common::{Cubic, Tracking};
 use dae_bench::{
-    BdfSettings, IndexOneRk4, IndexOneSettings, Method, PlanarChain, PlanarChainDae, bdf_index1,
-    chain_scene, largest_stable_step, run_method, spsm_stable,
+    BdfSettings, IndexOneRk4, IndexOneSettings, Method, PlanarChain, PlanarChainDae, ZSolver,
+    bdf_index1, chain_scene, largest_stable_step, run_method, spsm_stable,
 };
 use dae_runtime::{NoTrace, Policy, Settings, Simulator};
 
@@ -135,4 +135,15 @@ fn spsm_holds_at_a_small_step_and_not_at_a_large_one() {
         Err(_) => {}
         Ok(big) => assert!(!spsm_stable(&big, &eps), "{big:?}"),
     }
+}
+
+#[test]
+fn z_solver_iterates_newton_to_the_root_of_a_nonlinear_constraint() {
+    let mut zs = ZSolver::new(&Cubic, &[1.0], 1e-13).unwrap();
+    let mut z = [0.0f64];
+    let iters = zs.solve(&Cubic, 0.0, &[10.0], &mut z).unwrap();
+    assert!((z[0] - 2.0).abs() < 1e-14, "z = {}", z[0]);
+    assert!(iters > 2, "{iters} iterations from z = 0");
+    assert_eq!(zs.j_solves, iters as u64);
+    assert!(zs.sliding()[0].abs() <= 1e-13);
 }

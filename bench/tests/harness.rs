@@ -97,6 +97,7 @@ fn csv_has_the_header_and_one_line_per_record() {
         ok: true,
         error: String::new(),
         max_w: 1e-3,
+        max_s: 0.25,
         pos_err: 2e-4,
         wall: 0.5,
         j_solves: 3,
@@ -109,8 +110,8 @@ fn csv_has_the_header_and_one_line_per_record() {
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(
         lines[0],
-        "scene,line,knob,ok,max_w,pos_err,wall_s,j_solves,f_evals,steps,error"
+        "scene,line,knob,ok,max_w,max_s,pos_err,wall_s,j_solves,f_evals,steps,error"
     );
-    assert_eq!(lines[1], "s,l,h=1e-3,true,1e-3,2e-4,5e-1,3,4,5,\"\"");
+    assert_eq!(lines[1], "s,l,h=1e-3,true,1e-3,2.5e-1,2e-4,5e-1,3,4,5,\"\"");
     assert_eq!(lines.len(), 3);
 }

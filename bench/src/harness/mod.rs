@@ -191,6 +191,9 @@ pub struct Record {
     pub error: String,
     /// Largest constraint residual `|w_i|` over the run (all constraints).
     pub max_w: f64,
+    /// Largest `|s_i|` over the run (DBSMC/SPSM: after reaching, infinite if never
+    /// reached; index-1: left by the stage solves; BDF: not measured, NaN).
+    pub max_s: f64,
     /// Position error at `t_end` against the truth ([`Scene::position_error`]).
     pub pos_err: f64,
     /// Best wall time of the repeats, seconds.
@@ -206,6 +209,7 @@ pub struct Record {
 struct Outcome {
     x: Vec<f64>,
     max_w: f64,
+    max_s: f64,
     wall: f64,
     j_solves: u64,
     f_evals: u64,
@@ -247,6 +251,11 @@ fn run_once<M: Model + ?Sized>(scene: &Scene<'_, M>, method: &Method) -> Result<
                 .map_err(|e| e.to_string())?;
             Ok(Outcome {
                 max_w: max_of(&s.max_abs_w),
+                max_s: if s.reaching_time.is_some() {
+                    max_of(&s.max_abs_s)
+                } else {
+                    f64::INFINITY
+                },
                 wall: s.wall_time,
                 j_solves: s.jacobian_evals,
                 f_evals: s.rhs_evals,
@@ -267,6 +276,7 @@ fn run_once<M: Model + ?Sized>(scene: &Scene<'_, M>, method: &Method) -> Result<
                 .map_err(|e| e.to_string())?;
             Ok(Outcome {
                 max_w: max_of(&s.max_abs_w),
+                max_s: max_of(&s.max_abs_s),
                 wall: s.wall_time,
                 j_solves: s.j_solves,
                 f_evals: s.rhs_evals,
@@ -285,6 +295,7 @@ fn run_once<M: Model + ?Sized>(scene: &Scene<'_, M>, method: &Method) -> Result<
             let s = bdf_index1(&model, &set, None).map_err(|e| e.to_string())?;
             Ok(Outcome {
                 max_w: max_of(&s.max_abs_w),
+                max_s: f64::NAN,
                 wall: s.wall_time,
                 j_solves: s.j_solves,
                 f_evals: s.rhs_evals,
@@ -310,6 +321,7 @@ pub fn run_method<M: Model + ?Sized>(
         ok: false,
         error: String::new(),
         max_w: f64::NAN,
+        max_s: f64::NAN,
         pos_err: f64::NAN,
         wall: f64::NAN,
         j_solves: 0,
@@ -331,6 +343,7 @@ pub fn run_method<M: Model + ?Sized>(
                 rec.error = "non-finite final state".into();
             }
             rec.max_w = o.max_w;
+            rec.max_s = o.max_s;
             rec.pos_err = pos_err;
             rec.wall = wall;
             rec.j_solves = o.j_solves;
@@ -341,21 +354,23 @@ pub fn run_method<M: Model + ?Sized>(
     rec
 }
 
-/// Write records as CSV (header `scene,line,knob,ok,max_w,pos_err,wall_s,j_solves,f_evals,steps,error`).
+/// Write records as CSV (header
+/// `scene,line,knob,ok,max_w,max_s,pos_err,wall_s,j_solves,f_evals,steps,error`).
 pub fn write_csv<W: Write>(records: &[Record], mut out: W) -> io::Result<()> {
     writeln!(
         out,
-        "scene,line,knob,ok,max_w,pos_err,wall_s,j_solves,f_evals,steps,error"
+        "scene,line,knob,ok,max_w,max_s,pos_err,wall_s,j_solves,f_evals,steps,error"
     )?;
     for r in records {
         writeln!(
             out,
-            "{},{},{},{},{:e},{:e},{:e},{},{},{},\"{}\"",
+            "{},{},{},{},{:e},{:e},{:e},{:e},{},{},{},\"{}\"",
             r.scene,
             r.line,
             r.knob,
             r.ok,
             r.max_w,
+            r.max_s,
             r.pos_err,
             r.wall,
             r.j_solves,
