@@ -11,7 +11,7 @@
 //!     then `|s_i| <= 2 eps_i`, finite) and the step search [`largest_stable_step`];
 //!   * (c) [`bdf_index1`]: the `diffsol` crate's variable-order BDF on the same index-1
 //!     form, at a chosen tolerance.
-//! * **Truth** ([`PlanarChain`], [`reference`]): planar N-link pendulum chains in minimal
+//! * **Truth** ([`PlanarChain`], [`reference()`]): planar N-link pendulum chains in minimal
 //!   coordinates, equations derived by Lagrange (see the `PlanarChain` docs), integrated
 //!   by an adaptive Gragg-Bulirsch-Stoer extrapolation ([`Extrapolation`], order 16) to
 //!   `1e-13`, self-checked against a run at a 100 times looser tolerance and by energy,

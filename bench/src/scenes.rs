@@ -25,7 +25,7 @@ pub const TRUTH_TOL: f64 = 1e-13;
 /// A scene for a Cartesian chain model (`[x_k, y_k, vx_k, vy_k]` per particle) of
 /// `chain`, starting at the angles `theta0` at rest, ending at `t_end`: consistent
 /// `x0` from the angles, consistent `z0` by Newton on `s = 0`, the truth by
-/// [`reference`], the `|beta|` bound by a pilot run of baseline (a) with `h = 1e-3`,
+/// [`reference()`], the `|beta|` bound by a pilot run of baseline (a) with `h = 1e-3`,
 /// `mu = 0.05`.
 pub fn chain_scene<'a, M: Model + ?Sized>(
     name: &str,
