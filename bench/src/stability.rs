@@ -223,6 +223,10 @@ pub struct StabilityRow {
     pub verdict: Verdict,
     /// The figure that decided it.
     pub figure: String,
+    /// The deciding number: max `|w|` over the last half of the run (tests (i) to
+    /// (iv); NaN for a failed run), the largest surviving step (test (v); NaN if none),
+    /// or the BDF's mean step.
+    pub value: f64,
 }
 
 /// Growth factor (late over early envelope) above which a run counts as drifting even
@@ -237,6 +241,20 @@ pub const DRIFT_FLOOR: f64 = 1e-10;
 /// over the last half. Diverges if the run failed or `late >= 0.1`; drifts if
 /// `late > tol` or `late / max(early, DRIFT_FLOOR) > DRIFT_GROWTH`; holds otherwise.
 pub fn judge(env: &Envelope, result: &Result<Vec<f64>, String>, tol: f64) -> (Verdict, String) {
+    judged(env, result, tol).0
+}
+
+fn judged(env: &Envelope, result: &Result<Vec<f64>, String>, tol: f64) -> ((Verdict, String), f64) {
+    let verdict = verdict_of(env, result, tol);
+    let late = if result.is_ok() {
+        env.max_between(0.5, 1.0)
+    } else {
+        f64::NAN
+    };
+    (verdict, late)
+}
+
+fn verdict_of(env: &Envelope, result: &Result<Vec<f64>, String>, tol: f64) -> (Verdict, String) {
     if let Err(e) = result {
         return (Verdict::Diverges, format!("failed: {e}"));
     }
@@ -264,12 +282,13 @@ pub fn stability_row<M: Model + ?Sized>(
     window: f64,
 ) -> StabilityRow {
     let (env, result) = envelope_run(scene, method, window);
-    let (verdict, figure) = judge(&env, &result, tol);
+    let ((verdict, figure), value) = judged(&env, &result, tol);
     StabilityRow {
         scene: format!("{test}: {}", scene.name),
         method: format!("{} {}", method.line(), method.knob()),
         verdict,
         figure,
+        value,
     }
 }
 
@@ -321,6 +340,7 @@ pub fn largest_step_row<M: Model + ?Sized>(
             method: format!("{} {}", method.line(), method.knob()),
             verdict,
             figure,
+            value: scene.t_end / r.steps.max(1) as f64,
         };
     }
     let search = largest_stable_step(
@@ -352,6 +372,7 @@ pub fn largest_step_row<M: Model + ?Sized>(
         method: method.line(),
         verdict,
         figure,
+        value: search.stable.unwrap_or(f64::NAN),
     }
 }
 
