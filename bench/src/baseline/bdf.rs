@@ -57,6 +57,8 @@ struct Reduced<'a, M: Model + ?Sized> {
     zs: RefCell<(ZSolver, Vec<f64>)>,
     failure: RefCell<Option<BaselineError>>,
     rhs_evals: Cell<u64>,
+    /// Scratch `(x + delta v, f(x))` for the Jacobian-vector products.
+    jvp: RefCell<(Vec<f64>, Vec<f64>)>,
 }
 
 impl<M: Model + ?Sized> Reduced<'_, M> {
@@ -96,6 +98,7 @@ pub fn bdf_index1<M: Model + ?Sized>(
         zs: RefCell::new((ZSolver::new(model, &settings.mu, 1e-13)?, z0)),
         failure: RefCell::new(None),
         rhs_evals: Cell::new(0),
+        jvp: RefCell::new((vec![0.0; n], vec![0.0; n])),
     };
     let fail = |what: String| BaselineError::Settings(format!("diffsol: {what}"));
     let t0 = settings.t_start;
@@ -113,11 +116,14 @@ pub fn bdf_index1<M: Model + ?Sized>(
                 }
                 let xn = x.iter().fold(0.0f64, |a, b| a.max(b.abs()));
                 let delta = f64::EPSILON.sqrt() * (1.0 + xn) / vn;
-                let xp: Vec<f64> = x.iter().zip(v).map(|(a, b)| a + delta * b).collect();
-                let mut f0 = vec![0.0; x.len()];
-                red.eval(t, x, &mut f0);
-                red.eval(t, &xp, y);
-                for (yi, f) in y.iter_mut().zip(&f0) {
+                let mut scratch = red.jvp.borrow_mut();
+                let (xp, f0) = &mut *scratch;
+                for ((p, a), b) in xp.iter_mut().zip(x).zip(v) {
+                    *p = a + delta * b;
+                }
+                red.eval(t, x, f0);
+                red.eval(t, xp, y);
+                for (yi, f) in y.iter_mut().zip(f0.iter()) {
                     *yi = (*yi - f) / delta;
                 }
             },
@@ -141,6 +147,7 @@ pub fn bdf_index1<M: Model + ?Sized>(
     let (mut s, mut ah) = (vec![0.0; m], vec![0.0; m]);
     let offs = dae_runtime::w_offsets(model.indices());
     let mut max_w = vec![0.0f64; m];
+    let mut x = vec![0.0; n];
     loop {
         let reason = solver.step().map_err(|e| {
             red.failure
@@ -149,7 +156,9 @@ pub fn bdf_index1<M: Model + ?Sized>(
                 .unwrap_or_else(|| fail(format!("{e} at t = {}", solver.state().t)))
         })?;
         let state = solver.state();
-        let x = state.y.clone_as_vec();
+        for (i, xi) in x.iter_mut().enumerate() {
+            *xi = state.y.get_index(i);
+        }
         let t = state.t;
         {
             let guard = red.zs.borrow();
