@@ -12,8 +12,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use dae_bench::{
-    ErrorAxis, Method, PlanarChain, PlanarChainDae, Record, Scene, StabilityRow, chain_scene,
-    chart, largest_step_row, run_method, stability_row, write_csv, write_table,
+    CostAxis, ErrorAxis, Method, PlanarChain, PlanarChainDae, Record, Scene, StabilityRow,
+    chain_scene, chart, largest_step_row, run_method, stability_row, write_csv, write_table,
 };
 use dae_runtime::Model;
 
@@ -74,15 +74,38 @@ fn work_precision<M: Model + ?Sized>(
             }
         );
     }
-    for (axis, tag) in [
-        (ErrorAxis::Position, "position"),
-        (ErrorAxis::Constraint, "constraint"),
+    for (axis, cost, tag, what) in [
+        (
+            ErrorAxis::Position,
+            CostAxis::Wall,
+            "position",
+            "position error against wall time",
+        ),
+        (
+            ErrorAxis::Constraint,
+            CostAxis::Wall,
+            "constraint",
+            "constraint error against wall time",
+        ),
+        (
+            ErrorAxis::Position,
+            CostAxis::JSolves,
+            "position_jsolves",
+            "position error against J_s solves",
+        ),
+        (
+            ErrorAxis::Position,
+            CostAxis::FEvals,
+            "position_fevals",
+            "position error against f evaluations",
+        ),
     ] {
         let path = dir.join(format!("{}_{tag}.svg", scene.name));
         if let Err(e) = chart(
             &records,
-            &format!("{}: {tag} error against wall time", scene.name),
+            &format!("{}: {what}", scene.name),
             axis,
+            cost,
             &path,
         ) {
             eprintln!("chart: {e}");

@@ -65,7 +65,7 @@ mod truth;
 
 pub use baseline::*;
 pub use harness::{
-    ErrorAxis, Method, Record, Scene, chart, pilot_beta_bound, run_method, write_csv,
+    CostAxis, ErrorAxis, Method, Record, Scene, chart, pilot_beta_bound, run_method, write_csv,
 };
 pub use initial::WithInitial;
 pub use linalg::{Lu, Singular};

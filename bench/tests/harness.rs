@@ -115,3 +115,56 @@ fn csv_has_the_header_and_one_line_per_record() {
     assert_eq!(lines[1], "s,l,h=1e-3,true,1e-3,2.5e-1,2e-4,5e-1,3,4,5,\"\"");
     assert_eq!(lines.len(), 3);
 }
+
+#[test]
+fn chart_draws_one_legend_entry_per_line_and_refuses_an_empty_set() {
+    use dae_bench::{CostAxis, ErrorAxis, chart};
+    let rec = |line: &str, wall: f64, err: f64| Record {
+        scene: "s".into(),
+        line: line.into(),
+        knob: String::new(),
+        ok: true,
+        error: String::new(),
+        max_w: err,
+        max_s: 0.0,
+        pos_err: err,
+        wall,
+        j_solves: 10,
+        f_evals: 20,
+        steps: 5,
+    };
+    let records = [
+        rec("alpha", 1e-3, 1e-4),
+        rec("alpha", 1e-2, 1e-6),
+        rec("beta", 2e-3, 1e-2),
+    ];
+    let path = std::env::temp_dir().join(format!("dae_bench_chart_{}.svg", std::process::id()));
+    chart(
+        &records,
+        "test chart",
+        ErrorAxis::Position,
+        CostAxis::Wall,
+        &path,
+    )
+    .unwrap();
+    let svg = std::fs::read_to_string(&path).unwrap();
+    std::fs::remove_file(&path).unwrap();
+    assert!(svg.starts_with("<svg"));
+    for text in ["test chart", "alpha", "beta", "wall time"] {
+        assert!(svg.contains(text), "missing {text}");
+    }
+    let failed = Record {
+        ok: false,
+        ..rec("gamma", 1.0, 1.0)
+    };
+    assert!(
+        chart(
+            &[failed],
+            "empty",
+            ErrorAxis::Position,
+            CostAxis::Wall,
+            &path
+        )
+        .is_err()
+    );
+}

@@ -15,6 +15,34 @@ pub enum ErrorAxis {
     Constraint,
 }
 
+/// Which cost goes on the horizontal axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CostAxis {
+    /// Best wall time of the repeats.
+    Wall,
+    /// `J_s` factorisations and solves: the cost that dominates for many constraints.
+    JSolves,
+    /// Evaluations of `f`.
+    FEvals,
+}
+
+impl CostAxis {
+    fn of(self, r: &Record) -> f64 {
+        match self {
+            CostAxis::Wall => r.wall,
+            CostAxis::JSolves => r.j_solves as f64,
+            CostAxis::FEvals => r.f_evals as f64,
+        }
+    }
+    fn label(self) -> &'static str {
+        match self {
+            CostAxis::Wall => "wall time [s] (best of repeats)",
+            CostAxis::JSolves => "J_s solves",
+            CostAxis::FEvals => "f evaluations",
+        }
+    }
+}
+
 const COLORS: [RGBColor; 8] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
@@ -26,9 +54,15 @@ const COLORS: [RGBColor; 8] = [
     RGBColor(127, 127, 127),
 ];
 
-/// Chart error against wall time (log-log), one line per [`Record::line`], from the
+/// Chart error against cost (log-log), one line per [`Record::line`], from the
 /// successful records of one scene. Errors below `1e-16` are drawn at `1e-16`.
-pub fn chart(records: &[Record], title: &str, axis: ErrorAxis, path: &Path) -> Result<(), String> {
+pub fn chart(
+    records: &[Record],
+    title: &str,
+    axis: ErrorAxis,
+    cost: CostAxis,
+    path: &Path,
+) -> Result<(), String> {
     let err = |r: &Record| {
         let e = match axis {
             ErrorAxis::Position => r.pos_err,
@@ -36,14 +70,17 @@ pub fn chart(records: &[Record], title: &str, axis: ErrorAxis, path: &Path) -> R
         };
         e.max(1e-16)
     };
-    let ok: Vec<&Record> = records.iter().filter(|r| r.ok && r.wall > 0.0).collect();
+    let ok: Vec<&Record> = records
+        .iter()
+        .filter(|r| r.ok && cost.of(r) > 0.0)
+        .collect();
     if ok.is_empty() {
         return Err(format!("{title}: no successful run to chart"));
     }
     let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, 0.0f64, f64::INFINITY, 0.0f64);
     for r in &ok {
-        x0 = x0.min(r.wall);
-        x1 = x1.max(r.wall);
+        x0 = x0.min(cost.of(r));
+        x1 = x1.max(cost.of(r));
         y0 = y0.min(err(r));
         y1 = y1.max(err(r));
     }
@@ -70,7 +107,7 @@ pub fn chart(records: &[Record], title: &str, axis: ErrorAxis, path: &Path) -> R
         .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
         .map_err(|x| e(Box::new(x)))?;
     c.configure_mesh()
-        .x_desc("wall time [s] (best of repeats)")
+        .x_desc(cost.label())
         .y_desc(ylabel)
         .x_label_formatter(&|v| format!("{v:.0e}"))
         .y_label_formatter(&|v| format!("{v:.0e}"))
@@ -81,7 +118,7 @@ pub fn chart(records: &[Record], title: &str, axis: ErrorAxis, path: &Path) -> R
         let mut pts: Vec<(f64, f64)> = ok
             .iter()
             .filter(|r| &r.line == line)
-            .map(|r| (r.wall, err(r)))
+            .map(|r| (cost.of(r), err(r)))
             .collect();
         pts.sort_by(|a, b| a.0.total_cmp(&b.0));
         c.draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))

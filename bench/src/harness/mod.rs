@@ -10,7 +10,7 @@ use dae_runtime::{Model, NoTrace, Policy, Settings, Simulator};
 use crate::baseline::{BaselineError, BdfSettings, IndexOneRk4, IndexOneSettings, bdf_index1};
 use crate::initial::WithInitial;
 
-pub use chart::{ErrorAxis, chart};
+pub use chart::{CostAxis, ErrorAxis, chart};
 
 /// A model, a consistent start, an end time and the truth at the end.
 #[derive(Debug, Clone)]
