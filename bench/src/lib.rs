@@ -68,7 +68,6 @@ pub use harness::{
     CostAxis, ErrorAxis, Method, Record, Scene, chart, pilot_beta_bound, run_method, write_csv,
 };
 pub use initial::WithInitial;
-pub use linalg::{Lu, Singular};
 pub use scenes::{SceneError, TRUTH_TOL, chain_scene};
 pub use stability::{
     DRIFT_FLOOR, DRIFT_GROWTH, Envelope, StabilityRow, Verdict, envelope_run, judge,

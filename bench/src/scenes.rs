@@ -35,6 +35,16 @@ pub fn chain_scene<'a, M: Model + ?Sized>(
     t_end: f64,
 ) -> Result<Scene<'a, M>, SceneError> {
     let n = chain.links();
+    if theta0.len() != n || model.n_states() != 4 * n || model.n_constraints() != n {
+        return Err(TruthError::InvalidChain(format!(
+            "{} angles for {n} links and a model with {} states and {} constraints \
+             (need one angle per link, 4 states per particle, one constraint per link)",
+            theta0.len(),
+            model.n_states(),
+            model.n_constraints()
+        ))
+        .into());
+    }
     let mut y0 = theta0.to_vec();
     y0.extend(std::iter::repeat_n(0.0, n));
     let x0 = chain.cartesian(&y0);

@@ -177,3 +177,27 @@ fn minimal_coordinate_accelerations_match_the_cartesian_dae_with_consistent_forc
         }
     }
 }
+
+#[test]
+fn bad_chains_and_mismatched_scenes_are_errors() {
+    use dae_bench::{SceneError, TruthError, chain_scene};
+    assert!(matches!(
+        PlanarChain::new(vec![0.1], vec![1.0, 2.0], 9.8),
+        Err(TruthError::InvalidChain(_))
+    ));
+    assert!(matches!(
+        PlanarChain::new(vec![-0.1], vec![1.0], 9.8),
+        Err(TruthError::InvalidChain(_))
+    ));
+    let chain = PlanarChain::double_pendulum();
+    assert!(matches!(
+        reference(&chain, &[0.1, 0.2, 0.0], 1.0, 1e-10),
+        Err(TruthError::InvalidChain(_))
+    ));
+    let dae = PlanarChainDae::new(&chain).unwrap();
+    let three = PlanarChain::new(vec![0.1; 3], vec![1.0; 3], 9.8).unwrap();
+    assert!(matches!(
+        chain_scene("x", &dae, &three, &[0.0; 3], 1.0),
+        Err(SceneError::Truth(TruthError::InvalidChain(_)))
+    ));
+}

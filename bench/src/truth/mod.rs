@@ -34,6 +34,13 @@ pub fn reference(
     t_end: f64,
     tol: f64,
 ) -> Result<Reference, TruthError> {
+    if y0.len() != 2 * chain.links() {
+        return Err(TruthError::InvalidChain(format!(
+            "{} initial values for {} links (need angles then angular velocities)",
+            y0.len(),
+            chain.links()
+        )));
+    }
     let run = |tol: f64| -> Result<Vec<f64>, TruthError> {
         let mut work = ChainWork::new(chain.links());
         let mut y = y0.to_vec();
