@@ -1,0 +1,190 @@
+//! Planar N-link pendulum chains in minimal coordinates (absolute link angles).
+//!
+//! Point masses `m_k` at the end of massless rigid links of lengths `L_k`; link 0 is
+//! pinned at the origin; gravity `-g e_y`. Link `k` makes the angle `theta_k` with the
+//! downward vertical, so particle `k` sits at
+//! `x_k = sum_{i<=k} L_i sin theta_i`, `y_k = -sum_{i<=k} L_i cos theta_i`.
+//!
+//! Derivation (Lagrange). With `mu_ij = sum_{k >= max(i,j)} m_k` (the mass carried
+//! beyond both links), the kinetic energy is `T = 1/2 theta'^T M theta'` with
+//! `M_ij = mu_ij L_i L_j cos(theta_i - theta_j)` and the potential
+//! `V = -g sum_i mu_ii L_i cos theta_i`. `d/dt dT/dtheta_i' - dT/dtheta_i = -dV/dtheta_i`
+//! gives, after the `theta_i'` terms of the two sides cancel,
+//!
+//! ```text
+//! sum_j M_ij theta_j'' = -sum_j mu_ij L_i L_j sin(theta_i - theta_j) theta_j'^2
+//!                        - g mu_ii L_i sin theta_i
+//! ```
+//!
+//! which [`PlanarChain::accelerations`] solves (dense LU, `M` is symmetric positive
+//! definite) at every evaluation.
+
+use crate::linalg::Lu;
+use crate::truth::TruthError;
+
+/// A planar chain of point masses on massless rigid links, first joint pinned at the
+/// origin, gravity along `-y`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlanarChain {
+    /// Masses `m_k` (particle `k` at the end of link `k`).
+    pub masses: Vec<f64>,
+    /// Link lengths `L_k`.
+    pub lengths: Vec<f64>,
+    /// Gravity.
+    pub g: f64,
+}
+
+impl PlanarChain {
+    /// A chain with the given masses and lengths (same count, at least one, all finite
+    /// and positive) and gravity (finite).
+    pub fn new(masses: Vec<f64>, lengths: Vec<f64>, g: f64) -> Result<Self, TruthError> {
+        let bad = |v: &f64| !(v.is_finite() && *v > 0.0);
+        if masses.is_empty() || masses.len() != lengths.len() {
+            return Err(TruthError::InvalidChain(format!(
+                "{} masses and {} lengths (need the same number, at least one)",
+                masses.len(),
+                lengths.len()
+            )));
+        }
+        if masses.iter().chain(&lengths).any(bad) || !g.is_finite() {
+            return Err(TruthError::InvalidChain(format!(
+                "masses {masses:?}, lengths {lengths:?} must be finite and > 0, g = {g} finite"
+            )));
+        }
+        Ok(Self { masses, lengths, g })
+    }
+
+    /// The planar double pendulum of language.md: `m1 = m2 = 0.1`, `L1 = L2 = 2`,
+    /// `g = 9.8`.
+    pub fn double_pendulum() -> Self {
+        Self {
+            masses: vec![0.1, 0.1],
+            lengths: vec![2.0, 2.0],
+            g: 9.8,
+        }
+    }
+
+    /// Number of links (= particles).
+    pub fn links(&self) -> usize {
+        self.masses.len()
+    }
+
+    /// `mu_ij = sum_{k >= max(i, j)} m_k`.
+    fn carried(&self, i: usize) -> f64 {
+        self.masses[i..].iter().sum()
+    }
+
+    /// The mass matrix `M(theta)` (row-major `N x N`) into `out`.
+    pub fn mass_matrix(&self, theta: &[f64], out: &mut [f64]) {
+        let n = self.links();
+        for i in 0..n {
+            for j in 0..n {
+                let mu = self.carried(i.max(j));
+                out[i * n + j] =
+                    mu * self.lengths[i] * self.lengths[j] * (theta[i] - theta[j]).cos();
+            }
+        }
+    }
+
+    /// Generalized forces (right-hand side of `M theta'' = rhs`) into `out`.
+    pub fn forces(&self, theta: &[f64], omega: &[f64], out: &mut [f64]) {
+        let n = self.links();
+        for i in 0..n {
+            let mut r = -self.g * self.carried(i) * self.lengths[i] * theta[i].sin();
+            for j in 0..n {
+                let mu = self.carried(i.max(j));
+                r -= mu
+                    * self.lengths[i]
+                    * self.lengths[j]
+                    * (theta[i] - theta[j]).sin()
+                    * omega[j]
+                    * omega[j];
+            }
+            out[i] = r;
+        }
+    }
+
+    /// Angular accelerations `theta''` (uses the scratch `work`).
+    pub fn accelerations(
+        &self,
+        theta: &[f64],
+        omega: &[f64],
+        work: &mut ChainWork,
+        out: &mut [f64],
+    ) {
+        self.mass_matrix(theta, &mut work.lu.a);
+        self.forces(theta, omega, out);
+        // M is symmetric positive definite for positive masses and lengths, so the
+        // factorisation cannot fail; a failure would mean NaN angles, passed through.
+        if work.lu.factor().is_err() {
+            out.fill(f64::NAN);
+            return;
+        }
+        work.lu.solve(out);
+    }
+
+    /// First-order form `y = [theta, omega]`, `y' = [omega, theta'']`.
+    pub fn derivative(&self, y: &[f64], work: &mut ChainWork, dy: &mut [f64]) {
+        let n = self.links();
+        let (theta, omega) = y.split_at(n);
+        let (dtheta, domega) = dy.split_at_mut(n);
+        dtheta.copy_from_slice(omega);
+        self.accelerations(theta, omega, work, domega);
+    }
+
+    /// Total energy `T + V` of `y = [theta, omega]`.
+    pub fn energy(&self, y: &[f64]) -> f64 {
+        let n = self.links();
+        let (theta, omega) = y.split_at(n);
+        let mut m = vec![0.0; n * n];
+        self.mass_matrix(theta, &mut m);
+        let mut t = 0.0;
+        for i in 0..n {
+            for j in 0..n {
+                t += 0.5 * omega[i] * m[i * n + j] * omega[j];
+            }
+        }
+        let v: f64 = (0..n)
+            .map(|i| -self.g * self.carried(i) * self.lengths[i] * theta[i].cos())
+            .sum();
+        t + v
+    }
+
+    /// Cartesian state in the layout of the DAE stand-in and of language.md: per
+    /// particle `[x_k, y_k, vx_k, vy_k]` (so `4 N` values).
+    pub fn cartesian(&self, y: &[f64]) -> Vec<f64> {
+        let n = self.links();
+        let (theta, omega) = y.split_at(n);
+        let mut out = vec![0.0; 4 * n];
+        let (mut px, mut py, mut vx, mut vy) = (0.0, 0.0, 0.0, 0.0);
+        for k in 0..n {
+            let (s, c) = theta[k].sin_cos();
+            let l = self.lengths[k];
+            px += l * s;
+            py -= l * c;
+            vx += l * c * omega[k];
+            vy += l * s * omega[k];
+            out[4 * k..4 * k + 4].copy_from_slice(&[px, py, vx, vy]);
+        }
+        out
+    }
+
+    /// Positions only, `[x_0, y_0, x_1, y_1, ...]`.
+    pub fn positions(&self, y: &[f64]) -> Vec<f64> {
+        let c = self.cartesian(y);
+        c.chunks(4).flat_map(|p| [p[0], p[1]]).collect()
+    }
+}
+
+/// Scratch space for [`PlanarChain::accelerations`] (no allocation per evaluation).
+#[derive(Debug, Clone)]
+pub struct ChainWork {
+    lu: Lu,
+}
+
+impl ChainWork {
+    /// Scratch for a chain of `n` links.
+    pub fn new(n: usize) -> Self {
+        Self { lu: Lu::new(n) }
+    }
+}

@@ -1,0 +1,89 @@
+//! Short versions of the stability suite on the stand-in double pendulum.
+
+use std::f64::consts::FRAC_PI_2;
+
+use dae_bench::{
+    Method, PlanarChain, PlanarChainDae, Scene, Verdict, chain_scene, envelope_run, judge,
+    largest_step_row,
+};
+
+#[test]
+fn dbsmc_envelope_stays_bounded_while_the_unstabilised_reduction_drifts() {
+    let chain = PlanarChain::double_pendulum();
+    let dae = PlanarChainDae::new(&chain).unwrap();
+    let scene = chain_scene("dp", &dae, &chain, &[-FRAC_PI_2, -FRAC_PI_2], 20.0).unwrap();
+    let dbsmc = scene.dbsmc(5e-4, 0.05, 1.5, 1e-3);
+    let (env, res) = envelope_run(&scene, &dbsmc, 0.5);
+    assert_eq!(env.max_w.len(), 40, "one value per 0.5 s window");
+    let (v, fig) = judge(&env, &res, 1e-3);
+    assert_eq!(v, Verdict::Holds, "{fig}");
+    assert!(
+        env.max_between(0.0, 1.0) <= 5e-4,
+        "|w| <= eps once |s| <= eps: {fig}"
+    );
+    let (env, res) = envelope_run(
+        &scene,
+        &Method::IndexOne {
+            mu: 1e3,
+            step: 1e-3,
+        },
+        0.5,
+    );
+    let (v, fig) = judge(&env, &res, 1e-3);
+    assert_eq!(v, Verdict::Drifts, "{fig}");
+}
+
+#[test]
+fn an_inconsistent_start_is_reached_by_dbsmc_and_not_repaired_without_stabilisation() {
+    let lang = PlanarChainDae::language_double_pendulum();
+    let scene = Scene {
+        name: "language.md start".into(),
+        model: &lang,
+        x0: lang.x0.clone(),
+        z0: vec![0.0; 2],
+        t_end: 2.0,
+        compare: Vec::new(),
+        truth: Vec::new(),
+        beta_bound: vec![71.4, 180.0],
+    };
+    let (env, res) = envelope_run(&scene, &scene.dbsmc(5e-4, 0.05, 1.5, 1e-3), 0.05);
+    assert_eq!(env.max_between(0.0, 0.01), 2.0, "starts with |w2| = 2");
+    assert_eq!(judge(&env, &res, 1e-3).0, Verdict::Holds);
+    let (env, res) = envelope_run(
+        &scene,
+        &Method::IndexOne {
+            mu: 1e3,
+            step: 1e-3,
+        },
+        0.05,
+    );
+    assert_eq!(judge(&env, &res, 1e-3).0, Verdict::Diverges);
+}
+
+#[test]
+fn index_one_survives_larger_steps_than_spsm_on_the_double_pendulum() {
+    let chain = PlanarChain::double_pendulum();
+    let dae = PlanarChainDae::new(&chain).unwrap();
+    let scene = chain_scene("dp", &dae, &chain, &[-FRAC_PI_2, -FRAC_PI_2], 1.0).unwrap();
+    let spsm = Method::Spsm {
+        eps: 5e-4,
+        mu: 0.05,
+        step: 1e-4,
+        gain_factor: 1.5,
+    };
+    let a = largest_step_row(&scene, &spsm, 1e-3, 1e-5, 0.1, 6);
+    let b = largest_step_row(
+        &scene,
+        &Method::IndexOne {
+            mu: 0.05,
+            step: 1e-3,
+        },
+        1e-3,
+        1e-5,
+        0.1,
+        6,
+    );
+    assert_eq!((a.verdict, b.verdict), (Verdict::Holds, Verdict::Holds));
+    // SPSM's layer dynamics (pole k/eps) limit RK4; index-1 only the motion (mu = 0.05).
+    assert!(b.value > 3.0 * a.value, "{} / {}", a.figure, b.figure);
+}
