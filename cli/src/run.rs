@@ -173,7 +173,7 @@ pub(crate) fn run(args: &Args) -> Result<(), Reported> {
             None
         }
         (None, k) => {
-            let mut pa = args.pilot_args.clone();
+            let pa = &args.pilot_args;
             let mut fixed = None;
             if let Some(k) = k {
                 let k = per_constraint("--gain", &k, m)?;
@@ -187,13 +187,15 @@ pub(crate) fn run(args: &Args) -> Result<(), Reported> {
                 Some(k) => {
                     let mut base = pilot_base.clone();
                     base.gains = vec![k; m];
-                    pa.pilot_gain = Some(pa.pilot_gain.unwrap_or(k));
-                    fixed_gain_design(&pa, &model, &base, k)?
+                    fixed_gain_design(pa, &model, &base, k)?
                 }
                 None => pa.auto_design(&model, &pilot_base)?,
             };
             settings.mu = a.design.constraints.iter().map(|c| c.mu).collect();
             settings.gains = a.design.constraints.iter().map(|c| c.k).collect();
+            if fixed.is_some() && settings.alpha == AlphaChoice::Cheap {
+                warn_uncovered_beta(&model, &settings, &a);
+            }
             Some(DesignInfo {
                 json: crate::design::design_json(&model, &a),
                 t_min: a.design.t_min,
@@ -214,7 +216,8 @@ pub(crate) fn run(args: &Args) -> Result<(), Reported> {
     Ok(())
 }
 
-/// `--mu auto --gain K`: the automatic design with the same fixed gain for every mu.
+/// `--mu auto --gain K`: the automatic design with the same fixed gain for every mu (the
+/// pilots run with that gain too).
 fn fixed_gain_design(
     pa: &PilotArgs,
     model: &dyn Model,
@@ -234,6 +237,26 @@ fn fixed_gain_design(
         eprintln!("error: automatic design of `{}`: {e}", model.name());
         Reported
     })
+}
+
+/// A fixed gain with the cheap alpha_hat must still cover the neglected `mu^(r-1) |beta|`
+/// (T 3.17); say so when the pilot bounds show that it does not.
+fn warn_uncovered_beta(model: &dyn Model, settings: &Settings, a: &dae_runtime::AutoDesign) {
+    for (i, &r) in model.indices().iter().enumerate() {
+        let beta = a
+            .passes
+            .iter()
+            .map(|p| p.pilot.estimate.beta_abs[i])
+            .fold(0.0, f64::max);
+        let need = settings.mu[i].powi(r as i32 - 1) * beta;
+        if settings.gains[i] <= need {
+            eprintln!(
+                "warning: gain {} of `{}` does not cover mu^(r-1) |beta| = {need:.4} neglected by the cheap alpha_hat; use --alpha exact or a larger gain",
+                settings.gains[i],
+                model.constraint_name(i)
+            );
+        }
+    }
 }
 
 /// `--mu LIST --gain auto`: one pilot at the given mu (exact alpha, the pilot gain), then

@@ -295,7 +295,7 @@ pub struct AutoDesign {
 /// `|beta|` turns out to be. Later passes use the previous design's `mu_i`, `k_i` with
 /// the **cheap** alpha, the configuration the designed gains are meant for (every
 /// [`GainChoice`] except `Fixed` includes the `mu^(r-1) |beta|` the cheap alpha
-/// neglects), so the bounds are measured on motion like the final run's. `M` depends on
+/// neglects; with `Fixed` the later passes keep the exact alpha), so the bounds are measured on motion like the final run's. `M` depends on
 /// the design through `J_Omega'` times the held `v` (larger gains, larger `v`), which is
 /// why one pass is not enough in general; two passes are the default. Each pass designs
 /// from the largest bounds seen in all passes so far (they are bounds on the motion, and
@@ -345,7 +345,11 @@ pub fn auto_design<M: Model + ?Sized>(
         });
         settings.mu = d.constraints.iter().map(|c| c.mu).collect();
         settings.gains = d.constraints.iter().map(|c| c.k).collect();
-        settings.alpha = AlphaChoice::Cheap;
+        // A fixed gain has no mu^(r-1) |beta| term, so only the exact alpha fits it.
+        settings.alpha = match options.gain {
+            GainChoice::Fixed(_) => AlphaChoice::Exact,
+            _ => AlphaChoice::Cheap,
+        };
     }
     let design = passes[passes.len() - 1].design.clone();
     Ok(AutoDesign { design, passes })
