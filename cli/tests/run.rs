@@ -215,3 +215,77 @@ fn bad_lists_and_policies_are_user_errors() {
         assert!(err.contains(needle), "{all:?}: {err}");
     }
 }
+
+/// `--mu auto --gain auto`: the design's mu and gains are used, and the monitored run
+/// keeps the layers and never updates faster than the design's guaranteed period.
+#[test]
+fn automatic_design_run_keeps_its_guarantees() {
+    let v = json(&daec(&[
+        "run",
+        &pendulum(),
+        "--t-end",
+        "4",
+        "--eps",
+        "0.2",
+        "--mu",
+        "auto",
+        "--gain",
+        "auto",
+        "--gains",
+        "relaxed",
+        "--bound",
+        "index3",
+        "--pilot",
+        "10",
+        "--settle",
+        "1",
+        "--json",
+    ]));
+    let d = &v["design"];
+    assert_eq!(v["mu"], d["mu"], "{v}");
+    assert_eq!(v["gain"], d["gain"], "{v}");
+    let t_min = num(&d["t_min_design"]);
+    assert!(num(&v["period_min"]) >= t_min, "{v}");
+    for i in 0..2 {
+        assert!(num(&v["max_abs_s"][i]) <= 1.02 * 0.2, "{v}");
+        // Relaxed gains: k = mu^2 |beta| with the pilot's bound.
+        let (mu, beta) = (num(&d["mu"][i]), num(&d["beta_abs"][i]));
+        assert!(
+            (num(&d["gain"][i]) - mu * mu * beta).abs() < 1e-9 * beta,
+            "{v}"
+        );
+    }
+}
+
+/// `--mu LIST --gain auto`: the gains follow from the pilot's bounds at the given mu.
+#[test]
+fn gains_for_given_mu_come_from_the_pilot() {
+    let v = json(&daec(&[
+        "run",
+        &pendulum(),
+        "--t-end",
+        "2",
+        "--eps",
+        "0.2",
+        "--mu",
+        "0.076,0.066",
+        "--gain",
+        "auto",
+        "--gains",
+        "relaxed",
+        "--pilot",
+        "4",
+        "--settle",
+        "1",
+        "--json",
+    ]));
+    let d = &v["design"];
+    for (i, mu) in [0.076f64, 0.066].iter().enumerate() {
+        let beta = num(&d["beta_abs"][i]);
+        assert!(beta > 0.0, "{v}");
+        assert!(
+            (num(&v["gain"][i]) - mu * mu * beta).abs() < 1e-9 * beta,
+            "{v}"
+        );
+    }
+}
