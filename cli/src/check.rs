@@ -1,10 +1,9 @@
 //! `daec check FILE [--json]`: parse and check the models of a file.
 
-use crate::Reported;
+use crate::{Reported, source};
 use dae_lang::model::Model;
 use serde::Serialize;
 use serde::ser::{SerializeMap, Serializer};
-use std::io::IsTerminal;
 use std::path::PathBuf;
 
 /// Arguments of `daec check`.
@@ -21,23 +20,7 @@ pub(crate) struct Args {
 /// Reads, parses and checks the file; prints the summary on stdout or every error on
 /// stderr.
 pub(crate) fn run(args: &Args) -> Result<(), Reported> {
-    let name = args.file.display().to_string();
-    let source = match std::fs::read(&args.file) {
-        Ok(bytes) => match String::from_utf8(bytes) {
-            Ok(s) => s,
-            Err(e) => {
-                eprintln!(
-                    "error: `{name}` is not UTF-8 text (invalid byte at offset {})",
-                    e.utf8_error().valid_up_to()
-                );
-                return Err(Reported);
-            }
-        },
-        Err(e) => {
-            eprintln!("error: cannot read `{name}`: {e}");
-            return Err(Reported);
-        }
-    };
+    let (name, source) = source::read(&args.file)?;
     match dae_lang::compile_models(&source) {
         Ok(models) => {
             if args.json {
@@ -47,18 +30,7 @@ pub(crate) fn run(args: &Args) -> Result<(), Reported> {
             }
             Ok(())
         }
-        Err(diags) => {
-            let color = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();
-            for d in &diags {
-                eprint!("{}", d.render(&name, &source, color));
-            }
-            let n = diags.len();
-            eprintln!(
-                "error: {n} error{} in `{name}`",
-                if n == 1 { "" } else { "s" }
-            );
-            Err(Reported)
-        }
+        Err(diags) => Err(source::report(&name, &source, &diags)),
     }
 }
 

@@ -8,6 +8,9 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 mod check;
+mod design;
+mod run;
+mod source;
 
 /// Compile DAE models written in the `.dae` language.
 #[derive(Parser)]
@@ -21,12 +24,18 @@ struct Cli {
 enum Command {
     /// Parse and check a `.dae` file; print a summary of each model.
     Check(check::Args),
+    /// Simulate a model with DBSMC on the interpreter.
+    Run(run::Args),
+    /// Choose mu, gains and the guaranteed period from bounds or from a pilot run.
+    Design(design::Args),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
         Command::Check(args) => check::run(&args),
+        Command::Run(args) => run::run(&args),
+        Command::Design(args) => design::run(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

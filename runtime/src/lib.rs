@@ -112,9 +112,10 @@ pub use charts::{
     ChartError, ErrorSeries, SlidingSeries, YScale, plot_errors, plot_periods, plot_sliding,
 };
 pub use design::{
-    ConstraintDesign, ConstraintSpec, Design, DesignError, GainChoice, LayerBound, MAX_INDEX,
-    MuSearch, PilotError, PilotEstimate, PilotEstimator, c_r, design, optimise_mu, reachable_bound,
-    robust_gain, sufficient_gain, t_min,
+    AutoDesign, AutoDesignOptions, ConstraintDesign, ConstraintSpec, Design, DesignError,
+    DesignPass, GainChoice, LayerBound, MAX_INDEX, MuSearch, PilotError, PilotEstimate,
+    PilotEstimator, PilotRun, PilotRunError, auto_design, c_r, design, optimise_mu, pilot_run,
+    pilot_specs, reachable_bound, robust_gain, sufficient_gain, t_min,
 };
 pub use model::{Model, w_offsets};
 

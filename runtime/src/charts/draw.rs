@@ -92,6 +92,8 @@ pub(super) fn sliding(
                 .configure_mesh()
                 .x_desc("t")
                 .y_desc(s.name)
+                // Ticks at zero come out as +-2e-16 from the range arithmetic.
+                .y_label_formatter(&|v| axis_number(if v.abs() < 1e-9 * s.eps { 0.0 } else { *v }))
                 .light_line_style(WHITE)
                 .draw()
                 .map_err(draw_err)?;
@@ -250,6 +252,7 @@ where
         .configure_mesh()
         .x_desc("t")
         .y_desc("|w|")
+        .y_label_formatter(&|v| axis_number(*v))
         .light_line_style(WHITE)
         .draw()
         .map_err(draw_err)?;
@@ -269,4 +272,34 @@ where
         .draw()
         .map_err(draw_err)?;
     Ok(())
+}
+
+/// A short axis label: plain decimals from 1e-3 to 1e4, otherwise `1e-5` or `2.5e-5`
+/// (the default formatting prints log-scale ticks as `9.99999999999e-5`).
+fn axis_number(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        return "0".into();
+    }
+    if (1e-3..1e4).contains(&a) {
+        let text = format!("{v:.4}");
+        return text.trim_end_matches('0').trim_end_matches('.').to_string();
+    }
+    let text = format!("{v:.2e}");
+    let (mantissa, exp) = text.split_once('e').unwrap_or((&text, "0"));
+    let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+    format!("{mantissa}e{exp}")
+}
+
+#[cfg(test)]
+mod axis_tests {
+    #[test]
+    fn axis_numbers_are_short() {
+        assert_eq!(super::axis_number(9.99999999999e-5), "1e-4");
+        assert_eq!(super::axis_number(2.5e-6), "2.5e-6");
+        assert_eq!(super::axis_number(0.001), "0.001");
+        assert_eq!(super::axis_number(0.25), "0.25");
+        assert_eq!(super::axis_number(1.0), "1");
+        assert_eq!(super::axis_number(0.0), "0");
+    }
 }

@@ -10,7 +10,9 @@
 //!   the two design choices of method.md section 5 in [`GainChoice`];
 //! * [`optimise_mu`] / [`design`]: maximise `T_i^min(mu_i)` with the gain substituted
 //!   (T corollary 4.1, section 4.3), and take the smallest over the constraints (T 3.15);
-//! * [`PilotEstimator`]: estimates `|beta_i|` and `M_i` from samples of a pilot run.
+//! * [`PilotEstimator`]: estimates `|beta_i|` and `M_i` from samples of a pilot run;
+//!   [`pilot_run`] feeds it from a simulation and [`auto_design`] runs the whole
+//!   procedure (pilot, design, pilot again with the design, design).
 //!
 //! Invalid input (non-finite numbers, `eps <= 0`, `mu <= 0`, `r = 0`, ...) is reported
 //! as a [`DesignError`] or [`PilotError`], never by a panic.
@@ -19,11 +21,16 @@ mod bounds;
 mod gains;
 mod optimise;
 mod pilot;
+mod pilot_run;
 
 pub use bounds::{LayerBound, c_r, reachable_bound, t_min};
 pub use gains::{GainChoice, robust_gain, sufficient_gain};
 pub use optimise::{ConstraintDesign, Design, MuSearch, design, optimise_mu};
 pub use pilot::{PilotError, PilotEstimate, PilotEstimator};
+pub use pilot_run::{
+    AutoDesign, AutoDesignOptions, DesignPass, PilotRun, PilotRunError, auto_design, pilot_run,
+    pilot_specs,
+};
 
 /// The largest constraint index the formulas accept; `mu^(r-1)` and `2^r` are computed
 /// in `f64` and no realistic model comes near it.

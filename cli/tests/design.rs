@@ -1,0 +1,115 @@
+//! `daec design` run as a process: the thesis design from its bounds (method.md section
+//! 5), a design from a pilot run of the 3-D double pendulum, and user errors.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn daec(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_daec"))
+        .args(args)
+        .output()
+        .expect("daec runs")
+}
+
+fn json(o: &Output) -> serde_json::Value {
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    serde_json::from_slice(&o.stdout).expect("JSON on stdout")
+}
+
+fn num(v: &serde_json::Value) -> f64 {
+    v.as_f64().expect("a number")
+}
+
+#[test]
+fn relaxed_index3_design_of_link_one_is_the_thesis_one() {
+    let v = json(&daec(&[
+        "design", "--index", "3", "--eps", "0.2", "--beta", "1.3e3", "--m", "9e4", "--gains",
+        "relaxed", "--bound", "index3", "--json",
+    ]));
+    assert!((num(&v["mu"]) - 0.076).abs() < 0.002, "{v}");
+    assert!((num(&v["t_min"]) / 0.0062 - 1.0).abs() < 0.03, "{v}");
+    // The relaxed gain is mu^2 |beta|.
+    let mu = num(&v["mu"]);
+    assert!((num(&v["gain"]) - mu * mu * 1.3e3).abs() < 1e-9, "{v}");
+}
+
+#[test]
+fn sufficient_general_design_of_link_two_is_the_thesis_one() {
+    let v = json(&daec(&[
+        "design",
+        "--index",
+        "3",
+        "--eps",
+        "0.2",
+        "--beta",
+        "2.3e3",
+        "--m",
+        "11e4",
+        "--gains",
+        "sufficient",
+        "--bound",
+        "general",
+        "--json",
+    ]));
+    let mu = num(&v["mu"]);
+    assert!((mu - 0.060).abs() < 0.002, "{v}");
+    // k = mu^3 M / 2 + 4 eps / mu + mu^2 |beta| (method.md section 5).
+    let k = mu.powi(3) * 11e4 / 2.0 + 4.0 * 0.2 / mu + mu * mu * 2.3e3;
+    assert!((num(&v["gain"]) - k).abs() < 1e-9 * k, "{v}");
+}
+
+#[test]
+fn pilot_design_of_the_pendulum_is_of_the_thesis_order() {
+    let file =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/models/double_pendulum_3d.dae");
+    let v = json(&daec(&[
+        "design",
+        file.to_str().unwrap(),
+        "--eps",
+        "0.2",
+        "--pilot",
+        "10",
+        "--settle",
+        "1",
+        "--gains",
+        "relaxed",
+        "--bound",
+        "index3",
+        "--json",
+    ]));
+    // Thesis: |beta| <= 1.3e3 / 2.3e3, M = 9e4 / 11e4, mu = 0.076 / 0.066.
+    for (key, thesis) in [("beta_abs", [1.3e3, 2.3e3]), ("m", [9e4, 11e4])] {
+        for i in 0..2 {
+            let got = num(&v[key][i]);
+            assert!(got > thesis[i] / 3.0 && got < thesis[i] * 3.0, "{key}: {v}");
+        }
+    }
+    for (i, mu) in [0.076, 0.066].iter().enumerate() {
+        assert!((num(&v["mu"][i]) - mu).abs() < 0.01, "{v}");
+    }
+    assert_eq!(v["constraints"][1], "link2");
+}
+
+#[test]
+fn missing_bounds_and_bad_values_are_reported() {
+    let o = daec(&["design", "--index", "3", "--eps", "0.2", "--json"]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("--beta") && err.contains("--m"), "{err}");
+    let o = daec(&[
+        "design", "--index", "2", "--eps", "0.2", "--beta", "1", "--m", "1", "--bound", "index3",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("r = 3"), "{err}");
+    let o = daec(&[
+        "design", "--index", "3", "--eps=-1", "--beta", "1", "--m", "1",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("eps"));
+}

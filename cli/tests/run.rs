@@ -1,0 +1,291 @@
+//! `daec run` run as a process on the interpreter: the thesis scene (method.md section 5)
+//! with the figures of the generated code, the CSV and charts, and run-time errors.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn daec(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_daec"))
+        .args(args)
+        .output()
+        .expect("daec runs")
+}
+
+fn pendulum() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../examples/models/double_pendulum_3d.dae")
+        .display()
+        .to_string()
+}
+
+fn temp_dir() -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("daec-run-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+fn json(o: &Output) -> serde_json::Value {
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    serde_json::from_slice(&o.stdout).expect("JSON on stdout")
+}
+
+fn num(v: &serde_json::Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("{v} is not a number"))
+}
+
+/// Relaxed gains k_i = mu_i^2 |beta_i| of the thesis design.
+fn thesis_gains() -> String {
+    format!("{},{}", 0.076f64.powi(2) * 1.3e3, 0.066f64.powi(2) * 2.3e3)
+}
+
+/// The generated code (dae_file!) gives, for this scene: 166 updates, min period 0.0187,
+/// mean 0.0240, max|s| 0.2015/0.2022, max|w| 0.090/0.048. The interpreter must agree.
+#[test]
+fn monitored_thesis_scene_matches_the_generated_code() {
+    let gains = thesis_gains();
+    let v = json(&daec(&[
+        "run",
+        &pendulum(),
+        "--t-end",
+        "4",
+        "--eps",
+        "0.2",
+        "--mu",
+        "0.076,0.066",
+        "--gain",
+        &gains,
+        "--step",
+        "1e-4",
+        "--settle",
+        "1",
+        "--json",
+    ]));
+    assert_eq!(v["updates"], 166, "{v}");
+    assert!((num(&v["period_min"]) - 0.0187).abs() < 1e-4, "{v}");
+    assert!((num(&v["period_avg"]) - 0.0240).abs() < 1e-4, "{v}");
+    for (i, (s, w)) in [(0.2015, 0.090), (0.2022, 0.048)].iter().enumerate() {
+        assert!((num(&v["max_abs_s"][i]) - s).abs() < 1e-4, "{v}");
+        assert!((num(&v["max_abs_w"][i]) - w).abs() < 1e-3, "{v}");
+    }
+    assert!(num(&v["reach_time"]) < 0.2, "{v}");
+    for key in ["x_final", "z_final", "z_eq_final"] {
+        assert!(v[key].is_array(), "{key}");
+    }
+    assert_eq!(v["x_final"].as_array().unwrap().len(), 12);
+    assert!(num(&v["wall_seconds"]) > 0.0);
+    // z_eq at the end is a pendulum tension: positive and finite.
+    assert!(num(&v["z_eq_final"][0]).is_finite());
+}
+
+/// Fixed period 0.005 s: the generated code keeps max|s| at 0.0418 / 0.0593.
+#[test]
+fn fixed_rate_scene_stays_near_the_surfaces() {
+    let gains = thesis_gains();
+    let v = json(&daec(&[
+        "run",
+        &pendulum(),
+        "--t-end",
+        "4",
+        "--eps",
+        "0.2",
+        "--mu",
+        "0.076,0.066",
+        "--gain",
+        &gains,
+        "--policy",
+        "fixed:0.005",
+        "--settle",
+        "1",
+        "--json",
+    ]));
+    assert!((num(&v["max_abs_s"][0]) - 0.0418).abs() < 5e-4, "{v}");
+    assert!((num(&v["max_abs_s"][1]) - 0.0593).abs() < 5e-4, "{v}");
+    assert!((num(&v["period_min"]) - 0.005).abs() < 1e-9, "{v}");
+}
+
+#[test]
+fn csv_and_charts_are_written() {
+    let dir = temp_dir();
+    let csv = dir.join("trace.csv");
+    let plots = dir.join("charts");
+    let gains = thesis_gains();
+    let o = daec(&[
+        "run",
+        &pendulum(),
+        "--t-end",
+        "0.5",
+        "--eps",
+        "0.2",
+        "--mu",
+        "0.076,0.066",
+        "--gain",
+        &gains,
+        "--csv",
+        csv.to_str().unwrap(),
+        "--plot",
+        plots.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap();
+    assert!(
+        header.starts_with("t,x.p1x,") && header.ends_with("w.link1,w.link2"),
+        "{header}"
+    );
+    // Every step of 0.5 s at h = 1e-4, plus the initial point.
+    assert_eq!(lines.count(), 5001);
+    for chart in ["sliding.svg", "periods.svg", "errors.svg"] {
+        let svg = std::fs::read_to_string(plots.join(chart)).unwrap();
+        assert!(svg.starts_with("<svg") || svg.contains("<svg"), "{chart}");
+    }
+}
+
+/// A run that fails keeps its CSV up to the failure and names the quantity and time.
+#[test]
+fn runtime_error_is_reported_and_the_csv_kept() {
+    let dir = temp_dir();
+    let model = dir.join("blowup.dae");
+    // x' = sqrt(1 - t) becomes NaN after t = 1.
+    std::fs::write(
+        &model,
+        "model Blowup {\n  state x = 0.0, y = 0.0;\n  alg z = 0.0;\n  der(x) = sqrt(1 - t);\n  der(y) = z;\n  constraint c: y = 0;\n}\n",
+    )
+    .unwrap();
+    let csv = dir.join("blowup.csv");
+    let o = daec(&[
+        "run",
+        model.to_str().unwrap(),
+        "--t-end",
+        "2",
+        "--eps",
+        "0.01",
+        "--mu",
+        "1",
+        "--gain",
+        "1",
+        "--step",
+        "1e-3",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("state `x`") && err.contains("t = 1.001"),
+        "{err}"
+    );
+    let rows = std::fs::read_to_string(&csv).unwrap().lines().count();
+    // Header plus the samples at t = 0, 0.001, ..., 1.000.
+    assert_eq!(rows, 1 + 1001, "{err}");
+}
+
+#[test]
+fn bad_lists_and_policies_are_user_errors() {
+    let p = pendulum();
+    for (args, needle) in [
+        (
+            vec!["--eps", "0.2,0.2,0.2", "--mu", "0.1", "--gain", "1"],
+            "3 values",
+        ),
+        (vec!["--eps", "0.2", "--mu", "fast", "--gain", "1"], "--mu"),
+        (
+            vec![
+                "--eps", "0.2", "--mu", "0.1", "--gain", "1", "--policy", "fixed:x",
+            ],
+            "--policy",
+        ),
+        (vec!["--eps", "0", "--mu", "0.1", "--gain", "1"], "eps"),
+    ] {
+        let mut all = vec!["run", p.as_str(), "--t-end", "0.1"];
+        all.extend(args);
+        let o = daec(&all);
+        assert_eq!(o.status.code(), Some(1), "{all:?}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(needle), "{all:?}: {err}");
+    }
+}
+
+/// `--mu auto --gain auto`: the design's mu and gains are used, and the monitored run
+/// keeps the layers and never updates faster than the design's guaranteed period.
+#[test]
+fn automatic_design_run_keeps_its_guarantees() {
+    let v = json(&daec(&[
+        "run",
+        &pendulum(),
+        "--t-end",
+        "4",
+        "--eps",
+        "0.2",
+        "--mu",
+        "auto",
+        "--gain",
+        "auto",
+        "--gains",
+        "relaxed",
+        "--bound",
+        "index3",
+        "--pilot",
+        "10",
+        "--settle",
+        "1",
+        "--json",
+    ]));
+    let d = &v["design"];
+    assert_eq!(v["mu"], d["mu"], "{v}");
+    assert_eq!(v["gain"], d["gain"], "{v}");
+    let t_min = num(&d["t_min_design"]);
+    assert!(num(&v["period_min"]) >= t_min, "{v}");
+    for i in 0..2 {
+        assert!(num(&v["max_abs_s"][i]) <= 1.02 * 0.2, "{v}");
+        // Relaxed gains: k = mu^2 |beta| with the pilot's bound.
+        let (mu, beta) = (num(&d["mu"][i]), num(&d["beta_abs"][i]));
+        assert!(
+            (num(&d["gain"][i]) - mu * mu * beta).abs() < 1e-9 * beta,
+            "{v}"
+        );
+    }
+}
+
+/// `--mu LIST --gain auto`: the gains follow from the pilot's bounds at the given mu.
+#[test]
+fn gains_for_given_mu_come_from_the_pilot() {
+    let v = json(&daec(&[
+        "run",
+        &pendulum(),
+        "--t-end",
+        "2",
+        "--eps",
+        "0.2",
+        "--mu",
+        "0.076,0.066",
+        "--gain",
+        "auto",
+        "--gains",
+        "relaxed",
+        "--pilot",
+        "4",
+        "--settle",
+        "1",
+        "--json",
+    ]));
+    let d = &v["design"];
+    for (i, mu) in [0.076f64, 0.066].iter().enumerate() {
+        let beta = num(&d["beta_abs"][i]);
+        assert!(beta > 0.0, "{v}");
+        assert!(
+            (num(&v["gain"][i]) - mu * mu * beta).abs() < 1e-9 * beta,
+            "{v}"
+        );
+    }
+}

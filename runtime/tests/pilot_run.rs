@@ -1,0 +1,127 @@
+//! The pilot run and the automatic design: an index-2 model with closed-form `beta` and
+//! `w''` derivative as the oracle, and the 3-D double pendulum against the thesis bounds.
+
+mod common;
+
+use common::Tracking;
+use common::pendulum::Pendulum;
+use dae_runtime::{
+    AutoDesignOptions, GainChoice, LayerBound, PilotRunError, Policy, Settings, Simulator, Trace,
+    auto_design, pilot_run,
+};
+
+/// Tracking (`x' = z - x`, `0 = x - sin t`): `beta = -(z - x) + sin t` and, with `v`
+/// held, `d/dt w'' = d/dt (v + beta) = -(v - (z - x)) + cos t`. The pilot's `|beta|` must
+/// be the largest closed-form `|beta|` over the window's samples, and its `M` (largest
+/// chord slope of `w''` from an update) must lie between the largest `|d/dt w''|` at an
+/// update and the largest `|d/dt w''|` anywhere in the window.
+#[test]
+fn tracking_pilot_matches_closed_form_beta_and_drift() {
+    let model = Tracking::default();
+    let settings = Settings::new(vec![1e-3], vec![0.05], vec![0.1])
+        .step(1e-3)
+        .t_end(3.0)
+        .settle(0.5);
+    let run = pilot_run(&model, &settings).unwrap();
+    let mut trace = Trace::new();
+    Simulator::new(&model, settings)
+        .unwrap()
+        .run(&mut trace)
+        .unwrap();
+    let from = run.summary.stats_from.unwrap();
+    let ups: Vec<f64> = trace
+        .update_times()
+        .iter()
+        .copied()
+        .filter(|t| *t >= from)
+        .collect();
+    assert!(ups.len() > 10, "{} updates in the window", ups.len());
+    let t = trace.times();
+    let (mut beta_max, mut d_all, mut d_at_update) = (0.0f64, 0.0f64, 0.0f64);
+    for i in 0..t.len() - 1 {
+        if t[i] < ups[0] {
+            continue;
+        }
+        let (x, z) = (trace.x(i)[0], trace.z(i)[0]);
+        beta_max = beta_max.max((-(z - x) + t[i].sin()).abs());
+        // The held v of the interval starting at or containing t[i].
+        let v = (trace.z(i + 1)[0] - z) / (t[i + 1] - t[i]);
+        let d = (-(v - (z - x)) + t[i].cos()).abs();
+        d_all = d_all.max(d);
+        if ups.contains(&t[i]) {
+            d_at_update = d_at_update.max(d);
+        }
+    }
+    let e = &run.estimate;
+    assert!(
+        (e.beta_abs[0] - beta_max).abs() <= 1e-12 * beta_max,
+        "{e:?} vs {beta_max}"
+    );
+    assert!(e.m[0] <= d_all * (1.0 + 1e-6), "{e:?} vs {d_all}");
+    assert!(e.m[0] >= 0.99 * d_at_update, "{e:?} vs {d_at_update}");
+    assert_eq!(e.intervals, ups.len());
+}
+
+#[test]
+fn spsm_cannot_be_a_pilot() {
+    let settings = Settings::new(vec![1e-3], vec![0.05], vec![0.1]).policy(Policy::Spsm);
+    assert!(matches!(
+        pilot_run(&Tracking::default(), &settings),
+        Err(PilotRunError::Mismatch(_))
+    ));
+}
+
+/// method.md section 5: the thesis's pilot bounds are |beta| <= 1.3e3 / 2.3e3,
+/// M = 9e4 / 11e4, and the relaxed design with (T 4.6) gives mu = 0.076 / 0.066,
+/// T_min = 0.0062 / 0.0053. Two passes from mu = 0.1, k = 40 (exact alpha) over 10 s must
+/// land within a factor of 3 of those bounds and within 0.01 of those mu (the motion is
+/// chaotic, so the bounds depend on the trajectory the pilot happens to take).
+#[test]
+fn auto_design_of_the_pendulum_is_of_the_thesis_order() {
+    let pilot = Settings::new(vec![0.2; 2], vec![0.1; 2], vec![40.0; 2])
+        .step(1e-4)
+        .t_end(10.0)
+        .settle(1.0);
+    let opts = AutoDesignOptions {
+        gain: GainChoice::Relaxed,
+        layer: LayerBound::TightIndex3,
+        ..Default::default()
+    };
+    let a = auto_design(&Pendulum::default(), &[0.2, 0.2], &pilot, &opts).unwrap();
+    assert_eq!(a.passes.len(), 2);
+    let beta: Vec<f64> = (0..2)
+        .map(|i| {
+            a.passes
+                .iter()
+                .map(|p| p.pilot.estimate.beta_abs[i])
+                .fold(0.0, f64::max)
+        })
+        .collect();
+    let m: Vec<f64> = (0..2)
+        .map(|i| {
+            a.passes
+                .iter()
+                .map(|p| p.pilot.estimate.m[i])
+                .fold(0.0, f64::max)
+        })
+        .collect();
+    eprintln!(
+        "pilot bounds |beta| {beta:?} M {m:?}; design {:?}",
+        a.design
+    );
+    for (got, thesis) in beta
+        .iter()
+        .zip([1.3e3, 2.3e3])
+        .chain(m.iter().zip([9e4, 11e4]))
+    {
+        assert!(
+            *got > thesis / 3.0 && *got < thesis * 3.0,
+            "{got} vs {thesis}"
+        );
+    }
+    for (c, mu) in a.design.constraints.iter().zip([0.076, 0.066]) {
+        assert!((c.mu - mu).abs() < 0.01, "{:?}", a.design);
+    }
+    // The second pass ran the first pass's design with the cheap alpha.
+    assert_eq!(a.passes[1].mu[0], a.passes[0].design.constraints[0].mu);
+}
