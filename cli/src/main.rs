@@ -8,6 +8,8 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 mod check;
+mod derive;
+mod source;
 
 /// Compile DAE models written in the `.dae` language.
 #[derive(Parser)]
@@ -19,14 +21,19 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Parse and check a `.dae` file; print a summary of each model.
+    /// Parse, check and analyse a `.dae` file; print a summary of each model with the
+    /// index of each constraint and the condition number of J_Omega.
     Check(check::Args),
+    /// Print the index analysis of each model: w-derivatives, Omega, J_Omega, beta, s,
+    /// alpha and alpha_hat, one equation per line in the language's syntax.
+    Derive(derive::Args),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
         Command::Check(args) => check::run(&args),
+        Command::Derive(args) => derive::run(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
