@@ -1,13 +1,24 @@
-//! `daec check FILE [--json]`: parse and check the models of a file.
+//! `daec check FILE [--json]`: parse, check and analyse the models of a file.
 
 use crate::{Reported, source};
+use dae_lang::Analysis;
 use dae_lang::model::Model;
 use serde::Serialize;
 use serde::ser::{SerializeMap, Serializer};
 use std::path::PathBuf;
 
 /// Arguments of `daec check`.
+///
+/// Besides the front-end checks, runs the index analysis: a constraint without an index,
+/// a singular or ill-conditioned J_Omega (condition number above 1e12) at the initial
+/// point, or a non-finite value there is an error (rendered on stderr, exit status 1,
+/// nothing on stdout). So a successful check always reports a nonsingular J_Omega.
 #[derive(clap::Args)]
+#[command(
+    after_help = "A singular J_Omega at the initial point is an error (exit status 1): it names the \
+                  constraints whose rows are dependent and the condition number. A successful check \
+                  therefore always prints `\"nonsingular\": true` in its JSON."
+)]
 pub(crate) struct Args {
     /// The `.dae` file to check.
     file: PathBuf,
@@ -17,25 +28,20 @@ pub(crate) struct Args {
     json: bool,
 }
 
-/// Reads, parses and checks the file; prints the summary on stdout or every error on
-/// stderr.
+/// Reads, parses, checks and analyses the file; prints the summary on stdout or every
+/// error on stderr.
 pub(crate) fn run(args: &Args) -> Result<(), Reported> {
-    let (name, source) = source::read(&args.file)?;
-    match dae_lang::compile_models(&source) {
-        Ok(models) => {
-            if args.json {
-                println!("{}", json(&models));
-            } else {
-                print!("{}", summary(&name, &models));
-            }
-            Ok(())
-        }
-        Err(diags) => Err(source::report(&name, &source, &diags)),
+    let (name, src) = source::read(&args.file)?;
+    let analysed = dae_lang::analyze_source(&src).map_err(|d| source::report(&name, &src, &d))?;
+    if args.json {
+        println!("{}", json(&analysed));
+    } else {
+        print!("{}", summary(&name, &analysed));
     }
+    Ok(())
 }
 
-/// The JSON form of a model. `index` and `depends_on` of a constraint are filled by the
-/// index analysis, which `check` does not run: `null` and `[]` here.
+/// The JSON form of a model.
 #[derive(Serialize)]
 struct ModelJson<'a> {
     model: &'a str,
@@ -43,13 +49,22 @@ struct ModelJson<'a> {
     algebraics: Vec<&'a str>,
     parameters: Params<'a>,
     constraints: Vec<ConstraintJson<'a>>,
+    jacobian: JacobianJson,
 }
 
 #[derive(Serialize)]
 struct ConstraintJson<'a> {
     name: &'a str,
-    index: Option<usize>,
-    depends_on: Vec<&'a str>,
+    index: usize,
+    depends_on: &'a [String],
+}
+
+/// `J_Omega` at the initial point. `nonsingular` is always true in printed output (a
+/// singular J_Omega is an error); it is there so that consumers need not know that rule.
+#[derive(Serialize)]
+struct JacobianJson {
+    nonsingular: bool,
+    condition: f64,
 }
 
 /// Parameters as a JSON object in declaration order (a map type would sort them).
@@ -65,37 +80,43 @@ impl Serialize for Params<'_> {
     }
 }
 
-fn model_json(m: &Model) -> ModelJson<'_> {
+fn model_json<'a>(m: &'a Model, a: &'a Analysis) -> ModelJson<'a> {
     ModelJson {
         model: &m.name,
         states: m.states.iter().map(|s| s.name.as_str()).collect(),
         algebraics: m.algs.iter().map(|a| a.name.as_str()).collect(),
         parameters: Params(m),
-        constraints: m
+        constraints: a
             .constraints
             .iter()
             .map(|c| ConstraintJson {
                 name: &c.name,
-                index: None,
-                depends_on: Vec::new(),
+                index: c.index,
+                depends_on: &c.depends_on,
             })
             .collect(),
+        jacobian: JacobianJson {
+            nonsingular: a.condition_number.is_finite(),
+            condition: a.condition_number,
+        },
     }
 }
 
 /// One object for one model, an array for several.
-fn json(models: &[Model]) -> String {
-    let all: Vec<ModelJson<'_>> = models.iter().map(model_json).collect();
+fn json(models: &[(Model, Analysis)]) -> String {
+    let all: Vec<ModelJson<'_>> = models.iter().map(|(m, a)| model_json(m, a)).collect();
     let value = match all.as_slice() {
         [one] => serde_json::to_string_pretty(one),
         _ => serde_json::to_string_pretty(&all),
     };
-    // Serialising these plain structs (finite numbers, string keys) cannot fail.
+    // The analysis only succeeds with finite values, and the keys are strings, so
+    // serialising cannot fail.
     value.unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
 }
 
-/// The text summary: per model its states, algebraics, parameters and constraints.
-fn summary(file: &str, models: &[Model]) -> String {
+/// The text summary: per model its states, algebraics, parameters, definitions, and a
+/// table of the constraints with their index and the algebraic unknowns in their `Omega`.
+fn summary(file: &str, models: &[(Model, Analysis)]) -> String {
     let mut out = String::new();
     let plural = |n: usize| if n == 1 { "" } else { "s" };
     out.push_str(&format!(
@@ -103,7 +124,7 @@ fn summary(file: &str, models: &[Model]) -> String {
         models.len(),
         plural(models.len())
     ));
-    for m in models {
+    for (m, a) in models {
         out.push_str(&format!("\nmodel {}\n", m.name));
         let names = |v: Vec<&str>| {
             if v.is_empty() {
@@ -137,11 +158,41 @@ fn summary(file: &str, models: &[Model]) -> String {
             m.lets.len(),
             names(m.lets.iter().map(|l| l.name.as_str()).collect())
         ));
+        out.push_str(&format!("  constraints ({}):", a.constraints.len()));
+        if a.constraints.is_empty() {
+            out.push_str(" (none)\n");
+            continue;
+        }
+        out.push('\n');
+        let width = a
+            .constraints
+            .iter()
+            .map(|c| c.name.len())
+            .chain(["name".len()])
+            .max()
+            .unwrap_or(4);
+        out.push_str(&format!("    {:<width$}  index  depends on\n", "name"));
+        for c in &a.constraints {
+            out.push_str(&format!(
+                "    {:<width$}  {:>5}  {}\n",
+                c.name,
+                c.index,
+                c.depends_on.join(", ")
+            ));
+        }
         out.push_str(&format!(
-            "  constraints ({}): {}\n",
-            m.constraints.len(),
-            names(m.constraints.iter().map(|c| c.name.as_str()).collect())
+            "  J_Omega at t = 0: nonsingular, condition number {}\n",
+            condition_text(a.condition_number)
         ));
     }
     out
+}
+
+/// A condition number with 7 significant digits: `6.854102` below 1e6, `3.162278e7` above.
+fn condition_text(c: f64) -> String {
+    if c < 1e6 {
+        format!("{c:.6}")
+    } else {
+        format!("{c:.6e}")
+    }
 }

@@ -8,6 +8,7 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 mod check;
+mod derive;
 mod design;
 mod run;
 mod source;
@@ -22,12 +23,16 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Parse and check a `.dae` file; print a summary of each model.
+    /// Parse, check and analyse a `.dae` file; print a summary of each model with the
+    /// index of each constraint and the condition number of J_Omega.
     Check(check::Args),
     /// Simulate a model with DBSMC on the interpreter.
     Run(run::Args),
     /// Choose mu, gains and the guaranteed period from bounds or from a pilot run.
     Design(design::Args),
+    /// Print the index analysis of each model: w-derivatives, Omega, J_Omega, beta, s,
+    /// alpha and alpha_hat, one equation per line in the language's syntax.
+    Derive(derive::Args),
 }
 
 fn main() -> ExitCode {
@@ -36,6 +41,7 @@ fn main() -> ExitCode {
         Command::Check(args) => check::run(&args),
         Command::Run(args) => run::run(&args),
         Command::Design(args) => design::run(&args),
+        Command::Derive(args) => derive::run(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

@@ -62,7 +62,12 @@ fn every_example_checks_with_a_summary() {
         text.contains("parameters  (5): m1 = 0.1, m2 = 0.1, L1 = 2, L2 = 2, g = 9.8"),
         "{text}"
     );
-    assert!(text.contains("constraints (2): link1, link2"), "{text}");
+    assert!(
+        text.contains(
+            "  constraints (2):\n    name   index  depends on\n    link1      3  z1, z2\n    link2      3  z1, z2\n"
+        ),
+        "{text}"
+    );
 }
 
 #[test]
@@ -91,13 +96,14 @@ fn json_of_one_model_is_an_object_in_declaration_order() {
     assert_eq!(
         v["constraints"],
         serde_json::json!([
-            {"name": "link1", "index": null, "depends_on": []},
-            {"name": "link2", "index": null, "depends_on": []}
+            {"name": "link1", "index": 3, "depends_on": ["z1", "z2"]},
+            {"name": "link2", "index": 3, "depends_on": ["z1", "z2"]}
         ])
     );
+    assert_eq!(v["jacobian"]["nonsingular"], true);
     // Exactly these keys, and parameters in declaration order (not sorted).
     let keys: Vec<&String> = v.as_object().unwrap().keys().collect();
-    assert_eq!(keys.len(), 5);
+    assert_eq!(keys.len(), 6);
     let text = stdout(&o);
     let pos = |k: &str| text.find(&format!("\"{k}\":")).unwrap();
     assert!(pos("m1") < pos("m2") && pos("m2") < pos("L1") && pos("L2") < pos("g"));

@@ -78,16 +78,17 @@ pub fn compile(model: &model::Model, analysis: &Analysis) -> CompiledModel {
     compile::compile(model, analysis)
 }
 
-/// The whole pipeline for every model of a source text: parse, check, analyse (with
-/// default [`AnalysisOptions`]) and compile. All errors of all models are returned.
-pub fn compile_source(src: &str) -> Result<Vec<CompiledModel>, Vec<Diagnostic>> {
+/// Parse, check and analyse (with default [`AnalysisOptions`]) every model of a source
+/// text. On failure, all the errors: the front end's, or the analysis errors of every
+/// model in order.
+pub fn analyze_source(src: &str) -> Result<Vec<(model::Model, Analysis)>, Vec<Diagnostic>> {
     let models = compile_models(src)?;
     let opts = AnalysisOptions::default();
     let mut out = Vec::with_capacity(models.len());
     let mut errors = Vec::new();
-    for m in &models {
-        match analyze(m, &opts) {
-            Ok(a) => out.push(compile(m, &a)),
+    for m in models {
+        match analyze(&m, &opts) {
+            Ok(a) => out.push((m, a)),
             Err(mut e) => errors.append(&mut e),
         }
     }
@@ -96,4 +97,13 @@ pub fn compile_source(src: &str) -> Result<Vec<CompiledModel>, Vec<Diagnostic>> 
     } else {
         Err(errors)
     }
+}
+
+/// The whole pipeline for every model of a source text: parse, check, analyse (with
+/// default [`AnalysisOptions`]) and compile. All errors of all models are returned.
+pub fn compile_source(src: &str) -> Result<Vec<CompiledModel>, Vec<Diagnostic>> {
+    Ok(analyze_source(src)?
+        .iter()
+        .map(|(m, a)| compile(m, a))
+        .collect())
 }

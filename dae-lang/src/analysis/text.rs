@@ -36,7 +36,7 @@ impl Analysis {
     /// w_link1 = ...
     /// w_link1' = ...
     /// Omega_link1 = ...
-    /// J(0, 0) = ...
+    /// J(0, 0) = ...  // link1 / z1
     /// beta_link1 = ...
     /// s_link1 = ...
     /// alpha_link1 = ...
@@ -49,7 +49,8 @@ impl Analysis {
     /// parameters `mu1, mu2, ...`. A let is written by name wherever its node occurs whole
     /// (after simplification a let may also be merged into a larger term, e.g. `l^2`
     /// becomes the sum it squares). `J(i, k)` is `dOmega_i/dz_k` (row = constraint,
-    /// column = algebraic unknown, both from 0); only structurally non-zero entries appear.
+    /// column = algebraic unknown, both from 0), followed by a comment naming the
+    /// constraint and the unknown; only structurally non-zero entries appear.
     pub fn derive_text(&self) -> String {
         let mut ids = Vec::new();
         for c in &self.constraints {
@@ -67,12 +68,12 @@ impl Analysis {
         let indices: Vec<String> = self.indices().iter().map(|r| r.to_string()).collect();
         let _ = writeln!(
             out,
-            "// model {}: {} constraint{}, indices ({}), cond(J_Omega) = {:.6e} at t = 0",
+            "// model {}: {} constraint{}, indices ({}), cond(J_Omega) = {} at t = 0",
             self.model_name,
             self.constraints.len(),
             if self.constraints.len() == 1 { "" } else { "s" },
             indices.join(", "),
-            self.condition_number
+            condition_text(self.condition_number)
         );
         let cols: Vec<String> = self
             .names
@@ -124,7 +125,8 @@ impl Analysis {
                 let _ = writeln!(out, "{} = {}", wname(&c.name, j, r), next());
             }
             for (k, _) in &c.jacobian_row {
-                let _ = writeln!(out, "J({i}, {k}) = {}", next());
+                let z = super::alg_name(&self.names, *k);
+                let _ = writeln!(out, "J({i}, {k}) = {}  // {} / {z}", next(), c.name);
             }
             let _ = writeln!(out, "beta_{} = {}", c.name, next());
             let _ = writeln!(out, "s_{} = {}", c.name, next());
@@ -132,5 +134,14 @@ impl Analysis {
             let _ = writeln!(out, "alpha_hat_{} = {}", c.name, next());
         }
         out
+    }
+}
+
+/// A condition number with 7 significant digits: `6.854102` below 1e6, `3.162278e7` above.
+pub(super) fn condition_text(c: f64) -> String {
+    if c < 1e6 {
+        format!("{c:.6}")
+    } else {
+        format!("{c:.6e}")
     }
 }

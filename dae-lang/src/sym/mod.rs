@@ -31,6 +31,8 @@
 mod build;
 mod diff;
 mod eval;
+#[cfg(test)]
+mod parse_back;
 mod print;
 #[cfg(test)]
 pub(crate) mod reader;
@@ -304,13 +306,17 @@ impl Arena {
 
     /// The algebraic unknowns (indices) an expression contains, sorted.
     pub fn algs_in(&self, id: Id) -> Vec<usize> {
-        self.leaves_in(id, dep::ALG)
+        // Sorted by index, not by node id: leaves are interned in order of first use.
+        let mut out: Vec<usize> = self
+            .leaves_in(id, dep::ALG)
             .into_iter()
             .filter_map(|l| match self.node(l) {
                 Node::Alg(i) => Some(*i as usize),
                 _ => None,
             })
-            .collect()
+            .collect();
+        out.sort_unstable();
+        out
     }
 
     /// The leaves (of the kinds in `mask`) reachable from `id`, sorted by id.

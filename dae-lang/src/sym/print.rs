@@ -84,6 +84,12 @@ struct Printer<'a> {
     arena: &'a Arena,
     names: &'a Names,
     memo: HashMap<Id, Piece>,
+    /// Abbreviations that are a power of one base, `name = base^e0` (a let `l =
+    /// sqrt(x^2 + y^2)`), by base: a factor `base^e` with an integer `e/e0` prints as
+    /// `name^(e/e0)` (for a positive integer `e/e0`), so `(x^2 + y^2)^1.5` reads `l^3`.
+    /// Needed because a power of a let
+    /// merges into the surrounding product and the let's own node disappears.
+    roots: HashMap<Id, (String, f64)>,
 }
 
 impl Printer<'_> {
@@ -123,7 +129,14 @@ impl Printer<'_> {
 
     fn sum(&mut self, c: f64, ts: &[(Id, Num)]) -> Piece {
         let mut out = String::new();
-        for (k, (t, a)) in ts.iter().enumerate() {
+        // Terms are stored by id; start with a positive term when there is one, so that
+        // `b - a` does not print as `-a + b` (both read back to the same node).
+        let mut order: Vec<&(Id, Num)> = ts.iter().collect();
+        if let Some(p) = order.iter().position(|(_, a)| a.0 > 0.0) {
+            let first = order.remove(p);
+            order.insert(0, first);
+        }
+        for (k, (t, a)) in order.into_iter().enumerate() {
             let a = a.0;
             let body = if a.abs() == 1.0 {
                 wrap(self.pr(*t), Kind::Prod)
@@ -171,15 +184,47 @@ impl Printer<'_> {
     /// followed by more factors.
     fn starts_with_sum(&self, t: Id) -> bool {
         match self.arena.node(t) {
-            Node::Mul(_, fs) if fs.len() > 1 => fs
-                .iter()
-                .find(|(_, e)| e.0 >= 0.0)
-                .is_some_and(|(b, e)| e.0 == 1.0 && matches!(self.arena.node(*b), Node::Add(..))),
+            Node::Mul(_, fs) if fs.len() > 1 => self
+                .numerator(fs)
+                .first()
+                .is_some_and(|&(b, e)| self.is_sum_factor(b, e)),
             _ => false,
         }
     }
 
+    /// A factor `(a + b)^1`: written first after a number or a minus, it would be read as
+    /// scaled by it (see `product`).
+    fn is_sum_factor(&self, b: Id, e: f64) -> bool {
+        e == 1.0 && matches!(self.arena.node(b), Node::Add(..))
+    }
+
+    /// The numerator factors in printing order: by id, except that a factor which is not a
+    /// sum goes first when there is one (`2*mu*(a - b)` rather than `2*((a - b)*mu)`,
+    /// which needs the brackets to read back to the same node).
+    fn numerator(&self, fs: &[(Id, Num)]) -> Vec<(Id, f64)> {
+        let mut num: Vec<(Id, f64)> = fs
+            .iter()
+            .filter(|(_, e)| e.0 >= 0.0)
+            .map(|(b, e)| (*b, e.0))
+            .collect();
+        if let Some(p) = num.iter().position(|&(b, e)| !self.is_sum_factor(b, e)) {
+            let first = num.remove(p);
+            num.insert(0, first);
+        }
+        num
+    }
+
     fn factor(&mut self, b: Id, e: f64) -> Piece {
+        if let Some((name, e0)) = self.roots.get(&b) {
+            let k = e / e0;
+            if k.fract() == 0.0 && k > 0.0 && k < 1e6 {
+                return if k == 1.0 {
+                    (name.clone(), Kind::Atom)
+                } else {
+                    (format!("{name}^{}", wrap(number(k), Kind::Pow)), Kind::Pow)
+                };
+            }
+        }
         if e == 1.0 {
             (wrap(self.pr(b), Kind::Pow), Kind::Pow)
         } else if e == 0.5 {
@@ -206,17 +251,16 @@ impl Printer<'_> {
                 _ => coef = Some(unsigned_or_special(mag)),
             }
         }
-        let mut num: Vec<Piece> = Vec::new();
-        let mut leading_sum = false;
-        for (b, e) in fs {
-            if e.0 >= 0.0 {
-                if num.is_empty() {
-                    leading_sum = e.0 == 1.0 && matches!(self.arena.node(*b), Node::Add(..));
-                }
-                num.push(self.factor(*b, e.0));
-            } else {
-                den.push(wrap(self.factor(*b, -e.0), Kind::Pow));
-            }
+        let order = self.numerator(fs);
+        let leading_sum = order
+            .first()
+            .is_some_and(|&(b, e)| self.is_sum_factor(b, e));
+        let mut num: Vec<Piece> = Vec::with_capacity(order.len());
+        for (b, e) in order {
+            num.push(self.factor(b, e));
+        }
+        for (b, e) in fs.iter().filter(|(_, e)| e.0 < 0.0) {
+            den.push(wrap(self.factor(*b, -e.0), Kind::Pow));
         }
         let more_than_the_sum = num.len() > 1 || !den.is_empty();
         let (mut s, mut kind) = match num.len() {
@@ -269,6 +313,7 @@ impl Arena {
             arena: self,
             names,
             memo: HashMap::new(),
+            roots: HashMap::new(),
         };
         p.pr(id).0
     }
@@ -290,10 +335,20 @@ impl Arena {
             .iter()
             .map(|(id, n)| (*id, (n.clone(), Kind::Atom)))
             .collect();
+        let roots = abbrev
+            .iter()
+            .filter_map(|(id, n)| match self.node(*id) {
+                Node::Mul(c, fs) if c.0 == 1.0 && fs.len() == 1 => {
+                    Some((fs[0].0, (n.clone(), fs[0].1.0)))
+                }
+                _ => None,
+            })
+            .collect();
         let mut p = Printer {
             arena: self,
             names,
             memo,
+            roots,
         };
         ids.iter().map(|&id| p.pr(id).0).collect()
     }

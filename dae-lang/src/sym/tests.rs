@@ -5,7 +5,7 @@ use proptest::prelude::*;
 
 use super::*;
 
-fn names() -> Names {
+pub(super) fn names() -> Names {
     Names {
         params: vec!["p".into()],
         states: vec!["x".into(), "y".into()],
@@ -14,7 +14,7 @@ fn names() -> Names {
 }
 
 /// Leaves: x, y (states), z (alg), p (param), t, mu1.
-fn leaves(a: &mut Arena) -> [Id; 6] {
+pub(super) fn leaves(a: &mut Arena) -> [Id; 6] {
     [
         a.state(0),
         a.state(1),
@@ -247,12 +247,16 @@ fn printed_text_reads_back_to_the_same_node() {
     let e5 = a.div(xy, nx);
     assert_eq!(a.display(e5, &names()), "-((x + y)/x)");
     let e6 = a.product(2.0, &[(xy, 1.0), (z, 1.0)]);
-    // The same at the start of a sum: `-((x + y)/z) + cos(...)`.
+    // The same at the start of a sum (all terms negative, else a positive one comes
+    // first): `-((x + y)/z) - cosh(...)`.
     let q = a.div(xy, z);
     let later = a.f1(Fun1::Cosh, e6);
-    let e7 = a.lin(0.0, &[(q, -1.0), (later, 1.0)]);
-    assert!(a.display(e7, &names()).starts_with("-((x + y)/z) + "));
-    for e in [s, c, e1, e2, e3, e4, e5, e6, e7] {
+    let e7 = a.lin(0.0, &[(q, -1.0), (later, -1.0)]);
+    assert!(a.display(e7, &names()).starts_with("-((x + y)/z) - "));
+    // A positive term is written first: `b - a`, not `-a + b`.
+    let e8 = a.lin(0.0, &[(q, -1.0), (later, 1.0)]);
+    assert!(a.display(e8, &names()).starts_with("cosh("));
+    for e in [s, c, e1, e2, e3, e4, e5, e6, e7, e8] {
         let text = a.display(e, &names());
         assert_eq!(read(&mut a, &text), e, "{text}");
     }
@@ -262,7 +266,7 @@ fn printed_text_reads_back_to_the_same_node() {
 
 /// A random expression over x, y, z, p, t, mu1 and small constants.
 #[derive(Clone, Debug)]
-enum T {
+pub(super) enum T {
     Leaf(usize),
     Num(f64),
     Neg(Box<T>),
@@ -288,7 +292,7 @@ const FUN1: [Fun1; 13] = [
     Fun1::Sign,
 ];
 
-fn tree() -> impl Strategy<Value = T> {
+pub(super) fn tree() -> impl Strategy<Value = T> {
     let leaf = prop_oneof![
         (0usize..6).prop_map(T::Leaf),
         prop_oneof![
@@ -333,16 +337,22 @@ fn tree() -> impl Strategy<Value = T> {
     })
 }
 
-fn build(a: &mut Arena, t: &T) -> Id {
+pub(super) fn build(a: &mut Arena, t: &T) -> Id {
+    let l = leaves(a);
+    build_with(a, t, &l)
+}
+
+/// `build` with the six leaves (x, y, z, p, t, mu1) given.
+pub(super) fn build_with(a: &mut Arena, t: &T, leaves: &[Id; 6]) -> Id {
     match t {
-        T::Leaf(i) => leaves(a)[*i],
+        T::Leaf(i) => leaves[*i],
         T::Num(v) => a.num(*v),
         T::Neg(x) => {
-            let x = build(a, x);
+            let x = build_with(a, x, leaves);
             a.neg(x)
         }
         T::Bin(o, x, y) => {
-            let (x, y) = (build(a, x), build(a, y));
+            let (x, y) = (build_with(a, x, leaves), build_with(a, y, leaves));
             match o {
                 0 => a.add(x, y),
                 1 => a.sub(x, y),
@@ -352,15 +362,15 @@ fn build(a: &mut Arena, t: &T) -> Id {
             }
         }
         T::F1(f, x) => {
-            let x = build(a, x);
+            let x = build_with(a, x, leaves);
             a.f1(*f, x)
         }
         T::F2(f, x, y) => {
-            let (x, y) = (build(a, x), build(a, y));
+            let (x, y) = (build_with(a, x, leaves), build_with(a, y, leaves));
             a.f2(*f, x, y)
         }
         T::PowN(x, e) => {
-            let x = build(a, x);
+            let x = build_with(a, x, leaves);
             a.powf(x, *e)
         }
     }
@@ -434,7 +444,7 @@ fn on_atan2_cut(a: &Arena, e: Id, v: &[f64; 6]) -> bool {
     })
 }
 
-fn has_kept_constant_power(a: &Arena, e: Id) -> bool {
+pub(super) fn has_kept_constant_power(a: &Arena, e: Id) -> bool {
     a.reachable(&[e]).into_iter().any(|n| match a.node(n) {
         Node::Mul(_, fs) => fs.iter().any(|(b, _)| a.as_const(*b).is_some()),
         _ => false,
