@@ -5,7 +5,7 @@ use dae_lang::model::Model;
 use serde::Serialize;
 use serde::ser::{SerializeMap, Serializer};
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `daec check`.
 #[derive(clap::Args)]
@@ -21,45 +21,51 @@ pub(crate) struct Args {
 /// Reads, parses and checks the file; prints the summary on stdout or every error on
 /// stderr.
 pub(crate) fn run(args: &Args) -> Result<(), Reported> {
-    let name = args.file.display().to_string();
-    let source = match std::fs::read(&args.file) {
+    let (name, source) = read_source(&args.file)?;
+    let models = dae_lang::compile_models(&source).map_err(|d| report(&name, &source, &d))?;
+    if args.json {
+        println!("{}", json(&models));
+    } else {
+        print!("{}", summary(&name, &models));
+    }
+    Ok(())
+}
+
+/// Reads a `.dae` file as UTF-8 text; returns its display name and contents, or reports
+/// why it cannot (shared by the subcommands that take a file).
+pub(crate) fn read_source(path: &Path) -> Result<(String, String), Reported> {
+    let name = path.display().to_string();
+    match std::fs::read(path) {
         Ok(bytes) => match String::from_utf8(bytes) {
-            Ok(s) => s,
+            Ok(s) => Ok((name, s)),
             Err(e) => {
                 eprintln!(
                     "error: `{name}` is not UTF-8 text (invalid byte at offset {})",
                     e.utf8_error().valid_up_to()
                 );
-                return Err(Reported);
+                Err(Reported)
             }
         },
         Err(e) => {
             eprintln!("error: cannot read `{name}`: {e}");
-            return Err(Reported);
-        }
-    };
-    match dae_lang::compile_models(&source) {
-        Ok(models) => {
-            if args.json {
-                println!("{}", json(&models));
-            } else {
-                print!("{}", summary(&name, &models));
-            }
-            Ok(())
-        }
-        Err(diags) => {
-            let color = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();
-            for d in &diags {
-                eprint!("{}", d.render(&name, &source, color));
-            }
-            let n = diags.len();
-            eprintln!(
-                "error: {n} error{} in `{name}`",
-                if n == 1 { "" } else { "s" }
-            );
             Err(Reported)
         }
     }
+}
+
+/// Renders every diagnostic of `source` on stderr (in colour on a terminal unless
+/// `NO_COLOR` is set), then a count line.
+pub(crate) fn report(name: &str, source: &str, diags: &[dae_lang::Diagnostic]) -> Reported {
+    let color = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();
+    for d in diags {
+        eprint!("{}", d.render(name, source, color));
+    }
+    let n = diags.len();
+    eprintln!(
+        "error: {n} error{} in `{name}`",
+        if n == 1 { "" } else { "s" }
+    );
+    Reported
 }
 
 /// The JSON form of a model. `index` and `depends_on` of a constraint are filled by the

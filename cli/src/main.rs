@@ -8,6 +8,7 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 mod check;
+mod emit;
 
 /// Compile DAE models written in the `.dae` language.
 #[derive(Parser)]
@@ -21,12 +22,15 @@ struct Cli {
 enum Command {
     /// Parse and check a `.dae` file; print a summary of each model.
     Check(check::Args),
+    /// Print the Rust code generated for each model of a `.dae` file.
+    Emit(emit::Args),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
         Command::Check(args) => check::run(&args),
+        Command::Emit(args) => emit::run(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
