@@ -105,6 +105,9 @@ pub fn generate(model: &CompiledModel) -> TokenStream {
             #( #[doc = #param_docs] pub #fields: f64, )*
         }
 
+        // A default may be any number the user wrote, e.g. 3.14159 for a parameter
+        // `pi`, which clippy would deny (approx_constant) in the user's crate.
+        #[allow(clippy::all)]
         impl ::core::default::Default for #ty {
             fn default() -> Self {
                 Self { #( #fields: #defaults, )* }
