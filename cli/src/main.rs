@@ -10,6 +10,7 @@ use std::process::ExitCode;
 mod check;
 mod derive;
 mod design;
+mod emit;
 mod run;
 mod source;
 
@@ -33,6 +34,8 @@ enum Command {
     /// Print the index analysis of each model: w-derivatives, Omega, J_Omega, beta, s,
     /// alpha and alpha_hat, one equation per line in the language's syntax.
     Derive(derive::Args),
+    /// Print the Rust code generated for each model of a `.dae` file.
+    Emit(emit::Args),
 }
 
 fn main() -> ExitCode {
@@ -42,6 +45,7 @@ fn main() -> ExitCode {
         Command::Run(args) => run::run(&args),
         Command::Design(args) => design::run(&args),
         Command::Derive(args) => derive::run(&args),
+        Command::Emit(args) => emit::run(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

@@ -7,7 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
-use proc_macro2::{Span, TokenStream, TokenTree};
+use proc_macro2::{Delimiter, Group, Literal, Span, TokenStream, TokenTree};
 use quote::{quote, quote_spanned};
 
 use crate::diag::Diagnostic;
@@ -21,9 +21,8 @@ pub fn expand_dae(input: TokenStream) -> TokenStream {
         Err(diags) => diags
             .iter()
             .map(|d| {
-                let span = src.span_of(d.span);
-                let msg = one_line(d);
-                quote_spanned!(span=> ::core::compile_error!(#msg);)
+                let (first, last) = src.span_range(d.span);
+                compile_error_between(first, last, &one_line(d))
             })
             .collect(),
     }
@@ -96,6 +95,19 @@ pub fn compile_file_to_out_dir(path: impl AsRef<Path>) -> Result<PathBuf, String
     let out = Path::new(&out_dir).join(format!("{stem}.rs"));
     std::fs::write(&out, code).map_err(|e| format!("cannot write `{}`: {e}", out.display()))?;
     Ok(out)
+}
+
+/// `::core::compile_error! { "msg" }` with the path at `first` and the braces at
+/// `last`: rustc reports the error over the whole range from `first` to `last`.
+fn compile_error_between(first: Span, last: Span, msg: &str) -> TokenStream {
+    let path = quote_spanned!(first=> ::core::compile_error!);
+    let mut lit = Literal::string(msg);
+    lit.set_span(last);
+    let mut body = Group::new(Delimiter::Brace, TokenTree::Literal(lit).into());
+    body.set_span(last);
+    let mut out = path;
+    out.extend([TokenTree::Group(body)]);
+    out
 }
 
 /// A diagnostic as one message for `compile_error!`: what, then the hint.

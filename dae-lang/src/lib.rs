@@ -23,6 +23,28 @@
 //! assert_eq!(dae_lang::line_col(bad, errors[0].span), (1, 34));
 //! println!("{}", errors[0].render("bad.dae", bad, false));
 //! ```
+//!
+//! [`compile_source`] runs the whole pipeline: it also finds each constraint's index,
+//! differentiates symbolically and compiles every function of the model into a
+//! straight-line program ([`CompiledModel`]); [`codegen::emit_rust`] prints the Rust
+//! type implementing `dae_runtime::Model` that the `dae!` macro, `dae_file!` and build
+//! scripts ([`expand::compile_file_to_out_dir`]) compile, and that `daec emit` shows.
+//!
+//! ```
+//! let src = "
+//!     model Tracking {
+//!         param a = 1.0;
+//!         state x = 0.0;
+//!         alg z = 1.0;
+//!         der(x) = z - x;
+//!         constraint follow: x = a * sin(t);
+//!     }";
+//! let models = dae_lang::compile_source(src).expect("a valid model");
+//! assert_eq!(models[0].indices, [2]); // x' holds z: differentiate once to reach it
+//! let rust = dae_lang::codegen::emit_rust(&models[0]);
+//! assert!(rust.contains("pub struct Tracking"));
+//! assert!(rust.contains("impl ::dae_runtime::Model for Tracking"));
+//! ```
 #![warn(missing_docs)]
 
 pub mod ast;

@@ -46,6 +46,16 @@ impl TokenSource {
         }
     }
 
+    /// The spans of the first and the last token that `span` covers, for an error that
+    /// underlines the whole range (a proc macro cannot join spans on stable Rust, but
+    /// an error whose tokens start at one span and end at another covers both).
+    pub fn span_range(&self, span: ast::Span) -> (Span, Span) {
+        let first = self.span_of(span);
+        let last_byte = span.end.max(span.start + 1) - 1;
+        let last = self.span_of(ast::Span::new(last_byte, last_byte + 1));
+        (first, last)
+    }
+
     fn push_token(&mut self, text: &str, span: Span) {
         if !self.text.is_empty() {
             self.text.push(' ');
@@ -102,5 +112,18 @@ mod tests {
         assert_eq!(col(6), 4);
         assert_eq!(col(2), 2);
         assert_eq!(col(0), 0);
+    }
+
+    #[test]
+    fn a_range_maps_to_its_first_and_last_token() {
+        let ts: TokenStream = "a + bcd ; e".parse().unwrap();
+        let src = TokenSource::new(ts);
+        let cols = |a, b| {
+            let (first, last) = src.span_range(ast::Span::new(a, b));
+            (first.start().column, last.start().column)
+        };
+        assert_eq!(cols(0, 7), (0, 4), "`a + bcd`");
+        assert_eq!(cols(4, 5), (4, 4), "inside one token");
+        assert_eq!(cols(8, 8), (8, 8), "an empty span at `;`");
     }
 }
