@@ -7,6 +7,17 @@
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
+// `print!` and `println!` for every subcommand: the std macros panic when stdout is
+// closed early (`daec derive f.dae | head`); these end the process quietly instead.
+// Defined before the `mod` lines so that the modules below see them.
+macro_rules! print {
+    ($($arg:tt)*) => { $crate::write_stdout(format_args!($($arg)*), false) };
+}
+macro_rules! println {
+    () => { $crate::write_stdout(format_args!(""), true) };
+    ($($arg:tt)*) => { $crate::write_stdout(format_args!($($arg)*), true) };
+}
+
 mod check;
 mod derive;
 mod design;
@@ -56,3 +67,23 @@ fn main() -> ExitCode {
 /// A user error that has already been written to stderr.
 #[derive(Debug)]
 struct Reported;
+
+/// Write to stdout; a closed pipe ends the process with status 0 (the reader has all it
+/// wanted), any other write error with status 1.
+fn write_stdout(args: std::fmt::Arguments<'_>, newline: bool) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    let written = out.write_fmt(args).and_then(|()| {
+        if newline {
+            out.write_all(b"\n")?;
+        }
+        Ok(())
+    });
+    if let Err(e) = written {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        eprintln!("error: cannot write to stdout: {e}");
+        std::process::exit(1);
+    }
+}
