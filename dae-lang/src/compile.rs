@@ -13,7 +13,7 @@ use std::collections::HashMap;
 use crate::analysis::{Analysis, lower_expr};
 use crate::compiled::{CompiledModel, DENSE_JACOBIAN_MAX};
 use crate::model::{Func, Model};
-use crate::sym::{Arena, Fun1, Fun2, Id, Node};
+use crate::sym::{Arena, Fun2, Id, Node};
 use crate::tape::{BinaryOp, Input, Instr, Operand, Tape, UnaryOp};
 
 /// Build the compiled form of an analysed model.
@@ -152,7 +152,7 @@ impl Emitter<'_> {
             }
             Node::F1(f, a) => {
                 let a = self.get(*a);
-                self.un(UnaryOp::Call(fun1(*f)), a)
+                self.un(UnaryOp::Call(Func::from(*f)), a)
             }
             Node::F2(f, a, b) => {
                 let (a, b) = (self.get(*a), self.get(*b));
@@ -267,23 +267,5 @@ impl Emitter<'_> {
             return o;
         }
         self.bin(BinaryOp::Pow, base, Operand::Const(e))
-    }
-}
-
-fn fun1(f: Fun1) -> Func {
-    match f {
-        Fun1::Sin => Func::Sin,
-        Fun1::Cos => Func::Cos,
-        Fun1::Tan => Func::Tan,
-        Fun1::Asin => Func::Asin,
-        Fun1::Acos => Func::Acos,
-        Fun1::Atan => Func::Atan,
-        Fun1::Sinh => Func::Sinh,
-        Fun1::Cosh => Func::Cosh,
-        Fun1::Tanh => Func::Tanh,
-        Fun1::Exp => Func::Exp,
-        Fun1::Ln => Func::Ln,
-        Fun1::Abs => Func::Abs,
-        Fun1::Sign => Func::Sign,
     }
 }

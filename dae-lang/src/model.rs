@@ -122,6 +122,52 @@ impl Func {
             _ => 1,
         }
     }
+
+    /// The value of a one-argument function: the one definition of the language's
+    /// semantics, shared by the checker, the symbolic evaluator and the interpreter (the
+    /// code generator emits the same operations). `sign` is -1, 0 or 1 (`f64::signum`
+    /// gives 1 at 0) and NaN for NaN. A two-argument function gives NaN.
+    pub fn apply1(self, x: f64) -> f64 {
+        match self {
+            Func::Sin => x.sin(),
+            Func::Cos => x.cos(),
+            Func::Tan => x.tan(),
+            Func::Asin => x.asin(),
+            Func::Acos => x.acos(),
+            Func::Atan => x.atan(),
+            Func::Sinh => x.sinh(),
+            Func::Cosh => x.cosh(),
+            Func::Tanh => x.tanh(),
+            Func::Exp => x.exp(),
+            Func::Ln => x.ln(),
+            Func::Sqrt => x.sqrt(),
+            Func::Abs => x.abs(),
+            Func::Sign => {
+                if x > 0.0 {
+                    1.0
+                } else if x < 0.0 {
+                    -1.0
+                } else {
+                    x * 0.0
+                }
+            }
+            Func::Atan2 | Func::Pow | Func::Min | Func::Max => f64::NAN,
+        }
+    }
+
+    /// The value of a two-argument function (see [`Func::apply1`]). `min` and `max`
+    /// propagate a NaN operand (`f64::min` would drop it and hide the error). A
+    /// one-argument function gives NaN.
+    pub fn apply2(self, a: f64, b: f64) -> f64 {
+        match self {
+            Func::Atan2 => a.atan2(b),
+            Func::Pow => a.powf(b),
+            Func::Min | Func::Max if a.is_nan() || b.is_nan() => f64::NAN,
+            Func::Min => a.min(b),
+            Func::Max => a.max(b),
+            _ => f64::NAN,
+        }
+    }
 }
 
 /// A resolved expression.

@@ -2,7 +2,7 @@
 //! only numbers and parameters.
 
 use crate::ast::BinOp;
-use crate::model::{Func, RExpr, Var};
+use crate::model::{RExpr, Var};
 
 /// Evaluates `e` given the parameter values; `None` if it uses anything else or a
 /// parameter whose value is unknown (because its own default was in error).
@@ -25,34 +25,10 @@ pub(super) fn eval(e: &RExpr, params: &[Option<f64>]) -> Option<f64> {
         RExpr::Call(f, args) => {
             let x = eval(args.first()?, params)?;
             let y = || args.get(1).and_then(|a| eval(a, params));
-            match f {
-                Func::Sin => x.sin(),
-                Func::Cos => x.cos(),
-                Func::Tan => x.tan(),
-                Func::Asin => x.asin(),
-                Func::Acos => x.acos(),
-                Func::Atan => x.atan(),
-                Func::Sinh => x.sinh(),
-                Func::Cosh => x.cosh(),
-                Func::Tanh => x.tanh(),
-                Func::Exp => x.exp(),
-                Func::Ln => x.ln(),
-                Func::Sqrt => x.sqrt(),
-                Func::Abs => x.abs(),
-                // `sign(0) = 0`, unlike `f64::signum`.
-                Func::Sign => {
-                    if x > 0.0 {
-                        1.0
-                    } else if x < 0.0 {
-                        -1.0
-                    } else {
-                        x * 0.0
-                    }
-                }
-                Func::Atan2 => x.atan2(y()?),
-                Func::Pow => x.powf(y()?),
-                Func::Min => x.min(y()?),
-                Func::Max => x.max(y()?),
+            if f.arity() == 2 {
+                f.apply2(x, y()?)
+            } else {
+                f.apply1(x)
             }
         }
     })
@@ -61,6 +37,7 @@ pub(super) fn eval(e: &RExpr, params: &[Option<f64>]) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::Func;
 
     fn num(v: f64) -> RExpr {
         RExpr::Num(v)

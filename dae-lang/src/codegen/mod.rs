@@ -276,7 +276,7 @@ fn instr(i: &Instr, fields: &[Ident]) -> TokenStream {
                 UnaryOp::Powi(n) => quote!(f64::powi(#a, #n)),
                 UnaryOp::Call(Func::Sign) => quote!({
                     let a: f64 = #a;
-                    if a > 0.0 { 1.0 } else if a < 0.0 { -1.0 } else if a == 0.0 { 0.0 } else { f64::NAN }
+                    if a > 0.0 { 1.0 } else if a < 0.0 { -1.0 } else { a * 0.0 }
                 }),
                 UnaryOp::Call(f) => {
                     let name = call_name(f);
@@ -294,8 +294,15 @@ fn instr(i: &Instr, fields: &[Ident]) -> TokenStream {
                 BinaryOp::Div => quote!(#a / #b),
                 BinaryOp::Pow => quote!(f64::powf(#a, #b)),
                 BinaryOp::Atan2 => quote!(f64::atan2(#a, #b)),
-                BinaryOp::Min => quote!(f64::min(#a, #b)),
-                BinaryOp::Max => quote!(f64::max(#a, #b)),
+                // NaN propagates, as in `Func::apply2` (f64::min would drop it).
+                BinaryOp::Min => quote!({
+                    let (a, b): (f64, f64) = (#a, #b);
+                    if a.is_nan() || b.is_nan() { f64::NAN } else { f64::min(a, b) }
+                }),
+                BinaryOp::Max => quote!({
+                    let (a, b): (f64, f64) = (#a, #b);
+                    if a.is_nan() || b.is_nan() { f64::NAN } else { f64::max(a, b) }
+                }),
             }
         }
     }

@@ -333,32 +333,9 @@ impl Arena {
 }
 
 impl Fun1 {
-    /// The function's value.
+    /// The function's value ([`Func::apply1`]).
     pub fn apply(self, x: f64) -> f64 {
-        match self {
-            Fun1::Sin => x.sin(),
-            Fun1::Cos => x.cos(),
-            Fun1::Tan => x.tan(),
-            Fun1::Asin => x.asin(),
-            Fun1::Acos => x.acos(),
-            Fun1::Atan => x.atan(),
-            Fun1::Sinh => x.sinh(),
-            Fun1::Cosh => x.cosh(),
-            Fun1::Tanh => x.tanh(),
-            Fun1::Exp => x.exp(),
-            Fun1::Ln => x.ln(),
-            Fun1::Abs => x.abs(),
-            // The language's sign is 0 at 0 (Rust's signum is not).
-            Fun1::Sign => {
-                if x > 0.0 {
-                    1.0
-                } else if x < 0.0 {
-                    -1.0
-                } else {
-                    x * 0.0
-                }
-            }
-        }
+        Func::from(self).apply1(x)
     }
 
     /// The name in the language.
@@ -382,26 +359,9 @@ impl Fun1 {
 }
 
 impl Fun2 {
-    /// The function's value.
+    /// The function's value ([`Func::apply2`]).
     pub fn apply(self, a: f64, b: f64) -> f64 {
-        match self {
-            Fun2::Atan2 => a.atan2(b),
-            // NaN in, NaN out (f64::min would drop a NaN operand).
-            Fun2::Min => {
-                if a.is_nan() || b.is_nan() {
-                    f64::NAN
-                } else {
-                    a.min(b)
-                }
-            }
-            Fun2::Max => {
-                if a.is_nan() || b.is_nan() {
-                    f64::NAN
-                } else {
-                    a.max(b)
-                }
-            }
-        }
+        Func::from(self).apply2(a, b)
     }
 
     /// The name in the language.
@@ -410,6 +370,36 @@ impl Fun2 {
             Fun2::Atan2 => "atan2",
             Fun2::Min => "min",
             Fun2::Max => "max",
+        }
+    }
+}
+
+impl From<Fun1> for Func {
+    fn from(f: Fun1) -> Func {
+        match f {
+            Fun1::Sin => Func::Sin,
+            Fun1::Cos => Func::Cos,
+            Fun1::Tan => Func::Tan,
+            Fun1::Asin => Func::Asin,
+            Fun1::Acos => Func::Acos,
+            Fun1::Atan => Func::Atan,
+            Fun1::Sinh => Func::Sinh,
+            Fun1::Cosh => Func::Cosh,
+            Fun1::Tanh => Func::Tanh,
+            Fun1::Exp => Func::Exp,
+            Fun1::Ln => Func::Ln,
+            Fun1::Abs => Func::Abs,
+            Fun1::Sign => Func::Sign,
+        }
+    }
+}
+
+impl From<Fun2> for Func {
+    fn from(f: Fun2) -> Func {
+        match f {
+            Fun2::Atan2 => Func::Atan2,
+            Fun2::Min => Func::Min,
+            Fun2::Max => Func::Max,
         }
     }
 }

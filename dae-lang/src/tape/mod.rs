@@ -186,43 +186,11 @@ fn read(o: Operand, inputs: &Inputs<'_>, slots: &[f64]) -> f64 {
     }
 }
 
-/// The language's `sign`: -1, 0 or 1, and NaN for NaN (unlike `f64::signum`, which
-/// gives 1 for 0). The generated code uses the same definition.
-pub fn sign(x: f64) -> f64 {
-    if x > 0.0 {
-        1.0
-    } else if x < 0.0 {
-        -1.0
-    } else if x == 0.0 {
-        0.0
-    } else {
-        f64::NAN
-    }
-}
-
 fn unary(op: UnaryOp, a: f64) -> f64 {
     match op {
         UnaryOp::Neg => -a,
         UnaryOp::Powi(n) => a.powi(n),
-        UnaryOp::Call(f) => match f {
-            Func::Sin => a.sin(),
-            Func::Cos => a.cos(),
-            Func::Tan => a.tan(),
-            Func::Asin => a.asin(),
-            Func::Acos => a.acos(),
-            Func::Atan => a.atan(),
-            Func::Sinh => a.sinh(),
-            Func::Cosh => a.cosh(),
-            Func::Tanh => a.tanh(),
-            Func::Exp => a.exp(),
-            Func::Ln => a.ln(),
-            Func::Sqrt => a.sqrt(),
-            Func::Abs => a.abs(),
-            Func::Sign => sign(a),
-            // Two-argument functions are binary instructions; a tape never holds
-            // them as unary calls (the builders guarantee it).
-            Func::Atan2 | Func::Pow | Func::Min | Func::Max => f64::NAN,
-        },
+        UnaryOp::Call(f) => f.apply1(a),
     }
 }
 
@@ -232,10 +200,10 @@ fn binary(op: BinaryOp, a: f64, b: f64) -> f64 {
         BinaryOp::Sub => a - b,
         BinaryOp::Mul => a * b,
         BinaryOp::Div => a / b,
-        BinaryOp::Pow => a.powf(b),
-        BinaryOp::Atan2 => a.atan2(b),
-        BinaryOp::Min => a.min(b),
-        BinaryOp::Max => a.max(b),
+        BinaryOp::Pow => Func::Pow.apply2(a, b),
+        BinaryOp::Atan2 => Func::Atan2.apply2(a, b),
+        BinaryOp::Min => Func::Min.apply2(a, b),
+        BinaryOp::Max => Func::Max.apply2(a, b),
     }
 }
 
@@ -275,11 +243,15 @@ mod tests {
     }
 
     #[test]
-    fn sign_is_zero_at_zero_and_nan_for_nan() {
+    fn sign_is_zero_at_zero_and_nan_propagates() {
+        let sign = |x| unary(UnaryOp::Call(Func::Sign), x);
         assert_eq!(sign(0.0), 0.0);
         assert_eq!(sign(-0.0), 0.0);
         assert_eq!(sign(3.0), 1.0);
         assert_eq!(sign(-2.0), -1.0);
         assert!(sign(f64::NAN).is_nan());
+        assert!(binary(BinaryOp::Min, f64::NAN, 1.0).is_nan());
+        assert!(binary(BinaryOp::Max, 1.0, f64::NAN).is_nan());
+        assert_eq!(binary(BinaryOp::Min, -1.0, 1.0), -1.0);
     }
 }
