@@ -86,8 +86,12 @@ pub fn compile_models(src: &str) -> Result<Vec<model::Model>, Vec<Diagnostic>> {
 mod analysis;
 mod sym;
 
+/// Models built in code (3-D double pendulum, planar chains) for this crate's tests,
+/// benches and examples; not part of the supported API.
+#[doc(hidden)]
+pub use analysis::fixtures;
 pub use analysis::{
-    Analysis, AnalysisOptions, ConstraintAnalysis, InitialPoint, Lowered, analyze, fixtures, lower,
+    Analysis, AnalysisOptions, ConstraintAnalysis, InitialPoint, Lowered, analyze, lower,
 };
 pub use sym::{Arena, Fun1, Fun2, Id, Names, Node, Num, Point};
 
