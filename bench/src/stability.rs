@@ -123,10 +123,7 @@ pub fn envelope_run<M: Model + ?Sized>(
     window: f64,
 ) -> (Envelope, Result<Vec<f64>, String>) {
     let mut env = Envelope::new(window);
-    let model = match scene.started() {
-        Ok(m) => m,
-        Err(e) => return (env, Err(e.to_string())),
-    };
+    let model = scene.model;
     let m = model.n_constraints();
     let result = match *method {
         Method::Dbsmc {
@@ -150,8 +147,9 @@ pub fn envelope_run<M: Model + ?Sized>(
                 .step(step)
                 .t_end(scene.t_end)
                 .policy(policy)
-                .check_robustness(false);
-            Simulator::new(&model, settings)
+                .check_robustness(false)
+                .initial(scene.x0.clone(), scene.z0.clone());
+            Simulator::new(model, settings)
                 .and_then(|mut sim| sim.run(&mut env))
                 .map(|s| s.x)
                 .map_err(|e| e.to_string())
@@ -163,9 +161,10 @@ pub fn envelope_run<M: Model + ?Sized>(
                 t_start: 0.0,
                 t_end: scene.t_end,
                 newton_tol: 1e-12,
+                initial: Some(scene.initial()),
             };
             let mut obs = |t: f64, _: &[f64], w: &[f64]| env.push(t, w);
-            let r = IndexOneRk4::new(&model, set)
+            let r = IndexOneRk4::new(model, set)
                 .and_then(|mut r| r.run(Some(&mut obs)))
                 .map(|s| s.x)
                 .map_err(|e| e.to_string());
@@ -179,9 +178,10 @@ pub fn envelope_run<M: Model + ?Sized>(
                 atol: tol,
                 t_start: 0.0,
                 t_end: scene.t_end,
+                initial: Some(scene.initial()),
             };
             let mut obs = |t: f64, _: &[f64], w: &[f64]| env.push(t, w);
-            let r = bdf_index1(&model, &set, Some(&mut obs))
+            let r = bdf_index1(model, &set, Some(&mut obs))
                 .map(|s| s.x)
                 .map_err(|e| e.to_string());
             env.finish_window(scene.t_end);

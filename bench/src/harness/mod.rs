@@ -5,10 +5,9 @@ mod chart;
 
 use std::io::{self, Write};
 
-use dae_runtime::{Model, NoTrace, Policy, Settings, Simulator};
+use dae_runtime::{Initial, Model, NoTrace, Policy, Settings, Simulator};
 
 use crate::baseline::{BaselineError, BdfSettings, IndexOneRk4, IndexOneSettings, bdf_index1};
-use crate::initial::WithInitial;
 
 pub use chart::{CostAxis, ErrorAxis, chart};
 
@@ -44,9 +43,12 @@ impl<M: Model + ?Sized> Scene<'_, M> {
             .fold(0.0f64, |m, (&i, t)| m.max((x[i] - t).abs()))
     }
 
-    /// The model with the scene's initial state.
-    pub fn started(&self) -> Result<WithInitial<'_, M>, BaselineError> {
-        WithInitial::new(self.model, self.x0.clone(), self.z0.clone())
+    /// The scene's start, for [`Settings::initial`] and the baselines' `initial`.
+    pub fn initial(&self) -> Initial {
+        Initial {
+            x0: self.x0.clone(),
+            z0: self.z0.clone(),
+        }
     }
 
     /// DBSMC with monitoring at layer `eps`, time constant `mu` and gains
@@ -91,15 +93,18 @@ pub fn pilot_beta_bound<M: Model + ?Sized>(
     h: f64,
 ) -> Result<Vec<f64>, BaselineError> {
     let m = model.n_constraints();
-    let started = WithInitial::new(model, x0.to_vec(), z0.to_vec())?;
     let mut run = IndexOneRk4::new(
-        &started,
+        model,
         IndexOneSettings {
             mu: vec![mu; m],
             step: h,
             t_start: 0.0,
             t_end,
             newton_tol: 1e-12,
+            initial: Some(Initial {
+                x0: x0.to_vec(),
+                z0: z0.to_vec(),
+            }),
         },
     )?;
     let mut bound = vec![0.0f64; m];
@@ -221,7 +226,7 @@ fn max_of(v: &[f64]) -> f64 {
 }
 
 fn run_once<M: Model + ?Sized>(scene: &Scene<'_, M>, method: &Method) -> Result<Outcome, String> {
-    let model = scene.started().map_err(|e| e.to_string())?;
+    let model = scene.model;
     let m = model.n_constraints();
     match *method {
         Method::Dbsmc {
@@ -245,8 +250,9 @@ fn run_once<M: Model + ?Sized>(scene: &Scene<'_, M>, method: &Method) -> Result<
                 .step(step)
                 .t_end(scene.t_end)
                 .policy(policy)
-                .check_robustness(false);
-            let s = Simulator::new(&model, settings)
+                .check_robustness(false)
+                .initial(scene.x0.clone(), scene.z0.clone());
+            let s = Simulator::new(model, settings)
                 .and_then(|mut sim| sim.run(&mut NoTrace))
                 .map_err(|e| e.to_string())?;
             Ok(Outcome {
@@ -270,8 +276,9 @@ fn run_once<M: Model + ?Sized>(scene: &Scene<'_, M>, method: &Method) -> Result<
                 t_start: 0.0,
                 t_end: scene.t_end,
                 newton_tol: 1e-12,
+                initial: Some(scene.initial()),
             };
-            let s = IndexOneRk4::new(&model, set)
+            let s = IndexOneRk4::new(model, set)
                 .and_then(|mut r| r.run(None))
                 .map_err(|e| e.to_string())?;
             Ok(Outcome {
@@ -291,8 +298,9 @@ fn run_once<M: Model + ?Sized>(scene: &Scene<'_, M>, method: &Method) -> Result<
                 atol: tol,
                 t_start: 0.0,
                 t_end: scene.t_end,
+                initial: Some(scene.initial()),
             };
-            let s = bdf_index1(&model, &set, None).map_err(|e| e.to_string())?;
+            let s = bdf_index1(model, &set, None).map_err(|e| e.to_string())?;
             Ok(Outcome {
                 max_w: max_of(&s.max_abs_w),
                 max_s: f64::NAN,
