@@ -4,16 +4,17 @@
 //! The runtime's simulator exposes whole runs only, so DBSMC and SPSM are timed over
 //! runs of `STEPS` steps and reported per step (criterion's throughput in elements/s is
 //! steps/s); baseline (a) is timed one step at a time; the adaptive BDF over a 0.2 s run,
-//! reported per accepted step.
+//! reported per accepted step (with `--features bdf`).
 
 use std::f64::consts::FRAC_PI_2;
 use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+#[cfg(feature = "bdf")]
+use dae_bench::{BdfSettings, bdf_index1};
 use dae_bench::{
-    BdfSettings, Chain5, DoublePendulum, IndexOneRk4, IndexOneSettings, PlanarChain, Scene,
-    bdf_index1, chain_scene,
+    Chain5, DoublePendulum, IndexOneRk4, IndexOneSettings, PlanarChain, Scene, chain_scene,
 };
 use dae_runtime::{Model, NoTrace, Policy, Settings, Simulator};
 
@@ -64,6 +65,18 @@ fn group<M: Model>(c: &mut Criterion, scene: &Scene<'_, M>) {
         });
     }
 
+    #[cfg(feature = "bdf")]
+    bdf_group(&mut g, scene);
+    g.finish();
+}
+
+/// The BDF over a 0.2 s run, per accepted step (feature `bdf`).
+#[cfg(feature = "bdf")]
+fn bdf_group<M: Model>(
+    g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    scene: &Scene<'_, M>,
+) {
+    let (model, m) = (scene.model, scene.model.n_constraints());
     let bdf = BdfSettings {
         mu: vec![0.05; m],
         rtol: 1e-8,
@@ -77,7 +90,6 @@ fn group<M: Model>(c: &mut Criterion, scene: &Scene<'_, M>) {
     g.bench_function("bdf_step_tol1e-8", |b| {
         b.iter(|| bdf_index1(model, &bdf, None).expect("bdf"))
     });
-    g.finish();
 }
 
 fn steps(c: &mut Criterion) {

@@ -9,7 +9,8 @@
 //!     index-1 reduction with Baumgarte-like stabilisation, poles at `-1/mu`;
 //!   * (b) SPSM, the runtime's `Policy::Spsm`, with [`spsm_stable`] (reached the layers,
 //!     then `|s_i| <= 2 eps_i`, finite) and the step search [`largest_stable_step`];
-//!   * (c) [`bdf_index1`]: the `diffsol` crate's variable-order BDF on the same index-1
+//!   * (c) `bdf_index1` (feature `bdf`, off by default: diffsol and faer are slow to
+//!     compile): the `diffsol` crate's variable-order BDF on the same index-1
 //!     form, at a chosen tolerance.
 //! * **Truth** ([`PlanarChain`], [`reference()`]): planar N-link pendulum chains in minimal
 //!   coordinates, equations derived by Lagrange (see the `PlanarChain` docs), integrated
@@ -71,7 +72,8 @@ mod truth;
 pub use baseline::*;
 pub use generated::{Chain3, Chain5, DoublePendulum, DoublePendulum3D};
 pub use harness::{
-    CostAxis, ErrorAxis, Method, Record, Scene, chart, pilot_beta_bound, run_method, write_csv,
+    BDF_MISSING, CostAxis, ErrorAxis, Method, Record, Scene, chart, pilot_beta_bound, run_method,
+    write_csv,
 };
 pub use scenes::{SceneError, TRUTH_TOL, chain_scene, embedded_chain_scene, vertical_plane_map};
 pub use stability::{

@@ -5,9 +5,9 @@ use std::io::{self, Write};
 
 use dae_runtime::{Layout, Model, Policy, Sample, Settings, Simulator, Sink};
 
-use crate::baseline::{
-    BdfSettings, IndexOneRk4, IndexOneSettings, bdf_index1, largest_stable_step,
-};
+#[cfg(feature = "bdf")]
+use crate::baseline::{BdfSettings, bdf_index1};
+use crate::baseline::{IndexOneRk4, IndexOneSettings, largest_stable_step};
 use crate::harness::{Method, Scene, run_method};
 
 /// A streaming, decimated record of the constraint error: the largest `|w_i|` (over all
@@ -171,6 +171,9 @@ pub fn envelope_run<M: Model + ?Sized>(
             env.finish_window(scene.t_end);
             r
         }
+        #[cfg(not(feature = "bdf"))]
+        Method::Bdf { .. } => Err(crate::harness::BDF_MISSING.to_string()),
+        #[cfg(feature = "bdf")]
         Method::Bdf { mu, tol } => {
             let set = BdfSettings {
                 mu: vec![mu; m],

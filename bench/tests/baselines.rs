@@ -5,9 +5,11 @@ mod common;
 use std::f64::consts::FRAC_PI_2;
 
 use common::{Cubic, Tracking};
+#[cfg(feature = "bdf")]
+use dae_bench::{BdfSettings, bdf_index1};
 use dae_bench::{
-    BdfSettings, DoublePendulum, IndexOneRk4, IndexOneSettings, Method, PlanarChain, ZSolver,
-    bdf_index1, chain_scene, largest_stable_step, run_method, spsm_stable,
+    DoublePendulum, IndexOneRk4, IndexOneSettings, Method, PlanarChain, ZSolver, chain_scene,
+    largest_stable_step, run_method, spsm_stable,
 };
 use dae_runtime::{NoTrace, Policy, Settings, Simulator};
 
@@ -68,7 +70,7 @@ fn index_one_reproduces_the_closed_form_of_the_tracking_model() {
 }
 
 #[test]
-fn index_one_and_bdf_match_the_truth_of_the_double_pendulum() {
+fn index_one_matches_the_truth_of_the_double_pendulum() {
     let chain = PlanarChain::double_pendulum();
     let dae = DoublePendulum::default();
     let scene = chain_scene("dp", &dae, &chain, &[-FRAC_PI_2, -FRAC_PI_2], 1.0).unwrap();
@@ -81,6 +83,14 @@ fn index_one_and_bdf_match_the_truth_of_the_double_pendulum() {
         1,
     );
     assert!(rk.ok && rk.pos_err < 1e-9, "index-1 RK4: {rk:?}");
+}
+
+#[cfg(feature = "bdf")]
+#[test]
+fn bdf_matches_the_truth_of_the_double_pendulum() {
+    let chain = PlanarChain::double_pendulum();
+    let dae = DoublePendulum::default();
+    let scene = chain_scene("dp", &dae, &chain, &[-FRAC_PI_2, -FRAC_PI_2], 1.0).unwrap();
     let set = BdfSettings {
         mu: vec![0.05; 2],
         rtol: 1e-10,
@@ -148,4 +158,22 @@ fn z_solver_iterates_newton_to_the_root_of_a_nonlinear_constraint() {
     assert!(iters > 2, "{iters} iterations from z = 0");
     assert_eq!(zs.j_solves, iters as u64);
     assert!(zs.sliding()[0].abs() <= 1e-13);
+}
+
+#[cfg(not(feature = "bdf"))]
+#[test]
+fn bdf_method_without_the_feature_is_a_recorded_error() {
+    let chain = PlanarChain::double_pendulum();
+    let dae = DoublePendulum::default();
+    let scene = chain_scene("dp", &dae, &chain, &[-FRAC_PI_2, -FRAC_PI_2], 0.1).unwrap();
+    let r = run_method(
+        &scene,
+        &Method::Bdf {
+            mu: 0.05,
+            tol: 1e-6,
+        },
+        1,
+    );
+    assert!(!r.ok);
+    assert_eq!(r.error, dae_bench::BDF_MISSING);
 }

@@ -7,7 +7,13 @@ use std::io::{self, Write};
 
 use dae_runtime::{Initial, Model, NoTrace, Policy, Settings, Simulator};
 
-use crate::baseline::{BaselineError, BdfSettings, IndexOneRk4, IndexOneSettings, bdf_index1};
+use crate::baseline::{BaselineError, IndexOneRk4, IndexOneSettings};
+#[cfg(feature = "bdf")]
+use crate::baseline::{BdfSettings, bdf_index1};
+
+/// The error of a [`Method::Bdf`] run in a build without the `bdf` feature.
+pub const BDF_MISSING: &str =
+    "the BDF baseline needs dae-bench's `bdf` feature (cargo ... --features bdf)";
 
 pub use chart::{CostAxis, ErrorAxis, chart};
 
@@ -291,6 +297,9 @@ fn run_once<M: Model + ?Sized>(scene: &Scene<'_, M>, method: &Method) -> Result<
                 x: s.x,
             })
         }
+        #[cfg(not(feature = "bdf"))]
+        Method::Bdf { .. } => Err(BDF_MISSING.to_string()),
+        #[cfg(feature = "bdf")]
         Method::Bdf { mu, tol } => {
             let set = BdfSettings {
                 mu: vec![mu; m],
