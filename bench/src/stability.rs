@@ -383,11 +383,16 @@ pub fn largest_step_row<M: Model + ?Sized>(
 pub fn write_table<W: Write>(rows: &[StabilityRow], mut out: W) -> io::Result<()> {
     writeln!(out, "| test / scene | method | verdict | deciding figure |")?;
     writeln!(out, "|---|---|---|---|")?;
+    // A `|` inside a cell (as in `max|w|`) would split it: escape it.
+    let cell = |s: &str| s.replace('|', "\\|");
     for r in rows {
         writeln!(
             out,
             "| {} | {} | {} | {} |",
-            r.scene, r.method, r.verdict, r.figure
+            cell(&r.scene),
+            cell(&r.method),
+            r.verdict,
+            cell(&r.figure)
         )?;
     }
     out.flush()
