@@ -12,8 +12,8 @@ use std::time::Instant;
 
 use dae_bench::{
     Chain3, Chain5, CostAxis, DoublePendulum, DoublePendulum3D, ErrorAxis, Method, PlanarChain,
-    Record, Scene, StabilityRow, chain_scene, chart, embedded_chain_scene, largest_step_row,
-    run_method, stability_row, vertical_plane_map, write_csv, write_table,
+    Record, Scene, StabilityRow, chain_scene, chart, designed_bounds, embedded_chain_scene,
+    largest_step_row, run_method, stability_row, vertical_plane_map, write_csv, write_table,
 };
 use dae_runtime::Model;
 
@@ -24,6 +24,20 @@ const REPEATS: usize = 3;
 
 fn sweep<M: Model + ?Sized>(scene: &Scene<'_, M>) -> Vec<Method> {
     let mut out = Vec::new();
+    // DBSMC designed per eps by the runtime's toolkit (bounds from one auto_design
+    // pilot at eps = 1e-3).
+    match designed_bounds(scene, 1e-3, 1e-3) {
+        Ok(b) => {
+            println!("  design bounds: |beta| {:.3?}, M {:.3?}", b.beta_abs, b.m);
+            for eps in [1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5] {
+                match b.dbsmc(eps, 1e-3) {
+                    Ok(m) => out.push(m),
+                    Err(e) => eprintln!("  design at eps = {eps}: {e}"),
+                }
+            }
+        }
+        Err(e) => eprintln!("  auto_design pilot failed: {e}"),
+    }
     for h in [1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4] {
         out.push(Method::IndexOne { mu: 0.05, step: h });
     }

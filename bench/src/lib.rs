@@ -72,8 +72,8 @@ mod truth;
 pub use baseline::*;
 pub use generated::{Chain3, Chain5, DoublePendulum, DoublePendulum3D};
 pub use harness::{
-    BDF_MISSING, CostAxis, ErrorAxis, Method, Record, Scene, chart, pilot_beta_bound, run_method,
-    write_csv,
+    BDF_MISSING, CostAxis, DesignedBounds, ErrorAxis, Method, Record, Scene, chart,
+    designed_bounds, pilot_beta_bound, run_method, write_csv,
 };
 pub use scenes::{SceneError, TRUTH_TOL, chain_scene, embedded_chain_scene, vertical_plane_map};
 pub use stability::{

@@ -126,6 +126,23 @@ pub fn envelope_run<M: Model + ?Sized>(
     let model = scene.model;
     let m = model.n_constraints();
     let result = match *method {
+        Method::DbsmcDesigned {
+            eps,
+            ref mu,
+            ref gains,
+            step,
+        } => {
+            let settings = Settings::new(vec![eps; m], mu.clone(), gains.clone())
+                .step(step)
+                .t_end(scene.t_end)
+                .policy(Policy::Monitor)
+                .check_robustness(false)
+                .initial(scene.x0.clone(), scene.z0.clone());
+            Simulator::new(model, settings)
+                .and_then(|mut sim| sim.run(&mut env))
+                .map(|s| s.x)
+                .map_err(|e| e.to_string())
+        }
         Method::Dbsmc {
             eps,
             mu,
@@ -299,9 +316,10 @@ pub fn stability_row<M: Model + ?Sized>(
 pub fn with_step(method: &Method, h: f64) -> Method {
     let mut m = method.clone();
     match &mut m {
-        Method::Dbsmc { step, .. } | Method::Spsm { step, .. } | Method::IndexOne { step, .. } => {
-            *step = h
-        }
+        Method::Dbsmc { step, .. }
+        | Method::DbsmcDesigned { step, .. }
+        | Method::Spsm { step, .. }
+        | Method::IndexOne { step, .. } => *step = h,
         Method::Bdf { .. } => {}
     }
     m
@@ -350,7 +368,9 @@ pub fn largest_step_row<M: Model + ?Sized>(
         |h| {
             let r = run_method(scene, &with_step(method, h), 1);
             let layer = match method {
-                Method::Dbsmc { eps, .. } | Method::Spsm { eps, .. } => r.max_s <= 2.0 * eps,
+                Method::Dbsmc { eps, .. }
+                | Method::DbsmcDesigned { eps, .. }
+                | Method::Spsm { eps, .. } => r.max_s <= 2.0 * eps,
                 _ => true,
             };
             r.ok && r.max_w <= tol && layer

@@ -92,3 +92,47 @@ fn index_one_survives_larger_steps_than_spsm_on_the_double_pendulum() {
     // SPSM's layer dynamics (pole k/eps) limit RK4; index-1 only the motion (mu = 0.05).
     assert!(b.value > 3.0 * a.value, "{} / {}", a.figure, b.figure);
 }
+
+#[test]
+fn designed_dbsmc_maximises_the_guaranteed_period_and_holds_its_layer() {
+    use dae_bench::{Method, designed_bounds, run_method};
+    use dae_runtime::{ConstraintSpec, GainChoice, LayerBound, t_min};
+
+    let chain = PlanarChain::double_pendulum();
+    let dae = DoublePendulum::default();
+    let scene = chain_scene("dp", &dae, &chain, &[-FRAC_PI_2, -FRAC_PI_2], 1.0).unwrap();
+    let bounds = designed_bounds(&scene, 1e-2, 1e-3).unwrap();
+    assert!(
+        bounds.beta_abs.iter().chain(&bounds.m).all(|v| *v > 0.0),
+        "{bounds:?}"
+    );
+    let eps = 1e-2;
+    let method = bounds.dbsmc(eps, 1e-3).unwrap();
+    let Method::DbsmcDesigned { mu, gains, .. } = &method else {
+        panic!("not a designed method: {method:?}");
+    };
+    for i in 0..2 {
+        let spec = ConstraintSpec {
+            r: 3,
+            eps,
+            m: bounds.m[i],
+            beta_abs: bounds.beta_abs[i],
+            layer: LayerBound::General,
+        };
+        // Relaxed gain k = mu^2 |beta|, and T_min is largest at the designed mu.
+        assert!((gains[i] - mu[i] * mu[i] * bounds.beta_abs[i]).abs() <= 1e-9 * gains[i]);
+        let at = |mu: f64| {
+            let k = GainChoice::Relaxed.gain(&spec, mu).unwrap();
+            t_min(&spec, mu, k).unwrap()
+        };
+        let best = at(mu[i]);
+        assert!(best > 0.0);
+        assert!(
+            at(mu[i] * 1.2) <= best && at(mu[i] / 1.2) <= best,
+            "mu {}",
+            mu[i]
+        );
+    }
+    let r = run_method(&scene, &method, 1);
+    assert!(r.ok && r.max_w <= eps, "{r:?}");
+}

@@ -2,6 +2,7 @@
 //! records, CSV and charts.
 
 mod chart;
+mod designed;
 
 use std::io::{self, Write};
 
@@ -16,6 +17,7 @@ pub const BDF_MISSING: &str =
     "the BDF baseline needs dae-bench's `bdf` feature (cargo ... --features bdf)";
 
 pub use chart::{CostAxis, ErrorAxis, chart};
+pub use designed::{DesignedBounds, designed_bounds};
 
 /// A model, a consistent start, an end time and the truth at the end.
 #[derive(Debug, Clone)]
@@ -151,6 +153,19 @@ pub enum Method {
         /// Gain factor over `mu^(r-1) |beta|`.
         gain_factor: f64,
     },
+    /// DBSMC with monitoring and a per-constraint design from the runtime's toolkit
+    /// (see [`DesignedBounds::dbsmc`]): `mu_i` and relaxed gains `k_i` maximising the
+    /// guaranteed period for the layer `eps`.
+    DbsmcDesigned {
+        /// Layer half width (all constraints).
+        eps: f64,
+        /// Designed surface parameters, per constraint.
+        mu: Vec<f64>,
+        /// Designed gains, per constraint.
+        gains: Vec<f64>,
+        /// RK4 step.
+        step: f64,
+    },
     /// Baseline (a): RK4 with `z` solved from `s = 0` at every stage.
     IndexOne {
         /// Stabilisation time constant.
@@ -172,6 +187,7 @@ impl Method {
     pub fn line(&self) -> String {
         match self {
             Method::Dbsmc { mu, .. } => format!("DBSMC mu={mu}"),
+            Method::DbsmcDesigned { .. } => "DBSMC designed".to_string(),
             Method::Spsm { eps, mu, .. } => format!("SPSM eps={eps} mu={mu}"),
             Method::IndexOne { mu, .. } => format!("index-1 RK4 mu={mu}"),
             Method::Bdf { mu, .. } => format!("BDF (diffsol) mu={mu}"),
@@ -180,7 +196,9 @@ impl Method {
     /// The swept knob and its value.
     pub fn knob(&self) -> String {
         match self {
-            Method::Dbsmc { eps, step, .. } => format!("eps={eps:.1e} h={step:.3e}"),
+            Method::Dbsmc { eps, step, .. } | Method::DbsmcDesigned { eps, step, .. } => {
+                format!("eps={eps:.1e} h={step:.3e}")
+            }
             Method::Spsm { step, .. } | Method::IndexOne { step, .. } => format!("h={step:.3e}"),
             Method::Bdf { tol, .. } => format!("tol={tol:.1e}"),
         }
@@ -235,6 +253,35 @@ fn run_once<M: Model + ?Sized>(scene: &Scene<'_, M>, method: &Method) -> Result<
     let model = scene.model;
     let m = model.n_constraints();
     match *method {
+        Method::DbsmcDesigned {
+            eps,
+            ref mu,
+            ref gains,
+            step,
+        } => {
+            let settings = Settings::new(vec![eps; m], mu.clone(), gains.clone())
+                .step(step)
+                .t_end(scene.t_end)
+                .policy(Policy::Monitor)
+                .check_robustness(false)
+                .initial(scene.x0.clone(), scene.z0.clone());
+            let s = Simulator::new(model, settings)
+                .and_then(|mut sim| sim.run(&mut NoTrace))
+                .map_err(|e| e.to_string())?;
+            Ok(Outcome {
+                max_w: max_of(&s.max_abs_w),
+                max_s: if s.reaching_time.is_some() {
+                    max_of(&s.max_abs_s)
+                } else {
+                    f64::INFINITY
+                },
+                wall: s.wall_time,
+                j_solves: s.jacobian_evals,
+                f_evals: s.rhs_evals,
+                steps: s.steps,
+                x: s.x,
+            })
+        }
         Method::Dbsmc {
             eps,
             mu,
