@@ -37,10 +37,12 @@
 //!
 //! # Regenerating the figures
 //!
-//! `cargo run --release -p dae-bench --example work_precision [-- DIR]` writes
-//! `work_precision.csv`, `<scene>_position.svg`, `<scene>_constraint.svg` and
-//! `stability.md` into `DIR` (default `target/dae-bench`), in about two minutes on two
-//! cores. `cargo bench -p dae-bench --bench step` times one step of each method.
+//! `cargo run --release -p dae-bench --features bdf --example work_precision [-- DIR]`
+//! writes `work_precision.csv`, `<scene>_position.svg`, `<scene>_constraint.svg`,
+//! `<scene>_position_jsolves.svg`, `<scene>_position_fevals.svg` and `stability.md` into
+//! `DIR` (default `docs/results/` of the workspace), in about 25 s on two cores once
+//! built. `cargo bench -p dae-bench --features bdf --bench step` times one step of each
+//! method. The feature `bdf` (off by default, slow to compile) enables baseline (c).
 //!
 //! # Example
 //!
