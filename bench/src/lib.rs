@@ -9,16 +9,22 @@
 //!     index-1 reduction with Baumgarte-like stabilisation, poles at `-1/mu`;
 //!   * (b) SPSM, the runtime's `Policy::Spsm`, with [`spsm_stable`] (reached the layers,
 //!     then `|s_i| <= 2 eps_i`, finite) and the step search [`largest_stable_step`];
-//!   * (c) [`bdf_index1`]: the `diffsol` crate's variable-order BDF on the same index-1
+//!   * (c) `bdf_index1` (feature `bdf`, off by default: diffsol and faer are slow to
+//!     compile): the `diffsol` crate's variable-order BDF on the same index-1
 //!     form, at a chosen tolerance.
 //! * **Truth** ([`PlanarChain`], [`reference()`]): planar N-link pendulum chains in minimal
 //!   coordinates, equations derived by Lagrange (see the `PlanarChain` docs), integrated
 //!   by an adaptive Gragg-Bulirsch-Stoer extrapolation ([`Extrapolation`], order 16) to
 //!   `1e-13`, self-checked against a run at a 100 times looser tolerance and by energy,
 //!   and mapped to Cartesian coordinates.
-//! * **Development stand-in** [`PlanarChainDae`]: a hand-written Cartesian chain model
-//!   (the planar `DoublePendulum` of language.md for two links), to be replaced by
-//!   generated models. [`chain_scene`] builds a consistent scene for it.
+//! * **Generated models** ([`DoublePendulum`], [`DoublePendulum3D`], [`Chain5`],
+//!   [`Chain3`]): `dae_runtime::dae_file!` on `examples/models/*.dae`; every scene runs
+//!   on these. [`chain_scene`] builds a consistent scene for a planar Cartesian chain,
+//!   [`embedded_chain_scene`] with [`vertical_plane_map`] for the 3-D pendulum moving
+//!   in a vertical plane.
+//! * **Independent oracle** [`PlanarChainDae`]: a hand-written Cartesian chain model,
+//!   checked against finite differences; the tests compare the generated chains'
+//!   `f`, `w` derivatives, `J_Omega` and `beta` with it at random points.
 //! * **Work-precision harness** ([`Scene`], [`Method`], [`run_method`], [`Record`],
 //!   [`write_csv`], [`chart`]): one run per knob value, position error at `t_end`
 //!   against the truth, max `|w|`, best-of-N wall time, `J_s` solves, `f` evaluations.
@@ -26,23 +32,25 @@
 //!   [`judge`], [`write_table`]): long runs with a streaming, windowed envelope of the
 //!   constraint error, and the verdict table.
 //!
-//! The runtime's simulator always starts from the model's `initial_state` and
-//! `initial_alg`; [`WithInitial`] overrides them for the scenes.
+//! Scenes start from their own consistent `(x0, z0)` through the runtime's
+//! [`Settings::initial`](dae_runtime::Settings::initial) and the baselines' `initial`.
 //!
 //! # Regenerating the figures
 //!
-//! `cargo run --release -p dae-bench --example work_precision [-- DIR]` writes
-//! `work_precision.csv`, `<scene>_position.svg`, `<scene>_constraint.svg` and
-//! `stability.md` into `DIR` (default `target/dae-bench`), in about two minutes on two
-//! cores. `cargo bench -p dae-bench --bench step` times one step of each method.
+//! `cargo run --release -p dae-bench --features bdf --example work_precision [-- DIR]`
+//! writes `work_precision.csv`, `<scene>_position.svg`, `<scene>_constraint.svg`,
+//! `<scene>_position_jsolves.svg`, `<scene>_position_fevals.svg` and `stability.md` into
+//! `DIR` (default `docs/results/` of the workspace), in about 25 s on two cores once
+//! built. `cargo bench -p dae-bench --features bdf --bench step` times one step of each
+//! method. The feature `bdf` (off by default, slow to compile) enables baseline (c).
 //!
 //! # Example
 //!
 //! ```
-//! use dae_bench::{Method, PlanarChain, PlanarChainDae, chain_scene, run_method};
+//! use dae_bench::{DoublePendulum, Method, PlanarChain, chain_scene, run_method};
 //!
 //! let chain = PlanarChain::double_pendulum();
-//! let model = PlanarChainDae::new(&chain)?;
+//! let model = DoublePendulum::default();
 //! // Both links horizontal at rest, 0.5 s.
 //! let h = -std::f64::consts::FRAC_PI_2;
 //! let scene = chain_scene("dp", &model, &chain, &[h, h], 0.5)?;
@@ -55,8 +63,8 @@
 #![warn(missing_docs)]
 
 mod baseline;
+mod generated;
 mod harness;
-mod initial;
 mod linalg;
 mod scenes;
 mod stability;
@@ -64,11 +72,12 @@ mod standin;
 mod truth;
 
 pub use baseline::*;
+pub use generated::{Chain3, Chain5, DoublePendulum, DoublePendulum3D};
 pub use harness::{
-    CostAxis, ErrorAxis, Method, Record, Scene, chart, pilot_beta_bound, run_method, write_csv,
+    BDF_MISSING, CostAxis, DesignedBounds, ErrorAxis, Method, Record, Scene, chart,
+    designed_bounds, pilot_beta_bound, run_method, write_csv,
 };
-pub use initial::WithInitial;
-pub use scenes::{SceneError, TRUTH_TOL, chain_scene};
+pub use scenes::{SceneError, TRUTH_TOL, chain_scene, embedded_chain_scene, vertical_plane_map};
 pub use stability::{
     DRIFT_FLOOR, DRIFT_GROWTH, Envelope, StabilityRow, Verdict, envelope_run, judge,
     largest_step_row, stability_row, with_step, write_table,

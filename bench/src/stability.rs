@@ -5,9 +5,9 @@ use std::io::{self, Write};
 
 use dae_runtime::{Layout, Model, Policy, Sample, Settings, Simulator, Sink};
 
-use crate::baseline::{
-    BdfSettings, IndexOneRk4, IndexOneSettings, bdf_index1, largest_stable_step,
-};
+#[cfg(feature = "bdf")]
+use crate::baseline::{BdfSettings, bdf_index1};
+use crate::baseline::{IndexOneRk4, IndexOneSettings, largest_stable_step};
 use crate::harness::{Method, Scene, run_method};
 
 /// A streaming, decimated record of the constraint error: the largest `|w_i|` (over all
@@ -123,12 +123,26 @@ pub fn envelope_run<M: Model + ?Sized>(
     window: f64,
 ) -> (Envelope, Result<Vec<f64>, String>) {
     let mut env = Envelope::new(window);
-    let model = match scene.started() {
-        Ok(m) => m,
-        Err(e) => return (env, Err(e.to_string())),
-    };
+    let model = scene.model;
     let m = model.n_constraints();
     let result = match *method {
+        Method::DbsmcDesigned {
+            eps,
+            ref mu,
+            ref gains,
+            step,
+        } => {
+            let settings = Settings::new(vec![eps; m], mu.clone(), gains.clone())
+                .step(step)
+                .t_end(scene.t_end)
+                .policy(Policy::Monitor)
+                .check_robustness(false)
+                .initial(scene.x0.clone(), scene.z0.clone());
+            Simulator::new(model, settings)
+                .and_then(|mut sim| sim.run(&mut env))
+                .map(|s| s.x)
+                .map_err(|e| e.to_string())
+        }
         Method::Dbsmc {
             eps,
             mu,
@@ -150,8 +164,9 @@ pub fn envelope_run<M: Model + ?Sized>(
                 .step(step)
                 .t_end(scene.t_end)
                 .policy(policy)
-                .check_robustness(false);
-            Simulator::new(&model, settings)
+                .check_robustness(false)
+                .initial(scene.x0.clone(), scene.z0.clone());
+            Simulator::new(model, settings)
                 .and_then(|mut sim| sim.run(&mut env))
                 .map(|s| s.x)
                 .map_err(|e| e.to_string())
@@ -163,15 +178,19 @@ pub fn envelope_run<M: Model + ?Sized>(
                 t_start: 0.0,
                 t_end: scene.t_end,
                 newton_tol: 1e-12,
+                initial: Some(scene.initial()),
             };
             let mut obs = |t: f64, _: &[f64], w: &[f64]| env.push(t, w);
-            let r = IndexOneRk4::new(&model, set)
+            let r = IndexOneRk4::new(model, set)
                 .and_then(|mut r| r.run(Some(&mut obs)))
                 .map(|s| s.x)
                 .map_err(|e| e.to_string());
             env.finish_window(scene.t_end);
             r
         }
+        #[cfg(not(feature = "bdf"))]
+        Method::Bdf { .. } => Err(crate::harness::BDF_MISSING.to_string()),
+        #[cfg(feature = "bdf")]
         Method::Bdf { mu, tol } => {
             let set = BdfSettings {
                 mu: vec![mu; m],
@@ -179,9 +198,10 @@ pub fn envelope_run<M: Model + ?Sized>(
                 atol: tol,
                 t_start: 0.0,
                 t_end: scene.t_end,
+                initial: Some(scene.initial()),
             };
             let mut obs = |t: f64, _: &[f64], w: &[f64]| env.push(t, w);
-            let r = bdf_index1(&model, &set, Some(&mut obs))
+            let r = bdf_index1(model, &set, Some(&mut obs))
                 .map(|s| s.x)
                 .map_err(|e| e.to_string());
             env.finish_window(scene.t_end);
@@ -296,9 +316,10 @@ pub fn stability_row<M: Model + ?Sized>(
 pub fn with_step(method: &Method, h: f64) -> Method {
     let mut m = method.clone();
     match &mut m {
-        Method::Dbsmc { step, .. } | Method::Spsm { step, .. } | Method::IndexOne { step, .. } => {
-            *step = h
-        }
+        Method::Dbsmc { step, .. }
+        | Method::DbsmcDesigned { step, .. }
+        | Method::Spsm { step, .. }
+        | Method::IndexOne { step, .. } => *step = h,
         Method::Bdf { .. } => {}
     }
     m
@@ -347,7 +368,9 @@ pub fn largest_step_row<M: Model + ?Sized>(
         |h| {
             let r = run_method(scene, &with_step(method, h), 1);
             let layer = match method {
-                Method::Dbsmc { eps, .. } | Method::Spsm { eps, .. } => r.max_s <= 2.0 * eps,
+                Method::Dbsmc { eps, .. }
+                | Method::DbsmcDesigned { eps, .. }
+                | Method::Spsm { eps, .. } => r.max_s <= 2.0 * eps,
                 _ => true,
             };
             r.ok && r.max_w <= tol && layer
@@ -380,11 +403,16 @@ pub fn largest_step_row<M: Model + ?Sized>(
 pub fn write_table<W: Write>(rows: &[StabilityRow], mut out: W) -> io::Result<()> {
     writeln!(out, "| test / scene | method | verdict | deciding figure |")?;
     writeln!(out, "|---|---|---|---|")?;
+    // A `|` inside a cell (as in `max|w|`) would split it: escape it.
+    let cell = |s: &str| s.replace('|', "\\|");
     for r in rows {
         writeln!(
             out,
             "| {} | {} | {} | {} |",
-            r.scene, r.method, r.verdict, r.figure
+            cell(&r.scene),
+            cell(&r.method),
+            r.verdict,
+            cell(&r.figure)
         )?;
     }
     out.flush()

@@ -111,17 +111,6 @@ impl PlanarChainDae {
         })
     }
 
-    /// The planar double pendulum exactly as in language.md, including its initial state
-    /// `x1 = -1, x2 = -5` (not on the constraint manifold: `|R1| = 1 != L1 = 2`).
-    pub fn language_double_pendulum() -> Self {
-        let mut m =
-            Self::new(&PlanarChain::double_pendulum()).expect("two links are within MAX_LINKS");
-        m.x0.fill(0.0);
-        m.x0[0] = -1.0;
-        m.x0[4] = -5.0;
-        m
-    }
-
     fn links(&self) -> usize {
         self.masses.len()
     }

@@ -5,26 +5,28 @@ mod common;
 use std::f64::consts::FRAC_PI_2;
 
 use common::{Cubic, Tracking};
+#[cfg(feature = "bdf")]
+use dae_bench::{BdfSettings, bdf_index1};
 use dae_bench::{
-    BdfSettings, IndexOneRk4, IndexOneSettings, Method, PlanarChain, PlanarChainDae, ZSolver,
-    bdf_index1, chain_scene, largest_stable_step, run_method, spsm_stable,
+    DoublePendulum, IndexOneRk4, IndexOneSettings, Method, PlanarChain, ZSolver, chain_scene,
+    largest_stable_step, run_method, spsm_stable,
 };
 use dae_runtime::{NoTrace, Policy, Settings, Simulator};
 
 #[test]
 fn index_one_keeps_s_at_round_off_with_one_newton_iteration_per_stage_on_an_affine_model() {
     let chain = PlanarChain::double_pendulum();
-    let dae = PlanarChainDae::new(&chain).unwrap();
+    let dae = DoublePendulum::default();
     let scene = chain_scene("dp", &dae, &chain, &[-FRAC_PI_2, -1.0], 1.0).unwrap();
-    let model = scene.started().unwrap();
     let set = IndexOneSettings {
         mu: vec![0.05; 2],
         step: 1e-3,
         t_start: 0.0,
         t_end: 1.0,
         newton_tol: 1e-12,
+        initial: Some(scene.initial()),
     };
-    let s = IndexOneRk4::new(&model, set).unwrap().run(None).unwrap();
+    let s = IndexOneRk4::new(&dae, set).unwrap().run(None).unwrap();
     assert!(
         s.max_abs_s.iter().all(|v| *v <= 1e-12),
         "max |s| {:?}",
@@ -52,6 +54,7 @@ fn index_one_reproduces_the_closed_form_of_the_tracking_model() {
         t_start: 0.0,
         t_end: 2.0,
         newton_tol: 1e-13,
+        initial: None,
     };
     let s = IndexOneRk4::new(&Tracking, set).unwrap().run(None).unwrap();
     assert!(
@@ -67,9 +70,9 @@ fn index_one_reproduces_the_closed_form_of_the_tracking_model() {
 }
 
 #[test]
-fn index_one_and_bdf_match_the_truth_of_the_double_pendulum() {
+fn index_one_matches_the_truth_of_the_double_pendulum() {
     let chain = PlanarChain::double_pendulum();
-    let dae = PlanarChainDae::new(&chain).unwrap();
+    let dae = DoublePendulum::default();
     let scene = chain_scene("dp", &dae, &chain, &[-FRAC_PI_2, -FRAC_PI_2], 1.0).unwrap();
     let rk = run_method(
         &scene,
@@ -80,15 +83,23 @@ fn index_one_and_bdf_match_the_truth_of_the_double_pendulum() {
         1,
     );
     assert!(rk.ok && rk.pos_err < 1e-9, "index-1 RK4: {rk:?}");
-    let model = scene.started().unwrap();
+}
+
+#[cfg(feature = "bdf")]
+#[test]
+fn bdf_matches_the_truth_of_the_double_pendulum() {
+    let chain = PlanarChain::double_pendulum();
+    let dae = DoublePendulum::default();
+    let scene = chain_scene("dp", &dae, &chain, &[-FRAC_PI_2, -FRAC_PI_2], 1.0).unwrap();
     let set = BdfSettings {
         mu: vec![0.05; 2],
         rtol: 1e-10,
         atol: 1e-10,
         t_start: 0.0,
         t_end: 1.0,
+        initial: Some(scene.initial()),
     };
-    let b = bdf_index1(&model, &set, None).unwrap();
+    let b = bdf_index1(&dae, &set, None).unwrap();
     let err = scene.position_error(&b.x);
     assert!(err < 1e-6, "BDF position error {err:e}");
     assert!(
@@ -116,9 +127,8 @@ fn step_search_brackets_a_known_threshold() {
 #[test]
 fn spsm_holds_at_a_small_step_and_not_at_a_large_one() {
     let chain = PlanarChain::double_pendulum();
-    let dae = PlanarChainDae::new(&chain).unwrap();
+    let dae = DoublePendulum::default();
     let scene = chain_scene("dp", &dae, &chain, &[-FRAC_PI_2, -FRAC_PI_2], 1.0).unwrap();
-    let model = scene.started().unwrap();
     let eps = vec![1e-3; 2];
     let run = |h: f64| {
         let set = Settings::new(eps.clone(), vec![0.05; 2], scene.gains(0.05, 1.5))
@@ -126,7 +136,9 @@ fn spsm_holds_at_a_small_step_and_not_at_a_large_one() {
             .t_end(1.0)
             .policy(Policy::Spsm)
             .check_robustness(false);
-        Simulator::new(&model, set).unwrap().run(&mut NoTrace)
+        Simulator::new(&dae, set.initial(scene.x0.clone(), scene.z0.clone()))
+            .unwrap()
+            .run(&mut NoTrace)
     };
     let small = run(1e-4).unwrap();
     assert!(spsm_stable(&small, &eps), "{small:?}");
@@ -146,4 +158,22 @@ fn z_solver_iterates_newton_to_the_root_of_a_nonlinear_constraint() {
     assert!(iters > 2, "{iters} iterations from z = 0");
     assert_eq!(zs.j_solves, iters as u64);
     assert!(zs.sliding()[0].abs() <= 1e-13);
+}
+
+#[cfg(not(feature = "bdf"))]
+#[test]
+fn bdf_method_without_the_feature_is_a_recorded_error() {
+    let chain = PlanarChain::double_pendulum();
+    let dae = DoublePendulum::default();
+    let scene = chain_scene("dp", &dae, &chain, &[-FRAC_PI_2, -FRAC_PI_2], 0.1).unwrap();
+    let r = run_method(
+        &scene,
+        &Method::Bdf {
+            mu: 0.05,
+            tol: 1e-6,
+        },
+        1,
+    );
+    assert!(!r.ok);
+    assert_eq!(r.error, dae_bench::BDF_MISSING);
 }

@@ -3,7 +3,10 @@
 mod common;
 
 use common::Tracking;
-use dae_bench::{Envelope, Method, Record, Scene, Verdict, judge, run_method, write_csv};
+use dae_bench::{
+    Envelope, Method, Record, Scene, StabilityRow, Verdict, judge, run_method, write_csv,
+    write_table,
+};
 
 fn tracking_scene(model: &Tracking, offset: f64) -> Scene<'_, Tracking> {
     Scene {
@@ -167,4 +170,23 @@ fn chart_draws_one_legend_entry_per_line_and_refuses_an_empty_set() {
         )
         .is_err()
     );
+}
+
+#[test]
+fn stability_table_escapes_bars_so_each_row_has_four_cells() {
+    let row = StabilityRow {
+        scene: "(i) long run".into(),
+        method: "DBSMC".into(),
+        verdict: Verdict::Holds,
+        figure: "max|w| last 50%: 1e-4".into(),
+        value: 1e-4,
+    };
+    let mut out = Vec::new();
+    write_table(&[row], &mut out).unwrap();
+    let text = String::from_utf8(out).unwrap();
+    let line = text.lines().nth(2).unwrap();
+    assert!(line.contains(r"max\|w\|"), "{line}");
+    // Unescaped bars delimit the cells: 5 of them for 4 cells.
+    let delimiters = line.replace(r"\|", "").matches('|').count();
+    assert_eq!(delimiters, 5, "{line}");
 }

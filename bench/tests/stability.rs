@@ -1,16 +1,18 @@
-//! Short versions of the stability suite on the stand-in double pendulum.
+//! Short versions of the stability suite on the generated double pendulum.
 
 use std::f64::consts::FRAC_PI_2;
 
+use dae_runtime::Model;
+
 use dae_bench::{
-    Method, PlanarChain, PlanarChainDae, Scene, Verdict, chain_scene, envelope_run, judge,
+    DoublePendulum, Method, PlanarChain, Scene, Verdict, chain_scene, envelope_run, judge,
     largest_step_row,
 };
 
 #[test]
 fn dbsmc_envelope_stays_bounded_while_the_unstabilised_reduction_drifts() {
     let chain = PlanarChain::double_pendulum();
-    let dae = PlanarChainDae::new(&chain).unwrap();
+    let dae = DoublePendulum::default();
     let scene = chain_scene("dp", &dae, &chain, &[-FRAC_PI_2, -FRAC_PI_2], 20.0).unwrap();
     let dbsmc = scene.dbsmc(5e-4, 0.05, 1.5, 1e-3);
     let (env, res) = envelope_run(&scene, &dbsmc, 0.5);
@@ -35,11 +37,14 @@ fn dbsmc_envelope_stays_bounded_while_the_unstabilised_reduction_drifts() {
 
 #[test]
 fn an_inconsistent_start_is_reached_by_dbsmc_and_not_repaired_without_stabilisation() {
-    let lang = PlanarChainDae::language_double_pendulum();
+    // The generated model's own initial state is language.md's: |R1| = 1 != L1 = 2.
+    let lang = DoublePendulum::default();
+    let mut x0 = vec![0.0; 8];
+    lang.initial_state(&mut x0);
     let scene = Scene {
         name: "language.md start".into(),
         model: &lang,
-        x0: lang.x0.clone(),
+        x0,
         z0: vec![0.0; 2],
         t_end: 2.0,
         compare: Vec::new(),
@@ -63,7 +68,7 @@ fn an_inconsistent_start_is_reached_by_dbsmc_and_not_repaired_without_stabilisat
 #[test]
 fn index_one_survives_larger_steps_than_spsm_on_the_double_pendulum() {
     let chain = PlanarChain::double_pendulum();
-    let dae = PlanarChainDae::new(&chain).unwrap();
+    let dae = DoublePendulum::default();
     let scene = chain_scene("dp", &dae, &chain, &[-FRAC_PI_2, -FRAC_PI_2], 1.0).unwrap();
     let spsm = Method::Spsm {
         eps: 5e-4,
@@ -86,4 +91,48 @@ fn index_one_survives_larger_steps_than_spsm_on_the_double_pendulum() {
     assert_eq!((a.verdict, b.verdict), (Verdict::Holds, Verdict::Holds));
     // SPSM's layer dynamics (pole k/eps) limit RK4; index-1 only the motion (mu = 0.05).
     assert!(b.value > 3.0 * a.value, "{} / {}", a.figure, b.figure);
+}
+
+#[test]
+fn designed_dbsmc_maximises_the_guaranteed_period_and_holds_its_layer() {
+    use dae_bench::{Method, designed_bounds, run_method};
+    use dae_runtime::{ConstraintSpec, GainChoice, LayerBound, t_min};
+
+    let chain = PlanarChain::double_pendulum();
+    let dae = DoublePendulum::default();
+    let scene = chain_scene("dp", &dae, &chain, &[-FRAC_PI_2, -FRAC_PI_2], 1.0).unwrap();
+    let bounds = designed_bounds(&scene, 1e-2, 1e-3).unwrap();
+    assert!(
+        bounds.beta_abs.iter().chain(&bounds.m).all(|v| *v > 0.0),
+        "{bounds:?}"
+    );
+    let eps = 1e-2;
+    let method = bounds.dbsmc(eps, 1e-3).unwrap();
+    let Method::DbsmcDesigned { mu, gains, .. } = &method else {
+        panic!("not a designed method: {method:?}");
+    };
+    for i in 0..2 {
+        let spec = ConstraintSpec {
+            r: 3,
+            eps,
+            m: bounds.m[i],
+            beta_abs: bounds.beta_abs[i],
+            layer: LayerBound::General,
+        };
+        // Relaxed gain k = mu^2 |beta|, and T_min is largest at the designed mu.
+        assert!((gains[i] - mu[i] * mu[i] * bounds.beta_abs[i]).abs() <= 1e-9 * gains[i]);
+        let at = |mu: f64| {
+            let k = GainChoice::Relaxed.gain(&spec, mu).unwrap();
+            t_min(&spec, mu, k).unwrap()
+        };
+        let best = at(mu[i]);
+        assert!(best > 0.0);
+        assert!(
+            at(mu[i] * 1.2) <= best && at(mu[i] / 1.2) <= best,
+            "mu {}",
+            mu[i]
+        );
+    }
+    let r = run_method(&scene, &method, 1);
+    assert!(r.ok && r.max_w <= eps, "{r:?}");
 }

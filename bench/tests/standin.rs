@@ -93,19 +93,3 @@ fn jacobian_matches_central_differences_of_omega_in_z() {
         }
     }
 }
-
-#[test]
-fn language_double_pendulum_keeps_the_inconsistent_initial_state_of_language_md() {
-    let dae = PlanarChainDae::language_double_pendulum();
-    let mut x = [0.0; 8];
-    dae.initial_state(&mut x);
-    assert_eq!(x, [-1.0, 0.0, 0.0, 0.0, -5.0, 0.0, 0.0, 0.0]);
-    let w = derivs_2(&dae, &x);
-    assert_eq!((w[0], w[3]), (-1.0, 2.0));
-}
-
-fn derivs_2(dae: &PlanarChainDae, x: &[f64]) -> Vec<f64> {
-    let (mut w, mut s, mut ah) = (vec![0.0; 6], vec![0.0; 2], vec![0.0; 2]);
-    dae.sliding(0.0, x, &[0.0; 2], &[0.1; 2], &mut w, &mut s, &mut ah);
-    w
-}

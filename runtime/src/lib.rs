@@ -127,7 +127,7 @@ mod summary;
 mod trace;
 
 pub use error::{Quantity, SimError};
-pub use settings::{AlphaChoice, Integrator, Policy, Reaching, Settings};
+pub use settings::{AlphaChoice, Initial, Integrator, Policy, Reaching, Settings};
 pub use sim::Simulator;
 pub use summary::Summary;
 pub use trace::{CsvSink, Decimate, Layout, NoTrace, Sample, Sink, Trace};

@@ -100,6 +100,20 @@ pub struct Settings {
     /// Evaluate `beta` at every update to count robustness violations even with the
     /// cheap `alpha_hat` (one extra `beta` evaluation per update). On by default.
     pub check_robustness: bool,
+    /// Start from these states `x0` and algebraic values `z0` instead of the model's
+    /// [`initial_state`](crate::Model::initial_state) and
+    /// [`initial_alg`](crate::Model::initial_alg) (see [`Settings::initial`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub initial: Option<Initial>,
+}
+
+/// A start point given from outside the model: `n` states and `m` algebraic values.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Initial {
+    /// Initial states, one per model state.
+    pub x0: Vec<f64>,
+    /// Initial algebraic unknowns, one per constraint.
+    pub z0: Vec<f64>,
 }
 
 impl Settings {
@@ -123,6 +137,7 @@ impl Settings {
             settle: 0.0,
             reaching_limit: f64::INFINITY,
             check_robustness: true,
+            initial: None,
         }
     }
     /// Set the integration step.
@@ -181,8 +196,24 @@ impl Settings {
         self
     }
 
-    /// Check the settings against a model with `m` constraints.
-    pub(crate) fn validate(&self, m: usize) -> Result<(), SimError> {
+    /// Start from `x0` (one value per state) and `z0` (one per constraint) instead of
+    /// the model's own initial values, e.g. to start a model in a chosen consistent
+    /// configuration without editing it. Lengths and finiteness are checked by
+    /// [`Simulator::new`](crate::Simulator::new) (a
+    /// [`SimError::Settings`] naming `initial.x0` or `initial.z0`).
+    ///
+    /// ```
+    /// use dae_runtime::Settings;
+    /// let s = Settings::new(vec![1e-3], vec![0.05], vec![10.0]).initial(vec![1.0, 0.0], vec![0.5]);
+    /// assert_eq!(s.initial.unwrap().z0, vec![0.5]);
+    /// ```
+    pub fn initial(mut self, x0: Vec<f64>, z0: Vec<f64>) -> Self {
+        self.initial = Some(Initial { x0, z0 });
+        self
+    }
+
+    /// Check the settings against a model with `n` states and `m` constraints.
+    pub(crate) fn validate(&self, n: usize, m: usize) -> Result<(), SimError> {
         let bad = |field: &'static str, reason: String| Err(SimError::Settings { field, reason });
         for (field, v, strict) in [
             ("eps", &self.eps, true),
@@ -230,6 +261,19 @@ impl Settings {
                 "reaching_limit",
                 format!("{} must be > 0", self.reaching_limit),
             );
+        }
+        if let Some(init) = &self.initial {
+            for (field, v, len, what) in [
+                ("initial.x0", &init.x0, n, "states"),
+                ("initial.z0", &init.z0, m, "constraints"),
+            ] {
+                if v.len() != len {
+                    return bad(field, format!("{} values for {len} {what}", v.len()));
+                }
+                if let Some((i, x)) = v.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+                    return bad(field, format!("value {i} is {x}, must be finite"));
+                }
+            }
         }
         Ok(())
     }

@@ -11,6 +11,7 @@ use dae_runtime::{Model, w_offsets};
 use dae_tests::{Rng, close, example_sources};
 
 mod generated {
+    dae_runtime::dae_file!("../examples/models/chain3_planar.dae");
     dae_runtime::dae_file!("../examples/models/chain5_planar.dae");
     dae_runtime::dae_file!("../examples/models/circuit_index1.dae");
     dae_runtime::dae_file!("../examples/models/double_pendulum_3d.dae");
@@ -22,6 +23,7 @@ mod generated {
 /// The generated type of each example file, by file stem.
 fn generated(stem: &str) -> Box<dyn Model> {
     match stem {
+        "chain3_planar" => Box::new(generated::Chain3::default()),
         "chain5_planar" => Box::new(generated::Chain5::default()),
         "circuit_index1" => Box::new(generated::NonlinearRC::default()),
         "double_pendulum_3d" => Box::new(generated::DoublePendulum3D::default()),
@@ -35,7 +37,7 @@ fn generated(stem: &str) -> Box<dyn Model> {
 /// Every example: (stem, generated, interpreted).
 fn pairs() -> Vec<(String, Box<dyn Model>, daec::Interpreted)> {
     let sources = example_sources();
-    assert_eq!(sources.len(), 6, "a new example model: add it to this test");
+    assert_eq!(sources.len(), 7, "a new example model: add it to this test");
     sources
         .into_iter()
         .map(|(stem, text)| {

@@ -9,9 +9,10 @@
 use std::cell::{Cell, RefCell};
 use std::time::Instant;
 
-use dae_runtime::Model;
+use dae_runtime::{Initial, Model};
 use diffsol::{NalgebraLU, NalgebraMat, OdeBuilder, OdeSolverMethod, OdeSolverStopReason, Vector};
 
+use super::index1::start;
 use super::{BaselineError, Observer, ZSolver};
 
 /// Settings of [`bdf_index1`].
@@ -27,6 +28,8 @@ pub struct BdfSettings {
     pub t_start: f64,
     /// End time.
     pub t_end: f64,
+    /// Start here instead of the model's initial state and guess.
+    pub initial: Option<Initial>,
 }
 
 /// What a BDF run did.
@@ -91,8 +94,7 @@ pub fn bdf_index1<M: Model + ?Sized>(
     let (n, m) = (model.n_states(), model.n_constraints());
     let mut x0 = vec![0.0; n];
     let mut z0 = vec![0.0; m];
-    model.initial_state(&mut x0);
-    model.initial_alg(&mut z0);
+    start(model, settings.initial.as_ref(), &mut x0, &mut z0)?;
     let red = Reduced {
         model,
         zs: RefCell::new((ZSolver::new(model, &settings.mu, 1e-13)?, z0)),

@@ -9,7 +9,7 @@
 
 use std::time::Instant;
 
-use dae_runtime::{Model, w_offsets};
+use dae_runtime::{Initial, Model, w_offsets};
 
 use crate::linalg::Lu;
 
@@ -190,6 +190,9 @@ pub struct IndexOneSettings {
     pub t_end: f64,
     /// Newton tolerance on `max |s_i|`.
     pub newton_tol: f64,
+    /// Start here instead of the model's initial state and guess (as the runtime's
+    /// [`Settings::initial`](dae_runtime::Settings::initial)).
+    pub initial: Option<Initial>,
 }
 
 /// What a run of [`IndexOneRk4`] did.
@@ -248,8 +251,7 @@ impl<'a, M: Model + ?Sized> IndexOneRk4<'a, M> {
         let zs = ZSolver::new(model, &settings.mu, settings.newton_tol)?;
         let mut x = vec![0.0; n];
         let mut z = vec![0.0; m];
-        model.initial_state(&mut x);
-        model.initial_alg(&mut z);
+        start(model, settings.initial.as_ref(), &mut x, &mut z)?;
         Ok(Self {
             model,
             t: settings.t_start,
@@ -382,4 +384,34 @@ impl<'a, M: Model + ?Sized> IndexOneRk4<'a, M> {
         self.zs.s = s;
         self.zs.ah = ah;
     }
+}
+
+/// Fill `(x, z)` with `initial` (checked: lengths, finite) or the model's own start.
+pub(crate) fn start<M: Model + ?Sized>(
+    model: &M,
+    initial: Option<&Initial>,
+    x: &mut [f64],
+    z: &mut [f64],
+) -> Result<(), BaselineError> {
+    let Some(init) = initial else {
+        model.initial_state(x);
+        model.initial_alg(z);
+        return Ok(());
+    };
+    for (what, given, out) in [("x0", &init.x0, &mut *x), ("z0", &init.z0, &mut *z)] {
+        if given.len() != out.len() {
+            return Err(BaselineError::Settings(format!(
+                "initial {what} has {} values, the model needs {}",
+                given.len(),
+                out.len()
+            )));
+        }
+        if let Some((i, v)) = given.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(BaselineError::Settings(format!(
+                "initial {what}[{i}] is {v}, must be finite"
+            )));
+        }
+        out.copy_from_slice(given);
+    }
+    Ok(())
 }

@@ -1,9 +1,11 @@
 //! The methods DBSMC is compared with.
 
+#[cfg(feature = "bdf")]
 mod bdf;
 mod index1;
 mod spsm;
 
+#[cfg(feature = "bdf")]
 pub use bdf::{BdfSettings, BdfSummary, bdf_index1};
 pub use index1::{
     BaselineError, IndexOneRk4, IndexOneSettings, IndexOneSummary, Observer, ZSolver,

@@ -2,15 +2,22 @@
 //! records, CSV and charts.
 
 mod chart;
+mod designed;
 
 use std::io::{self, Write};
 
-use dae_runtime::{Model, NoTrace, Policy, Settings, Simulator};
+use dae_runtime::{Initial, Model, NoTrace, Policy, Settings, Simulator};
 
-use crate::baseline::{BaselineError, BdfSettings, IndexOneRk4, IndexOneSettings, bdf_index1};
-use crate::initial::WithInitial;
+use crate::baseline::{BaselineError, IndexOneRk4, IndexOneSettings};
+#[cfg(feature = "bdf")]
+use crate::baseline::{BdfSettings, bdf_index1};
+
+/// The error of a [`Method::Bdf`] run in a build without the `bdf` feature.
+pub const BDF_MISSING: &str =
+    "the BDF baseline needs dae-bench's `bdf` feature (cargo ... --features bdf)";
 
 pub use chart::{CostAxis, ErrorAxis, chart};
+pub use designed::{DesignedBounds, designed_bounds};
 
 /// A model, a consistent start, an end time and the truth at the end.
 #[derive(Debug, Clone)]
@@ -44,9 +51,12 @@ impl<M: Model + ?Sized> Scene<'_, M> {
             .fold(0.0f64, |m, (&i, t)| m.max((x[i] - t).abs()))
     }
 
-    /// The model with the scene's initial state.
-    pub fn started(&self) -> Result<WithInitial<'_, M>, BaselineError> {
-        WithInitial::new(self.model, self.x0.clone(), self.z0.clone())
+    /// The scene's start, for [`Settings::initial`] and the baselines' `initial`.
+    pub fn initial(&self) -> Initial {
+        Initial {
+            x0: self.x0.clone(),
+            z0: self.z0.clone(),
+        }
     }
 
     /// DBSMC with monitoring at layer `eps`, time constant `mu` and gains
@@ -91,15 +101,18 @@ pub fn pilot_beta_bound<M: Model + ?Sized>(
     h: f64,
 ) -> Result<Vec<f64>, BaselineError> {
     let m = model.n_constraints();
-    let started = WithInitial::new(model, x0.to_vec(), z0.to_vec())?;
     let mut run = IndexOneRk4::new(
-        &started,
+        model,
         IndexOneSettings {
             mu: vec![mu; m],
             step: h,
             t_start: 0.0,
             t_end,
             newton_tol: 1e-12,
+            initial: Some(Initial {
+                x0: x0.to_vec(),
+                z0: z0.to_vec(),
+            }),
         },
     )?;
     let mut bound = vec![0.0f64; m];
@@ -140,6 +153,19 @@ pub enum Method {
         /// Gain factor over `mu^(r-1) |beta|`.
         gain_factor: f64,
     },
+    /// DBSMC with monitoring and a per-constraint design from the runtime's toolkit
+    /// (see [`DesignedBounds::dbsmc`]): `mu_i` and relaxed gains `k_i` maximising the
+    /// guaranteed period for the layer `eps`.
+    DbsmcDesigned {
+        /// Layer half width (all constraints).
+        eps: f64,
+        /// Designed surface parameters, per constraint.
+        mu: Vec<f64>,
+        /// Designed gains, per constraint.
+        gains: Vec<f64>,
+        /// RK4 step.
+        step: f64,
+    },
     /// Baseline (a): RK4 with `z` solved from `s = 0` at every stage.
     IndexOne {
         /// Stabilisation time constant.
@@ -161,6 +187,7 @@ impl Method {
     pub fn line(&self) -> String {
         match self {
             Method::Dbsmc { mu, .. } => format!("DBSMC mu={mu}"),
+            Method::DbsmcDesigned { .. } => "DBSMC designed".to_string(),
             Method::Spsm { eps, mu, .. } => format!("SPSM eps={eps} mu={mu}"),
             Method::IndexOne { mu, .. } => format!("index-1 RK4 mu={mu}"),
             Method::Bdf { mu, .. } => format!("BDF (diffsol) mu={mu}"),
@@ -169,7 +196,9 @@ impl Method {
     /// The swept knob and its value.
     pub fn knob(&self) -> String {
         match self {
-            Method::Dbsmc { eps, step, .. } => format!("eps={eps:.1e} h={step:.3e}"),
+            Method::Dbsmc { eps, step, .. } | Method::DbsmcDesigned { eps, step, .. } => {
+                format!("eps={eps:.1e} h={step:.3e}")
+            }
             Method::Spsm { step, .. } | Method::IndexOne { step, .. } => format!("h={step:.3e}"),
             Method::Bdf { tol, .. } => format!("tol={tol:.1e}"),
         }
@@ -221,9 +250,38 @@ fn max_of(v: &[f64]) -> f64 {
 }
 
 fn run_once<M: Model + ?Sized>(scene: &Scene<'_, M>, method: &Method) -> Result<Outcome, String> {
-    let model = scene.started().map_err(|e| e.to_string())?;
+    let model = scene.model;
     let m = model.n_constraints();
     match *method {
+        Method::DbsmcDesigned {
+            eps,
+            ref mu,
+            ref gains,
+            step,
+        } => {
+            let settings = Settings::new(vec![eps; m], mu.clone(), gains.clone())
+                .step(step)
+                .t_end(scene.t_end)
+                .policy(Policy::Monitor)
+                .check_robustness(false)
+                .initial(scene.x0.clone(), scene.z0.clone());
+            let s = Simulator::new(model, settings)
+                .and_then(|mut sim| sim.run(&mut NoTrace))
+                .map_err(|e| e.to_string())?;
+            Ok(Outcome {
+                max_w: max_of(&s.max_abs_w),
+                max_s: if s.reaching_time.is_some() {
+                    max_of(&s.max_abs_s)
+                } else {
+                    f64::INFINITY
+                },
+                wall: s.wall_time,
+                j_solves: s.jacobian_evals,
+                f_evals: s.rhs_evals,
+                steps: s.steps,
+                x: s.x,
+            })
+        }
         Method::Dbsmc {
             eps,
             mu,
@@ -245,8 +303,9 @@ fn run_once<M: Model + ?Sized>(scene: &Scene<'_, M>, method: &Method) -> Result<
                 .step(step)
                 .t_end(scene.t_end)
                 .policy(policy)
-                .check_robustness(false);
-            let s = Simulator::new(&model, settings)
+                .check_robustness(false)
+                .initial(scene.x0.clone(), scene.z0.clone());
+            let s = Simulator::new(model, settings)
                 .and_then(|mut sim| sim.run(&mut NoTrace))
                 .map_err(|e| e.to_string())?;
             Ok(Outcome {
@@ -270,8 +329,9 @@ fn run_once<M: Model + ?Sized>(scene: &Scene<'_, M>, method: &Method) -> Result<
                 t_start: 0.0,
                 t_end: scene.t_end,
                 newton_tol: 1e-12,
+                initial: Some(scene.initial()),
             };
-            let s = IndexOneRk4::new(&model, set)
+            let s = IndexOneRk4::new(model, set)
                 .and_then(|mut r| r.run(None))
                 .map_err(|e| e.to_string())?;
             Ok(Outcome {
@@ -284,6 +344,9 @@ fn run_once<M: Model + ?Sized>(scene: &Scene<'_, M>, method: &Method) -> Result<
                 x: s.x,
             })
         }
+        #[cfg(not(feature = "bdf"))]
+        Method::Bdf { .. } => Err(BDF_MISSING.to_string()),
+        #[cfg(feature = "bdf")]
         Method::Bdf { mu, tol } => {
             let set = BdfSettings {
                 mu: vec![mu; m],
@@ -291,8 +354,9 @@ fn run_once<M: Model + ?Sized>(scene: &Scene<'_, M>, method: &Method) -> Result<
                 atol: tol,
                 t_start: 0.0,
                 t_end: scene.t_end,
+                initial: Some(scene.initial()),
             };
-            let s = bdf_index1(&model, &set, None).map_err(|e| e.to_string())?;
+            let s = bdf_index1(model, &set, None).map_err(|e| e.to_string())?;
             Ok(Outcome {
                 max_w: max_of(&s.max_abs_w),
                 max_s: f64::NAN,

@@ -64,7 +64,7 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
     pub fn new(model: &'a M, settings: Settings) -> Result<Self, SimError> {
         let n = model.n_states();
         let m = model.n_constraints();
-        settings.validate(m)?;
+        settings.validate(n, m)?;
         let ctl = Controller::new(
             model,
             &settings.mu,
@@ -128,7 +128,8 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
         &self.z
     }
 
-    /// Run from the model's initial state and initial algebraic guess over
+    /// Run from the model's initial state and initial algebraic guess (or from
+    /// [`Settings::initial`] when given) over
     /// `[t_start, t_end]`, sending samples and update times to `sink`.
     ///
     /// On error the sink keeps everything recorded before the failure.
@@ -144,8 +145,16 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
         self.ctl.reset_counters();
         let (t0, t_end, h) = (self.set.t_start, self.set.t_end, self.set.step);
         self.t = t0;
-        self.model.initial_state(&mut self.x);
-        self.model.initial_alg(&mut self.z);
+        match &self.set.initial {
+            Some(init) => {
+                self.x.copy_from_slice(&init.x0);
+                self.z.copy_from_slice(&init.z0);
+            }
+            None => {
+                self.model.initial_state(&mut self.x);
+                self.model.initial_alg(&mut self.z);
+            }
+        }
         sink.begin(&self.layout)?;
         self.ctl.sliding(self.model, t0, &self.x, &self.z);
         self.check_finite()?;
