@@ -3,7 +3,7 @@
 
 use std::io::{self, Write};
 
-use dae_runtime::{Layout, Model, Policy, Sample, Settings, Simulator, Sink};
+use dae_runtime::{Layout, Model, Sample, Simulator, Sink};
 
 #[cfg(feature = "bdf")]
 use crate::baseline::{BdfSettings, bdf_index1};
@@ -126,51 +126,15 @@ pub fn envelope_run<M: Model + ?Sized>(
     let model = scene.model;
     let m = model.n_constraints();
     let result = match *method {
-        Method::DbsmcDesigned {
-            eps,
-            ref mu,
-            ref gains,
-            step,
-        } => {
-            let settings = Settings::new(vec![eps; m], mu.clone(), gains.clone())
-                .step(step)
-                .t_end(scene.t_end)
-                .policy(Policy::Monitor)
-                .check_robustness(false)
-                .initial(scene.x0.clone(), scene.z0.clone());
-            Simulator::new(model, settings)
-                .and_then(|mut sim| sim.run(&mut env))
-                .map(|s| s.x)
-                .map_err(|e| e.to_string())
-        }
-        Method::Dbsmc {
-            eps,
-            mu,
-            step,
-            gain_factor,
-        }
-        | Method::Spsm {
-            eps,
-            mu,
-            step,
-            gain_factor,
-        } => {
-            let policy = if matches!(method, Method::Spsm { .. }) {
-                Policy::Spsm
-            } else {
-                Policy::Monitor
-            };
-            let settings = Settings::new(vec![eps; m], vec![mu; m], scene.gains(mu, gain_factor))
-                .step(step)
-                .t_end(scene.t_end)
-                .policy(policy)
-                .check_robustness(false)
-                .initial(scene.x0.clone(), scene.z0.clone());
-            Simulator::new(model, settings)
-                .and_then(|mut sim| sim.run(&mut env))
-                .map(|s| s.x)
-                .map_err(|e| e.to_string())
-        }
+        Method::DbsmcDesigned { .. } | Method::Dbsmc { .. } | Method::Spsm { .. } => method
+            .runtime_settings(scene)
+            .ok_or_else(|| "no runtime settings for this method".to_string())
+            .and_then(|settings| {
+                Simulator::new(model, settings)
+                    .and_then(|mut sim| sim.run(&mut env))
+                    .map(|s| s.x)
+                    .map_err(|e| e.to_string())
+            }),
         Method::IndexOne { mu, step } => {
             let set = IndexOneSettings {
                 mu: vec![mu; m],

@@ -235,6 +235,56 @@ pub struct Record {
     pub steps: u64,
 }
 
+impl Method {
+    /// The runtime settings of a DBSMC or SPSM run of `scene` (monitored updates for
+    /// DBSMC, continuous `sat` for SPSM, no robustness counting, the scene's start);
+    /// `None` for the baselines that do not run on the runtime's simulator.
+    pub fn runtime_settings<M: Model + ?Sized>(&self, scene: &Scene<'_, M>) -> Option<Settings> {
+        let m = scene.model.n_constraints();
+        let (eps, mu, gains, step, policy) = match *self {
+            Method::DbsmcDesigned {
+                eps,
+                ref mu,
+                ref gains,
+                step,
+            } => (eps, mu.clone(), gains.clone(), step, Policy::Monitor),
+            Method::Dbsmc {
+                eps,
+                mu,
+                step,
+                gain_factor,
+            } => (
+                eps,
+                vec![mu; m],
+                scene.gains(mu, gain_factor),
+                step,
+                Policy::Monitor,
+            ),
+            Method::Spsm {
+                eps,
+                mu,
+                step,
+                gain_factor,
+            } => (
+                eps,
+                vec![mu; m],
+                scene.gains(mu, gain_factor),
+                step,
+                Policy::Spsm,
+            ),
+            _ => return None,
+        };
+        Some(
+            Settings::new(vec![eps; m], mu, gains)
+                .step(step)
+                .t_end(scene.t_end)
+                .policy(policy)
+                .check_robustness(false)
+                .initial(scene.x0.clone(), scene.z0.clone()),
+        )
+    }
+}
+
 struct Outcome {
     x: Vec<f64>,
     max_w: f64,
@@ -253,58 +303,10 @@ fn run_once<M: Model + ?Sized>(scene: &Scene<'_, M>, method: &Method) -> Result<
     let model = scene.model;
     let m = model.n_constraints();
     match *method {
-        Method::DbsmcDesigned {
-            eps,
-            ref mu,
-            ref gains,
-            step,
-        } => {
-            let settings = Settings::new(vec![eps; m], mu.clone(), gains.clone())
-                .step(step)
-                .t_end(scene.t_end)
-                .policy(Policy::Monitor)
-                .check_robustness(false)
-                .initial(scene.x0.clone(), scene.z0.clone());
-            let s = Simulator::new(model, settings)
-                .and_then(|mut sim| sim.run(&mut NoTrace))
-                .map_err(|e| e.to_string())?;
-            Ok(Outcome {
-                max_w: max_of(&s.max_abs_w),
-                max_s: if s.reaching_time.is_some() {
-                    max_of(&s.max_abs_s)
-                } else {
-                    f64::INFINITY
-                },
-                wall: s.wall_time,
-                j_solves: s.jacobian_evals,
-                f_evals: s.rhs_evals,
-                steps: s.steps,
-                x: s.x,
-            })
-        }
-        Method::Dbsmc {
-            eps,
-            mu,
-            step,
-            gain_factor,
-        }
-        | Method::Spsm {
-            eps,
-            mu,
-            step,
-            gain_factor,
-        } => {
-            let policy = if matches!(method, Method::Spsm { .. }) {
-                Policy::Spsm
-            } else {
-                Policy::Monitor
-            };
-            let settings = Settings::new(vec![eps; m], vec![mu; m], scene.gains(mu, gain_factor))
-                .step(step)
-                .t_end(scene.t_end)
-                .policy(policy)
-                .check_robustness(false)
-                .initial(scene.x0.clone(), scene.z0.clone());
+        Method::DbsmcDesigned { .. } | Method::Dbsmc { .. } | Method::Spsm { .. } => {
+            let settings = method
+                .runtime_settings(scene)
+                .ok_or("no runtime settings for this method")?;
             let s = Simulator::new(model, settings)
                 .and_then(|mut sim| sim.run(&mut NoTrace))
                 .map_err(|e| e.to_string())?;
