@@ -56,7 +56,10 @@ fn index_one_reproduces_the_closed_form_of_the_tracking_model() {
         newton_tol: 1e-13,
         initial: None,
     };
-    let s = IndexOneRk4::new(&Tracking, set).unwrap().run(None).unwrap();
+    let s = IndexOneRk4::new(&Tracking::default(), set)
+        .unwrap()
+        .run(None)
+        .unwrap();
     assert!(
         (s.x[0] - 2.0f64.sin()).abs() < 1e-12,
         "x(2) - sin 2 = {:e}",
@@ -151,9 +154,9 @@ fn spsm_holds_at_a_small_step_and_not_at_a_large_one() {
 
 #[test]
 fn z_solver_iterates_newton_to_the_root_of_a_nonlinear_constraint() {
-    let mut zs = ZSolver::new(&Cubic, &[1.0], 1e-13).unwrap();
+    let mut zs = ZSolver::new(&Cubic::default(), &[1.0], 1e-13).unwrap();
     let mut z = [0.0f64];
-    let iters = zs.solve(&Cubic, 0.0, &[10.0], &mut z).unwrap();
+    let iters = zs.solve(&Cubic::default(), 0.0, &[10.0], &mut z).unwrap();
     assert!((z[0] - 2.0).abs() < 1e-14, "z = {}", z[0]);
     assert!(iters > 2, "{iters} iterations from z = 0");
     assert_eq!(zs.j_solves, iters as u64);

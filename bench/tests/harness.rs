@@ -23,7 +23,7 @@ fn tracking_scene(model: &Tracking, offset: f64) -> Scene<'_, Tracking> {
 
 #[test]
 fn position_error_is_the_largest_absolute_difference() {
-    let m = Tracking;
+    let m = Tracking::default();
     let mut scene = tracking_scene(&m, 0.0);
     scene.compare = vec![0, 2];
     scene.truth = vec![1.0, -2.0];
@@ -33,7 +33,7 @@ fn position_error_is_the_largest_absolute_difference() {
 #[test]
 fn run_records_a_known_position_error_and_a_small_constraint_error() {
     // The exact solution is x = sin t; the "truth" is shifted by a known 0.125.
-    let m = Tracking;
+    let m = Tracking::default();
     let scene = tracking_scene(&m, 0.125);
     let r = run_method(
         &scene,
