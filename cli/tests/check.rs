@@ -1,15 +1,12 @@
 //! `daec check` run as a process: summaries, JSON, and user errors (exit status 1, all
 //! diagnostics on stderr, no panic).
 
+mod common;
+
+use common::daec;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-
-fn daec(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_daec"))
-        .args(args)
-        .output()
-        .expect("daec runs")
-}
 
 fn example(name: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -223,30 +220,9 @@ fn missing_argument_is_a_usage_error() {
     assert!(stderr(&o).contains("FILE"), "{}", stderr(&o));
 }
 
-/// The code blocks of a markdown text, in order.
-fn code_blocks(md: &str) -> Vec<String> {
-    let mut blocks = Vec::new();
-    let mut current: Option<String> = None;
-    for line in md.lines() {
-        if line.starts_with("```") {
-            match current.take() {
-                Some(b) => blocks.push(b),
-                None => current = Some(String::new()),
-            }
-        } else if let Some(b) = current.as_mut() {
-            b.push_str(line);
-            b.push('\n');
-        }
-    }
-    blocks
-}
-
 #[test]
 fn the_rendered_error_in_the_user_docs_is_what_daec_prints() {
-    let doc =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/language.md"))
-            .expect("docs/language.md");
-    let blocks = code_blocks(&doc);
+    let blocks = common::user_docs_code_blocks();
     let model = blocks
         .iter()
         .find(|b| b.starts_with("model Spring"))
@@ -269,10 +245,7 @@ fn the_rendered_error_in_the_user_docs_is_what_daec_prints() {
 
 #[test]
 fn the_first_model_in_the_user_docs_checks_as_shown() {
-    let doc =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/language.md"))
-            .expect("docs/language.md");
-    let blocks = code_blocks(&doc);
+    let blocks = common::user_docs_code_blocks();
     let model = blocks
         .iter()
         .find(|b| b.starts_with("// Planar pendulum"))

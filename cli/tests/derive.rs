@@ -2,8 +2,12 @@
 //! is the library's, JSON snapshots of every example, condition numbers against closed
 //! forms, and analysis errors reported like the other diagnostics.
 
+mod common;
+
+use common::daec;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 
 const EXAMPLES: [&str; 5] = [
     "circuit_index1.dae",
@@ -12,13 +16,6 @@ const EXAMPLES: [&str; 5] = [
     "integrator_chain_index4.dae",
     "tank_level_index2.dae",
 ];
-
-fn daec(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_daec"))
-        .args(args)
-        .output()
-        .expect("daec runs")
-}
 
 fn example(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -164,30 +161,9 @@ fn analysis_errors_are_rendered_with_exit_status_1() {
     assert!(err.contains("condition number"), "{err}");
 }
 
-/// The code blocks of a markdown text, in order.
-fn code_blocks(md: &str) -> Vec<String> {
-    let mut blocks = Vec::new();
-    let mut current: Option<String> = None;
-    for line in md.lines() {
-        if line.starts_with("```") {
-            match current.take() {
-                Some(b) => blocks.push(b),
-                None => current = Some(String::new()),
-            }
-        } else if let Some(b) = current.as_mut() {
-            b.push_str(line);
-            b.push('\n');
-        }
-    }
-    blocks
-}
-
 #[test]
 fn the_index_analysis_outputs_in_the_user_docs_are_what_daec_prints() {
-    let doc =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/language.md"))
-            .expect("docs/language.md");
-    let blocks = code_blocks(&doc);
+    let blocks = common::user_docs_code_blocks();
     let find = |start: &str| {
         blocks
             .iter()

@@ -1,15 +1,12 @@
 //! `daec design` run as a process: the thesis design from its bounds (method.md section
 //! 5), a design from a pilot run of the 3-D double pendulum, and user errors.
 
-use std::path::Path;
-use std::process::{Command, Output};
+mod common;
 
-fn daec(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_daec"))
-        .args(args)
-        .output()
-        .expect("daec runs")
-}
+use common::daec;
+
+use std::path::Path;
+use std::process::Output;
 
 fn json(o: &Output) -> serde_json::Value {
     assert_eq!(

@@ -1,15 +1,11 @@
 //! `daec emit` run as a process: the generated Rust of every model on stdout (the same
 //! text as `dae_lang::codegen::emit_rust`), user errors on stderr with exit status 1.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn daec(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_daec"))
-        .args(args)
-        .output()
-        .expect("daec runs")
-}
+use common::daec;
+
+use std::path::{Path, PathBuf};
 
 fn example(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

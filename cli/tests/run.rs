@@ -1,15 +1,12 @@
 //! `daec run` run as a process on the interpreter: the thesis scene (method.md section 5)
 //! with the figures of the generated code, the CSV and charts, and run-time errors.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn daec(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_daec"))
-        .args(args)
-        .output()
-        .expect("daec runs")
-}
+use common::daec;
+
+use std::path::{Path, PathBuf};
+use std::process::Output;
 
 fn pendulum() -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))
