@@ -73,25 +73,27 @@ pub(crate) struct PilotArgs {
 
 impl PilotArgs {
     /// The automatic design of `model` with a pilot under `base` (its eps, step, time
-    /// span, settle time, policy and reaching rule are used).
+    /// span, settle time, policy and reaching rule are used). With `fixed_gain`, every
+    /// pass (the pilots included) uses that gain and only mu is designed.
     pub(crate) fn auto_design(
         &self,
         model: &dyn Model,
         base: &Settings,
+        fixed_gain: Option<f64>,
     ) -> Result<AutoDesign, Reported> {
         let m = model.n_constraints();
         let mut pilot = base.clone();
         pilot.mu = vec![self.pilot_mu; m];
-        pilot.gains = match self.pilot_gain {
-            Some(k) => vec![k; m],
-            None => base
+        pilot.gains = match (fixed_gain, self.pilot_gain) {
+            (Some(k), _) | (None, Some(k)) => vec![k; m],
+            (None, None) => base
                 .eps
                 .iter()
                 .map(|e| 2.0 * e / (100.0 * base.step))
                 .collect(),
         };
         let opts = AutoDesignOptions {
-            gain: self.gains.choice(),
+            gain: fixed_gain.map_or(self.gains.choice(), GainChoice::Fixed),
             layer: self.bound.layer(),
             passes: self.passes,
             safety: self.safety,
@@ -205,7 +207,7 @@ fn from_pilot(args: &Args, file: &std::path::Path) -> Result<(), Reported> {
         .step(args.step)
         .t_end(duration)
         .settle(args.settle);
-    let a = args.pilot_args.auto_design(&model, &base)?;
+    let a = args.pilot_args.auto_design(&model, &base, None)?;
     let out = design_json(&model, &a);
     if args.json {
         println!("{out}");

@@ -183,14 +183,7 @@ pub(crate) fn run(args: &Args) -> Result<(), Reported> {
                 }
                 fixed = Some(k[0]);
             }
-            let a = match fixed {
-                Some(k) => {
-                    let mut base = pilot_base.clone();
-                    base.gains = vec![k; m];
-                    fixed_gain_design(pa, &model, &base, k)?
-                }
-                None => pa.auto_design(&model, &pilot_base)?,
-            };
+            let a = pa.auto_design(&model, &pilot_base, fixed)?;
             settings.mu = a.design.constraints.iter().map(|c| c.mu).collect();
             settings.gains = a.design.constraints.iter().map(|c| c.k).collect();
             if fixed.is_some() && settings.alpha == AlphaChoice::Cheap {
@@ -214,29 +207,6 @@ pub(crate) fn run(args: &Args) -> Result<(), Reported> {
     let summary = simulate(args, &model, settings.clone(), design.as_ref())?;
     print_summary(args, &model, &settings, &summary, design.as_ref());
     Ok(())
-}
-
-/// `--mu auto --gain K`: the automatic design with the same fixed gain for every mu (the
-/// pilots run with that gain too).
-fn fixed_gain_design(
-    pa: &PilotArgs,
-    model: &dyn Model,
-    base: &Settings,
-    k: f64,
-) -> Result<dae_runtime::AutoDesign, Reported> {
-    let opts = dae_runtime::AutoDesignOptions {
-        gain: dae_runtime::GainChoice::Fixed(k),
-        layer: pa.bound.layer(),
-        passes: pa.passes,
-        safety: pa.safety,
-        search: dae_runtime::MuSearch::default(),
-    };
-    let mut pilot = base.clone();
-    pilot.mu = vec![pa.pilot_mu; model.n_constraints()];
-    dae_runtime::auto_design(model, &base.eps, &pilot, &opts).map_err(|e| {
-        eprintln!("error: automatic design of `{}`: {e}", model.name());
-        Reported
-    })
 }
 
 /// A fixed gain with the cheap alpha_hat must still cover the neglected `mu^(r-1) |beta|`
