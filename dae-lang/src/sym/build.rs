@@ -340,21 +340,7 @@ impl Fun1 {
 
     /// The name in the language.
     pub fn name(self) -> &'static str {
-        match self {
-            Fun1::Sin => "sin",
-            Fun1::Cos => "cos",
-            Fun1::Tan => "tan",
-            Fun1::Asin => "asin",
-            Fun1::Acos => "acos",
-            Fun1::Atan => "atan",
-            Fun1::Sinh => "sinh",
-            Fun1::Cosh => "cosh",
-            Fun1::Tanh => "tanh",
-            Fun1::Exp => "exp",
-            Fun1::Ln => "ln",
-            Fun1::Abs => "abs",
-            Fun1::Sign => "sign",
-        }
+        Func::from(self).name()
     }
 }
 
@@ -366,11 +352,7 @@ impl Fun2 {
 
     /// The name in the language.
     pub fn name(self) -> &'static str {
-        match self {
-            Fun2::Atan2 => "atan2",
-            Fun2::Min => "min",
-            Fun2::Max => "max",
-        }
+        Func::from(self).name()
     }
 }
 
