@@ -123,11 +123,15 @@ pub use model::{Model, w_offsets};
 mod error;
 mod settings;
 mod sim;
+mod solve;
 mod summary;
 mod trace;
 
 pub use error::{Quantity, SimError};
 pub use settings::{AlphaChoice, Initial, Integrator, Policy, Reaching, Settings};
 pub use sim::Simulator;
-pub use summary::Summary;
+pub use solve::{
+    DENSE_MAX, InverseKind, LinearSolver, SolveError, Solver, SolverChoice, SolverStats, mul_js,
+};
+pub use summary::{SolverSummary, Summary};
 pub use trace::{CsvSink, Decimate, Layout, NoTrace, Sample, Sink, Trace};
