@@ -65,7 +65,7 @@
 mod baseline;
 mod generated;
 mod harness;
-mod linalg;
+mod particles;
 mod scenes;
 mod stability;
 mod standin;
@@ -77,6 +77,7 @@ pub use harness::{
     BDF_MISSING, CostAxis, DesignedBounds, ErrorAxis, Method, Record, Scene, chart,
     designed_bounds, pilot_beta_bound, run_method, write_csv,
 };
+pub use particles::{Lcg, Particles};
 pub use scenes::{SceneError, TRUTH_TOL, chain_scene, embedded_chain_scene, vertical_plane_map};
 pub use stability::{
     DRIFT_FLOOR, DRIFT_GROWTH, Envelope, StabilityRow, Verdict, envelope_run, judge,

@@ -13,6 +13,7 @@ use super::{
 };
 
 /// Values of `J_Omega` in CSR order, the row scaling and the diagonal's CSR slots.
+#[derive(Clone)]
 struct Csr {
     st: Structure,
     vals: Vec<f64>,
@@ -39,14 +40,24 @@ impl Csr {
         }
     }
 
-    /// Load values and scaling; fail on a negligible diagonal entry (diagnosed).
+    /// Load values and scaling in one pass; fail on a non-finite value or a negligible
+    /// diagonal entry (diagnosed).
     fn load(&mut self, values: &[f64], row_scale: &[f64]) -> Result<(), SolveError> {
-        check_finite(&self.st, values, row_scale)?;
+        let (mut big, mut finite) = (0.0f64, true);
         for (v, &e) in self.vals.iter_mut().zip(&self.st.entry) {
-            *v = values[e];
+            let x = values[e];
+            *v = x;
+            big = big.max(x.abs());
+            finite &= x.is_finite();
+        }
+        if !finite {
+            check_finite(&self.st, values, row_scale)?;
         }
         self.scale.copy_from_slice(row_scale);
-        let tol = PIVOT_TOL * max_abs(values);
+        if row_scale.iter().any(|d| !d.is_finite() || *d == 0.0) {
+            check_finite(&self.st, values, row_scale)?;
+        }
+        let tol = PIVOT_TOL * big;
         for i in 0..self.st.m {
             let s = self.diag_slot[i];
             if s == NONE || self.vals[s].abs() <= tol {
@@ -75,6 +86,7 @@ impl Csr {
 }
 
 /// `J_hat = diag(J_s)`.
+#[derive(Clone)]
 pub(crate) struct Jacobi {
     a: Csr,
     inv: Vec<f64>,
@@ -128,6 +140,7 @@ impl LinearSolver for Jacobi {
 }
 
 /// A fixed number of forward Gauss-Seidel sweeps on `J_Omega y = diag(d)^{-1} b`.
+#[derive(Clone)]
 pub(crate) struct GaussSeidel {
     a: Csr,
     sweeps: u32,
@@ -205,9 +218,11 @@ impl LinearSolver for GaussSeidel {
 /// At most a fixed number of Jacobi-preconditioned conjugate-gradient iterations on
 /// `J_Omega y = diag(d)^{-1} b` (symmetric definite `J_Omega`, of either sign: the
 /// step lengths are ratios in which the sign cancels).
+#[derive(Clone)]
 pub(crate) struct Cg {
     a: Csr,
     iters: u32,
+    checked: bool,
     rhs: Vec<f64>,
     r: Vec<f64>,
     z: Vec<f64>,
@@ -229,6 +244,7 @@ impl Cg {
         Ok(Self {
             a: Csr::new(st),
             iters,
+            checked: false,
             rhs: v(),
             r: v(),
             z: v(),
@@ -259,8 +275,14 @@ impl LinearSolver for Cg {
     }
     fn factor(&mut self, values: &[f64], row_scale: &[f64]) -> Result<(), SolveError> {
         self.stats.factorisations += 1;
-        if let Some((row, col)) = self.a.st.asymmetry(values, max_abs(values)) {
-            return Err(SolveError::NotSymmetric { row, col });
+        // Symmetry is checked at the first factorisation only (it costs a scattered
+        // pass over the values): CG on a slightly unsymmetric J_Omega later is only a
+        // worse approximation, which the residual-based robustness check sees.
+        if !self.checked {
+            if let Some((row, col)) = self.a.st.asymmetry(values, max_abs(values)) {
+                return Err(SolveError::NotSymmetric { row, col });
+            }
+            self.checked = true;
         }
         self.a.load(values, row_scale)
     }
@@ -322,6 +344,7 @@ impl LinearSolver for Cg {
 
 /// Incomplete LU without fill on the pattern of `J_Omega` (diagonal pivots), applied
 /// exactly: `J_hat = diag(d) L U`.
+#[derive(Clone)]
 pub(crate) struct Ilu0 {
     a: Csr,
     /// Position of column `j` in the row being factored (`NONE` elsewhere).
@@ -356,7 +379,7 @@ impl LinearSolver for Ilu0 {
     fn factor(&mut self, values: &[f64], row_scale: &[f64]) -> Result<(), SolveError> {
         self.stats.factorisations += 1;
         self.a.load(values, row_scale)?;
-        let tol = PIVOT_TOL * max_abs(values);
+        let tol = PIVOT_TOL * max_abs(&self.a.vals);
         let a = &mut self.a;
         let (cols, row_ptr) = (&a.st.cols, &a.st.row_ptr);
         for i in 0..a.st.m {

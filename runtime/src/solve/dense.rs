@@ -7,6 +7,7 @@ use super::{
 };
 
 /// Packed `L\U` factors of `J_s` and the row swaps that produced them.
+#[derive(Clone)]
 pub(crate) struct DenseSolver {
     st: Structure,
     m: usize,

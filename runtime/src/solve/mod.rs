@@ -20,6 +20,7 @@ mod diagnose;
 mod order;
 mod sparse;
 mod structure;
+mod supernodal;
 mod tree;
 
 use std::fmt;
@@ -234,6 +235,7 @@ pub fn mul_js(
     }
 }
 
+#[derive(Clone)]
 enum Kind {
     Dense(DenseSolver),
     Sparse(SparseSolver),
@@ -246,9 +248,19 @@ enum Kind {
 
 /// A solver chosen by [`SolverChoice`] for one pattern (static dispatch over the
 /// built-in solvers).
+#[derive(Clone)]
 pub struct Solver {
     kind: Kind,
     choice: SolverChoice,
+}
+
+impl fmt::Debug for Solver {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Solver")
+            .field("name", &self.name())
+            .field("choice", &self.choice)
+            .finish_non_exhaustive()
+    }
 }
 
 impl Solver {

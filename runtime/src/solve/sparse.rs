@@ -17,11 +17,13 @@
 use super::diagnose::pivot_failure;
 use super::order::{OrderKind, elimination_order};
 use super::structure::NONE;
+use super::supernodal::Supernodal;
 use super::{
     InverseKind, LinearSolver, PIVOT_TOL, SolveError, SolverStats, Structure, check_finite,
     max_abs,
 };
 
+#[derive(Clone)]
 pub(crate) struct SparseSolver {
     st: Structure,
     /// `perm[k]` is the original row eliminated `k`-th.
@@ -42,6 +44,11 @@ pub(crate) struct SparseSolver {
     ux: Vec<f64>,
     d: Vec<f64>,
     symmetric_values: bool,
+    /// The multifrontal kernel (symmetric values), and whether it holds the factors.
+    /// Built for patterns with fill only: on chordal patterns every supernode is a
+    /// column and the up-looking kernel is faster.
+    multifrontal: Option<Supernodal>,
+    use_multifrontal: bool,
     work_y: Vec<f64>,
     work_t: Vec<f64>,
     scale: Vec<f64>,
@@ -164,8 +171,12 @@ impl SparseSolver {
         }
         let nnz_l = rows.len();
         let symmetric_pattern = st.symmetric;
-        let diag = perm.iter().map(|&i| st.diag[i]).collect();
+        let diag: Vec<usize> = perm.iter().map(|&i| st.diag[i]).collect();
+        let multifrontal = (order_kind == OrderKind::MinimumDegree)
+            .then(|| Supernodal::new(&parent, &col_ptr, &row_idx, &lower, &tri_ptr, &diag));
         Self {
+            multifrontal,
+            use_multifrontal: false,
             perm,
             col_ptr,
             row_idx,
@@ -192,13 +203,16 @@ impl SparseSolver {
     /// Values kept: both triangles of the factor (fill included), the diagonal and the
     /// work vectors.
     pub(crate) fn stored_values(&self) -> usize {
-        2 * self.row_idx.len() + 4 * self.st.m
+        2 * self.row_idx.len()
+            + 4 * self.st.m
+            + self.multifrontal.as_ref().map_or(0, Supernodal::stored_values)
     }
 
-    /// Whether the ordering was a perfect elimination ordering (no fill).
+    /// Whether the ordering was a perfect elimination ordering (no fill), and the
+    /// nonzeros of the strictly lower factor.
     #[cfg(test)]
-    pub(crate) fn zero_fill(&self) -> bool {
-        self.order_kind == OrderKind::Perfect
+    pub(crate) fn fill(&self) -> (bool, usize) {
+        (self.order_kind == OrderKind::Perfect, self.row_idx.len())
     }
 
     /// Left null vector (original numbering) of the leading block when pivot `k`
@@ -252,6 +266,15 @@ impl LinearSolver for SparseSolver {
         };
         self.scale.copy_from_slice(row_scale);
         let tol = PIVOT_TOL * scale;
+        self.use_multifrontal = false;
+        if let (true, Some(mf)) = (self.symmetric_values, &mut self.multifrontal) {
+            if mf.factor(values, tol).is_ok() {
+                self.use_multifrontal = true;
+                return Ok(());
+            }
+        }
+        // Unsymmetric values, or a failed pivot: the up-looking kernel (which finds the
+        // same pivot and diagnoses it).
         let n = self.st.m;
         let sym = self.symmetric_values;
         let (y, t) = (&mut self.work_y, &mut self.work_t);
@@ -311,6 +334,14 @@ impl LinearSolver for SparseSolver {
         let x = &mut self.work_y;
         for (k, &i) in self.perm.iter().enumerate() {
             x[k] = b[i] / self.scale[i];
+        }
+        if let (true, Some(mf)) = (self.use_multifrontal, &self.multifrontal) {
+            mf.solve(x);
+            for (k, &i) in self.perm.iter().enumerate() {
+                b[i] = x[k];
+                x[k] = 0.0;
+            }
+            return;
         }
         for j in 0..n {
             let xj = x[j];

@@ -8,6 +8,7 @@ use super::SolveError;
 pub(crate) const NONE: usize = usize::MAX;
 
 /// The analysed pattern of an `m x m` matrix whose values arrive in pattern order.
+#[derive(Clone)]
 pub(crate) struct Structure {
     pub(crate) m: usize,
     /// The pattern as given (the order of the values).

@@ -13,6 +13,7 @@ use super::{
     max_abs,
 };
 
+#[derive(Clone)]
 pub(crate) struct TreeSolver {
     st: Structure,
     /// Nodes in elimination order: every node after all of its children.
