@@ -56,12 +56,16 @@ fn measure(family: &'static str, p: &Particles, choice: SolverChoice) -> Option<
     let (pattern, values) = p.jacobian();
     // Row scaling mu_i^(r-1) with mu differing per row (index 3: mu^2).
     let mut rng = Lcg(99);
-    let scale: Vec<f64> = (0..m).map(|_| (0.05 + 0.03 * rng.uniform()).powi(2)).collect();
+    let scale: Vec<f64> = (0..m)
+        .map(|_| (0.05 + 0.03 * rng.uniform()).powi(2))
+        .collect();
     let b: Vec<f64> = (0..m).map(|_| 2.0 * rng.uniform() - 1.0).collect();
     let t = Instant::now();
     let mut solver = Solver::new(m, &pattern, choice).ok()?;
     let symbolic = t.elapsed().as_secs_f64();
-    solver.factor(&values, &scale).expect("particle J_Omega factors");
+    solver
+        .factor(&values, &scale)
+        .expect("particle J_Omega factors");
     let factor = best_time(|| solver.factor(black_box(&values), &scale).expect("factor"));
     let mut y = b.clone();
     let solve = best_time(|| {
@@ -97,9 +101,9 @@ fn fmt_time(s: f64) -> String {
 
 fn slope(points: &[(f64, f64)]) -> f64 {
     let n = points.len() as f64;
-    let (mx, my) = points
-        .iter()
-        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x.ln() / n, b + y.ln() / n));
+    let (mx, my) = points.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
+        (a + x.ln() / n, b + y.ln() / n)
+    });
     let (sxy, sxx) = points.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
         let dx = x.ln() - mx;
         (a + dx * (y.ln() - my), b + dx * dx)

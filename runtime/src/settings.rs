@@ -306,7 +306,10 @@ impl Settings {
         }
         if let Some(margin) = self.raise_gains {
             if !(margin.is_finite() && margin > 0.0) {
-                return bad("raise_gains", format!("margin {margin} must be finite and > 0"));
+                return bad(
+                    "raise_gains",
+                    format!("margin {margin} must be finite and > 0"),
+                );
             }
         }
         if let Some(init) = &self.initial {

@@ -211,7 +211,10 @@ impl Controller {
                 name(col)
             ),
             SolveError::NonFinite { row } => {
-                format!("J_Omega has a non-finite entry in the row of constraint {}", name(row))
+                format!(
+                    "J_Omega has a non-finite entry in the row of constraint {}",
+                    name(row)
+                )
             }
             SolveError::Pattern(p) => p,
         };

@@ -8,8 +8,7 @@
 use super::diagnose::pivot_failure;
 use super::structure::NONE;
 use super::{
-    InverseKind, LinearSolver, PIVOT_TOL, SolveError, SolverStats, Structure, check_finite,
-    max_abs,
+    InverseKind, LinearSolver, PIVOT_TOL, SolveError, SolverStats, Structure, check_finite, max_abs,
 };
 
 /// Values of `J_Omega` in CSR order, the row scaling and the diagonal's CSR slots.

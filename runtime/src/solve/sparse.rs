@@ -19,8 +19,7 @@ use super::order::{OrderKind, elimination_order};
 use super::structure::NONE;
 use super::supernodal::Supernodal;
 use super::{
-    InverseKind, LinearSolver, PIVOT_TOL, SolveError, SolverStats, Structure, check_finite,
-    max_abs,
+    InverseKind, LinearSolver, PIVOT_TOL, SolveError, SolverStats, Structure, check_finite, max_abs,
 };
 
 #[derive(Clone)]
@@ -205,7 +204,10 @@ impl SparseSolver {
     pub(crate) fn stored_values(&self) -> usize {
         2 * self.row_idx.len()
             + 4 * self.st.m
-            + self.multifrontal.as_ref().map_or(0, Supernodal::stored_values)
+            + self
+                .multifrontal
+                .as_ref()
+                .map_or(0, Supernodal::stored_values)
     }
 
     /// Whether the ordering was a perfect elimination ordering (no fill), and the
@@ -321,7 +323,13 @@ impl LinearSolver for SparseSolver {
                 y.fill(0.0);
                 t.fill(0.0);
                 let yl = self.leading_null(k);
-                return Err(pivot_failure(&self.st, values, row_scale, self.perm[k], || yl));
+                return Err(pivot_failure(
+                    &self.st,
+                    values,
+                    row_scale,
+                    self.perm[k],
+                    || yl,
+                ));
             }
             self.d[k] = dk;
         }

@@ -113,7 +113,11 @@ impl Supernodal {
             let (f, l) = (first_of[s], last(s));
             let start = rows.len();
             rows.extend((f..=l).map(|j| j as u32));
-            rows.extend(row_idx[col_ptr[l]..col_ptr[l + 1]].iter().map(|&r| r as u32));
+            rows.extend(
+                row_idx[col_ptr[l]..col_ptr[l + 1]]
+                    .iter()
+                    .map(|&r| r as u32),
+            );
             let nf = rows.len() - start;
             let ns = l - f + 1;
             index_of[s] = nodes.len();
@@ -248,7 +252,8 @@ impl Supernodal {
             // The update matrix, square u x u: column jj holds rows ns.. of front
             // column ns + jj (the part above the diagonal is unused).
             for jj in ns..nf {
-                self.stack.extend_from_slice(&f[jj * nf + ns..(jj + 1) * nf]);
+                self.stack
+                    .extend_from_slice(&f[jj * nf + ns..(jj + 1) * nf]);
             }
         }
         Ok(())

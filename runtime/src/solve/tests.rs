@@ -7,7 +7,10 @@ use super::*;
 struct Lcg(u64);
 impl Lcg {
     fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
     }
 }
@@ -79,7 +82,11 @@ fn exact_solvers_solve_a_grid_with_row_scaling() {
     let d: Vec<f64> = (0..m).map(|i| 0.01 + 0.02 * (i % 5) as f64).collect();
     let a = dense_of(m, &pat, &vals, &d);
     let b: Vec<f64> = (0..m).map(|_| rng.next()).collect();
-    for choice in [SolverChoice::Dense, SolverChoice::Sparse, SolverChoice::Auto] {
+    for choice in [
+        SolverChoice::Dense,
+        SolverChoice::Sparse,
+        SolverChoice::Auto,
+    ] {
         let mut s = Solver::new(m, &pat, choice).unwrap();
         s.factor(&vals, &d).unwrap();
         let mut x = b.clone();
@@ -104,7 +111,10 @@ fn sparse_lu_handles_unsymmetric_values_and_pattern() {
             *v += 0.3 * rng.next();
         }
     }
-    let drop = pat.iter().position(|&(i, j)| i == 7 && j == 2).unwrap_or(pat.len() - 1);
+    let drop = pat
+        .iter()
+        .position(|&(i, j)| i == 7 && j == 2)
+        .unwrap_or(pat.len() - 1);
     pat.remove(drop);
     vals.remove(drop);
     let d = vec![1.0; m];
@@ -143,7 +153,10 @@ fn approximate_solvers_converge_with_more_iterations() {
             s.solve(&mut x);
             r[k] = residual(m, &a, &x, &b);
         }
-        assert!(r[1] < 1e-10 && r[0] > 100.0 * r[1], "{few} vs {many}: {r:?}");
+        assert!(
+            r[1] < 1e-10 && r[0] > 100.0 * r[1],
+            "{few} vs {many}: {r:?}"
+        );
     }
     // Jacobi and ILU(0) are linear and cheaper than exact, but not exact here.
     for c in [SolverChoice::Jacobi, SolverChoice::Ilu0] {
@@ -171,7 +184,11 @@ fn a_singular_matrix_names_its_dependent_rows() {
         (3, 3),
     ];
     let vals = [1.0, 2.0, 2.0, 4.0, 1.0, 0.5, 0.5, 2.0];
-    for c in [SolverChoice::Dense, SolverChoice::Sparse, SolverChoice::Tree] {
+    for c in [
+        SolverChoice::Dense,
+        SolverChoice::Sparse,
+        SolverChoice::Tree,
+    ] {
         let mut s = Solver::new(4, &pat, c).unwrap();
         let err = s.factor(&vals, &[1.0, 0.5, 1.0, 1.0]).unwrap_err();
         assert_eq!(
@@ -212,7 +229,11 @@ fn choices_round_trip_through_text() {
         assert_eq!(c.to_string().parse::<SolverChoice>(), Ok(c));
     }
     assert!("cg:0".parse::<SolverChoice>().unwrap_err().contains(">= 1"));
-    assert!("lu".parse::<SolverChoice>().unwrap_err().contains("gauss-seidel:K"));
+    assert!(
+        "lu".parse::<SolverChoice>()
+            .unwrap_err()
+            .contains("gauss-seidel:K")
+    );
 }
 
 #[test]

@@ -9,8 +9,7 @@
 use super::diagnose::pivot_failure;
 use super::structure::NONE;
 use super::{
-    InverseKind, LinearSolver, PIVOT_TOL, SolveError, SolverStats, Structure, check_finite,
-    max_abs,
+    InverseKind, LinearSolver, PIVOT_TOL, SolveError, SolverStats, Structure, check_finite, max_abs,
 };
 
 #[derive(Clone)]
@@ -72,10 +71,22 @@ impl TreeSolver {
                 .map_or(NONE, |k| st.entry[st.row_ptr[i] + k])
         };
         let up = (0..m)
-            .map(|k| if parent[k] == NONE { NONE } else { find(k, parent[k]) })
+            .map(|k| {
+                if parent[k] == NONE {
+                    NONE
+                } else {
+                    find(k, parent[k])
+                }
+            })
             .collect();
         let down = (0..m)
-            .map(|k| if parent[k] == NONE { NONE } else { find(parent[k], k) })
+            .map(|k| {
+                if parent[k] == NONE {
+                    NONE
+                } else {
+                    find(parent[k], k)
+                }
+            })
             .collect();
         Ok(Self {
             order,
