@@ -169,7 +169,7 @@ impl Particles {
             }
         }
         // Two links between the same particles share both: sum their contributions.
-        entries.sort_by(|x, y| x.0.cmp(&y.0));
+        entries.sort_by_key(|e| e.0);
         let mut pattern: Vec<(usize, usize)> = Vec::with_capacity(entries.len());
         let mut values: Vec<f64> = Vec::with_capacity(entries.len());
         for (ij, v) in entries {

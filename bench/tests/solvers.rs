@@ -343,7 +343,8 @@ fn jacobi_failures(model: &dyn Model, t: f64, x: &[f64], z: &[f64], mu: f64, k: 
             .filter(|&j| j != i)
             .map(|j| (e(j) * k[j]).abs())
             .sum();
-        if !(e(i) * k[i] > gamma.abs() + off) {
+        let holds = e(i) * k[i] > gamma.abs() + off;
+        if !holds {
             fails += 1;
         }
     }

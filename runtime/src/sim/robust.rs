@@ -100,7 +100,7 @@ impl Robustness {
         gains
             .iter()
             .zip(&self.need)
-            .filter(|(k, n)| !(**k > **n))
+            .filter(|(k, n)| k.partial_cmp(n) != Some(std::cmp::Ordering::Greater))
             .count() as u64
     }
 

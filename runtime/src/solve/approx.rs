@@ -292,6 +292,8 @@ impl LinearSolver for Cg {
         self.solve_from(&rhs, b);
         self.rhs = rhs;
     }
+    // Indexed loops: five parallel vectors.
+    #[allow(clippy::needless_range_loop)]
     fn solve_from(&mut self, b: &[f64], x: &mut [f64]) {
         self.stats.solves += 1;
         let a = &self.a;
@@ -368,6 +370,8 @@ impl Ilu0 {
     }
 }
 
+// Indexed loops: CSR rows addressed through positions and a column marker.
+#[allow(clippy::needless_range_loop)]
 impl LinearSolver for Ilu0 {
     fn name(&self) -> &str {
         "ilu0"

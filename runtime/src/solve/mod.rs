@@ -238,7 +238,8 @@ pub fn mul_js(
 #[derive(Clone)]
 enum Kind {
     Dense(DenseSolver),
-    Sparse(SparseSolver),
+    // Boxed: its symbolic tables make it much larger than the others.
+    Sparse(Box<SparseSolver>),
     Tree(TreeSolver),
     Jacobi(Jacobi),
     GaussSeidel(GaussSeidel),
@@ -279,7 +280,7 @@ impl Solver {
         };
         let kind = match resolved {
             SolverChoice::Auto | SolverChoice::Dense => Kind::Dense(DenseSolver::new(st)),
-            SolverChoice::Sparse => Kind::Sparse(SparseSolver::new(st)),
+            SolverChoice::Sparse => Kind::Sparse(Box::new(SparseSolver::new(st))),
             SolverChoice::Tree => Kind::Tree(TreeSolver::new(st)?),
             SolverChoice::Jacobi => Kind::Jacobi(Jacobi::new(st)),
             SolverChoice::GaussSeidel(k) => Kind::GaussSeidel(GaussSeidel::new(st, k)),
@@ -312,7 +313,7 @@ impl Solver {
     fn inner(&self) -> &dyn LinearSolver {
         match &self.kind {
             Kind::Dense(s) => s,
-            Kind::Sparse(s) => s,
+            Kind::Sparse(s) => s.as_ref(),
             Kind::Tree(s) => s,
             Kind::Jacobi(s) => s,
             Kind::GaussSeidel(s) => s,

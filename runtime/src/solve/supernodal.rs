@@ -86,8 +86,8 @@ impl Supernodal {
         // Postorder of the supernodal tree (children in ascending order).
         let mut child_lists: Vec<Vec<usize>> = vec![Vec::new(); ns_total];
         let mut roots = Vec::new();
-        for s in 0..ns_total {
-            match sparent[s] {
+        for (s, &p) in sparent.iter().enumerate() {
+            match p {
                 NONE => roots.push(s),
                 p => child_lists[p].push(s),
             }
