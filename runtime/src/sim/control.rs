@@ -12,6 +12,17 @@ pub(crate) enum Switch {
     Saturation,
 }
 
+impl Switch {
+    /// `sgn(s)` or `sat(s / eps)`.
+    #[inline]
+    fn of(self, s: f64, eps: f64) -> f64 {
+        match self {
+            Switch::Sign => sgn(s),
+            Switch::Saturation => (s / eps).clamp(-1.0, 1.0),
+        }
+    }
+}
+
 /// What the law does about robustness (T 3.22) at one update.
 #[derive(Clone, Copy)]
 pub(crate) struct Check {
@@ -245,6 +256,28 @@ impl Controller {
             model.beta(t, x, z, &mut self.beta);
             self.beta_evals += 1;
         }
+        let kind = self.solver.inverse();
+        if !check.evaluate || (kind == InverseKind::Exact && check.raise.is_none()) {
+            // The common paths: one pass for the right-hand side (and, with an exact
+            // solver, the condition k_i > |alpha_i - alpha_hat_i| + k_i^c), one solve.
+            let mut failures = 0;
+            for i in 0..m {
+                let exact_part = self.mu_pow[i] * self.beta[i];
+                let (ah, g) = if self.exact_alpha {
+                    (self.ah[i] + exact_part, 0.0)
+                } else {
+                    (self.ah[i], exact_part)
+                };
+                // A NaN beta counts as a failure.
+                let holds = self.gains[i] > g.abs() + self.margin[i];
+                if check.evaluate && !holds {
+                    failures += 1;
+                }
+                self.rhs[i] = -ah - self.gains[i] * switch.of(self.s[i], self.eps[i]);
+            }
+            self.solver.solve_from(&self.rhs, v);
+            return if check.count { failures } else { 0 };
+        }
         for i in 0..m {
             let exact_part = self.mu_pow[i] * self.beta[i];
             if self.exact_alpha {
@@ -255,9 +288,8 @@ impl Controller {
                 self.g[i] = exact_part;
             }
         }
-        let kind = self.solver.inverse();
         let mut failures = 0;
-        if check.evaluate && kind != InverseKind::Approximate {
+        if kind != InverseKind::Approximate {
             self.robust.evaluate(
                 kind,
                 &self.jvals,
@@ -286,7 +318,7 @@ impl Controller {
             }
         }
         self.solve_law(switch, v);
-        if check.evaluate && kind == InverseKind::Approximate {
+        if kind == InverseKind::Approximate {
             self.residual_of(v);
             self.robust.evaluate(
                 kind,
@@ -312,11 +344,7 @@ impl Controller {
     /// `v = J_hat^{-1}(-alpha_hat - K sw(s))`, warm-started from the previous `v`.
     fn solve_law(&mut self, switch: Switch, v: &mut [f64]) {
         for i in 0..self.s.len() {
-            let sw = match switch {
-                Switch::Sign => sgn(self.s[i]),
-                Switch::Saturation => (self.s[i] / self.eps[i]).clamp(-1.0, 1.0),
-            };
-            self.rhs[i] = -self.ah_used[i] - self.gains[i] * sw;
+            self.rhs[i] = -self.ah_used[i] - self.gains[i] * switch.of(self.s[i], self.eps[i]);
         }
         self.solver.solve_from(&self.rhs, v);
     }

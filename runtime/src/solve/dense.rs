@@ -34,21 +34,19 @@ impl DenseSolver {
         self.a.len()
     }
 
-    /// Factor the matrix in `a` in place; `false` if a pivot is negligible.
+    /// Factor the matrix in `a` in place; `false` if a pivot is negligible. Column
+    /// slices (no index arithmetic in the inner loops): a 2 x 2 update is tens of ns.
     fn eliminate(&mut self) -> bool {
         let m = self.m;
         let a = &mut self.a;
         let scale = a.iter().fold(0.0f64, |acc, v| acc.max(v.abs()));
         let tol = PIVOT_TOL * scale;
         for i in 0..m {
-            let col_i = i * m;
-            let mut piv = i;
-            let mut best = a[col_i + i].abs();
-            for r in i + 1..m {
-                let v = a[col_i + r].abs();
-                if v > best {
-                    best = v;
-                    piv = r;
+            let (mut piv, mut best) = (i, a[i * m + i].abs());
+            for (r, v) in a[i * m + i + 1..(i + 1) * m].iter().enumerate() {
+                if v.abs() > best {
+                    best = v.abs();
+                    piv = i + 1 + r;
                 }
             }
             if best.is_nan() || best <= tol {
@@ -56,19 +54,22 @@ impl DenseSolver {
             }
             self.swaps[i] = piv;
             if piv != i {
-                for c in 0..m {
-                    a.swap(c * m + i, c * m + piv);
+                for col in a.chunks_exact_mut(m) {
+                    col.swap(i, piv);
                 }
             }
-            let d = a[col_i + i];
-            for r in i + 1..m {
-                a[col_i + r] /= d;
+            let (left, right) = a.split_at_mut((i + 1) * m);
+            let col_i = &mut left[i * m..];
+            let d = col_i[i];
+            for l in &mut col_i[i + 1..] {
+                *l /= d;
             }
-            for c in i + 1..m {
-                let u = a[c * m + i];
+            let below = &col_i[i + 1..];
+            for col in right.chunks_exact_mut(m) {
+                let u = col[i];
                 if u != 0.0 {
-                    for r in i + 1..m {
-                        a[c * m + r] -= a[col_i + r] * u;
+                    for (x, l) in col[i + 1..].iter_mut().zip(below) {
+                        *x -= l * u;
                     }
                 }
             }
@@ -88,9 +89,13 @@ impl LinearSolver for DenseSolver {
     fn factor(&mut self, values: &[f64], row_scale: &[f64]) -> Result<(), SolveError> {
         self.stats.factorisations += 1;
         let m = self.m;
-        self.a.fill(0.0);
+        let a = &mut self.a[..m * m];
+        for x in a.iter_mut() {
+            *x = 0.0;
+        }
+        let d = &row_scale[..m];
         for (&(i, j), v) in self.st.entries.iter().zip(values) {
-            self.a[j * m + i] = row_scale[i] * v;
+            a[j * m + i] = d[i] * v;
         }
         if self.eliminate() {
             return Ok(());
@@ -108,28 +113,26 @@ impl LinearSolver for DenseSolver {
     fn solve(&mut self, b: &mut [f64]) {
         self.stats.solves += 1;
         let m = self.m;
-        let a = &self.a;
-        for i in 0..m {
-            let p = self.swaps[i];
+        for (i, &p) in self.swaps.iter().enumerate() {
             if p != i {
                 b.swap(i, p);
             }
         }
-        // Forward with unit L (column-oriented), then back with U.
-        for j in 0..m {
+        // Forward with unit L, then back with U, column by column.
+        for (j, col) in self.a.chunks_exact(m).enumerate() {
             let bj = b[j];
             if bj != 0.0 {
-                for r in j + 1..m {
-                    b[r] -= a[j * m + r] * bj;
+                for (x, l) in b[j + 1..].iter_mut().zip(&col[j + 1..]) {
+                    *x -= l * bj;
                 }
             }
         }
-        for j in (0..m).rev() {
-            let bj = b[j] / a[j * m + j];
+        for (j, col) in self.a.chunks_exact(m).enumerate().rev() {
+            let bj = b[j] / col[j];
             b[j] = bj;
             if bj != 0.0 {
-                for r in 0..j {
-                    b[r] -= a[j * m + r] * bj;
+                for (x, u) in b[..j].iter_mut().zip(&col[..j]) {
+                    *x -= u * bj;
                 }
             }
         }

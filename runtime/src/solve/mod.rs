@@ -355,8 +355,13 @@ impl LinearSolver for Solver {
     fn name(&self) -> &str {
         self.inner().name()
     }
+    #[inline]
     fn inverse(&self) -> InverseKind {
-        self.inner().inverse()
+        match &self.kind {
+            Kind::Dense(_) | Kind::Sparse(_) | Kind::Tree(_) => InverseKind::Exact,
+            Kind::Jacobi(_) => InverseKind::Diagonal,
+            Kind::GaussSeidel(_) | Kind::Cg(_) | Kind::Ilu0(_) => InverseKind::Approximate,
+        }
     }
     #[inline]
     fn factor(&mut self, values: &[f64], row_scale: &[f64]) -> Result<(), SolveError> {
