@@ -13,7 +13,7 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use dae_bench::{Lcg, Particles};
-use dae_runtime::{LinearSolver, Solver, SolverChoice, mul_js};
+use dae_runtime::{DENSE_MAX, LinearSolver, Solver, SolverChoice, mul_js};
 
 /// Best time per call of `f` in seconds: batches of calls lasting at least 20 ms.
 fn best_time(mut f: impl FnMut()) -> f64 {
@@ -187,6 +187,28 @@ fn main() {
                     xy[last].1 / xy[last - 1].1
                 ));
             }
+        }
+    }
+    // Where the exact sparse solvers overtake dense LU (the Auto threshold DENSE_MAX).
+    println!("\nSmall systems: update time (factor + solve) of dense LU against the exact");
+    println!("solver Auto picks above DENSE_MAX = {DENSE_MAX}:\n");
+    println!("| scene | m | dense | sparse | tree |");
+    println!("|---|---|---|---|---|");
+    for m in [10, 20, 40, 80] {
+        let w = ((m as f64 / 2.0).sqrt() + 1.0).round() as usize;
+        for (family, p) in [
+            ("chain", Particles::chain(m, 0.3, 10.0)),
+            ("random tree", Particles::random_tree(m, 7)),
+            ("cloth", Particles::cloth(w, 0.05, 3)),
+        ] {
+            let t = |c| measure(family, &p, c).map(|r| fmt_time(r.factor + r.solve));
+            println!(
+                "| {family} | {} | {} | {} | {} |",
+                p.links.len(),
+                t(SolverChoice::Dense).unwrap_or_default(),
+                t(SolverChoice::Sparse).unwrap_or_default(),
+                t(SolverChoice::Tree).unwrap_or_else(|| "-".into())
+            );
         }
     }
     println!("\nFitted exponent of the update time in m (10^2 .. 10^4 links), and the time");

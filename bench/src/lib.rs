@@ -25,6 +25,11 @@
 //! * **Independent oracle** [`PlanarChainDae`]: a hand-written Cartesian chain model,
 //!   checked against finite differences; the tests compare the generated chains'
 //!   `f`, `w` derivatives, `J_Omega` and `beta` with it at random points.
+//! * **Particle Jacobians** ([`Particles`]): `J_Omega = -G M^-1 G^T` built by hand for
+//!   chains (straight or bent, heavy end), square cloth and random particle trees, the
+//!   test and benchmark matrices of the runtime's `J_s` solvers
+//!   (`cargo run --release -p dae-bench --example solvers` times every solver at 10^2,
+//!   10^3 and 10^4 links with fitted exponents).
 //! * **Work-precision harness** ([`Scene`], [`Method`], [`run_method`], [`Record`],
 //!   [`write_csv`], [`chart`]): one run per knob value, position error at `t_end`
 //!   against the truth, max `|w|`, best-of-N wall time, `J_s` solves, `f` evaluations.

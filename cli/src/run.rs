@@ -69,7 +69,7 @@ pub(crate) struct Args {
     /// Print the summary as JSON.
     #[arg(long)]
     json: bool,
-    /// Solver of J_s at the control updates: `auto` (exact: dense up to 40 constraints,
+    /// Solver of J_s at the control updates: `auto` (exact: dense up to 16 constraints,
     /// `tree` when the Jacobian pattern's graph is a forest, `sparse` otherwise),
     /// `dense`, `sparse`, `tree`, or an approximate inverse checked by (T 3.22):
     /// `jacobi`, `gauss-seidel:K` (K sweeps), `cg:K` (K iterations), `ilu0`.

@@ -35,10 +35,13 @@ use dense::DenseSolver;
 use sparse::SparseSolver;
 use tree::TreeSolver;
 
-/// Largest `m` for which [`SolverChoice::Auto`] keeps the dense LU. Measured with
-/// `cargo run --release -p dae-bench --example solvers`: on random particle trees,
-/// chains and cloth the sparse solver overtakes dense LU between 30 and 60 rows.
-pub const DENSE_MAX: usize = 40;
+/// Largest `m` for which [`SolverChoice::Auto`] keeps the dense LU (it also keeps it
+/// for patterns with more than a quarter of the entries). Measured with
+/// `cargo run --release -p dae-bench --example solvers` ("Small systems"): on chains,
+/// random particle trees and cloth the exact sparse solvers overtake dense LU between
+/// 10 and 25 rows (at 40 rows they are 1.5 to 3.5 times faster); below 16 rows both
+/// take well under a microsecond and dense LU, which pivots, is kept.
+pub const DENSE_MAX: usize = 16;
 
 /// Which solver applies `J_hat^{-1}` (the `--solver` of `daec run`).
 ///
@@ -46,8 +49,9 @@ pub const DENSE_MAX: usize = 40;
 /// `sparse`, `tree`, `jacobi`, `gauss-seidel:K`, `cg:K`, `ilu0`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 pub enum SolverChoice {
-    /// Chosen from the pattern: dense for `m <= DENSE_MAX`, the forest elimination when
-    /// the pattern's graph is a forest, the sparse direct solver otherwise. Always exact.
+    /// Chosen from the pattern: dense for `m <= DENSE_MAX` or a pattern with more than
+    /// `m^2 / 4` entries, the forest elimination when the pattern's graph is a forest,
+    /// the sparse direct solver otherwise. Always exact.
     #[default]
     Auto,
     /// Dense LU with partial pivoting: `O(m^3)` per update, `O(m^2)` memory.
@@ -326,7 +330,7 @@ impl Solver {
 /// Exact solver for the pattern: dense when small, the forest elimination when the
 /// graph is a forest, sparse direct otherwise.
 fn auto_choice(st: &Structure) -> SolverChoice {
-    if st.m <= DENSE_MAX {
+    if st.m <= DENSE_MAX || 4 * st.entries.len() > st.m * st.m {
         SolverChoice::Dense
     } else if st.is_forest() && st.has_full_diagonal() {
         SolverChoice::Tree
