@@ -25,6 +25,11 @@
 //! * **Independent oracle** [`PlanarChainDae`]: a hand-written Cartesian chain model,
 //!   checked against finite differences; the tests compare the generated chains'
 //!   `f`, `w` derivatives, `J_Omega` and `beta` with it at random points.
+//! * **Particle Jacobians** ([`Particles`]): `J_Omega = -G M^-1 G^T` built by hand for
+//!   chains (straight or bent, heavy end), square cloth and random particle trees, the
+//!   test and benchmark matrices of the runtime's `J_s` solvers
+//!   (`cargo run --release -p dae-bench --example solvers` times every solver at 10^2,
+//!   10^3 and 10^4 links with fitted exponents).
 //! * **Work-precision harness** ([`Scene`], [`Method`], [`run_method`], [`Record`],
 //!   [`write_csv`], [`chart`]): one run per knob value, position error at `t_end`
 //!   against the truth, max `|w|`, best-of-N wall time, `J_s` solves, `f` evaluations.
@@ -65,7 +70,7 @@
 mod baseline;
 mod generated;
 mod harness;
-mod linalg;
+mod particles;
 mod scenes;
 mod stability;
 mod standin;
@@ -77,6 +82,7 @@ pub use harness::{
     BDF_MISSING, CostAxis, DesignedBounds, ErrorAxis, Method, Record, Scene, chart,
     designed_bounds, pilot_beta_bound, run_method, write_csv,
 };
+pub use particles::{Lcg, Particles};
 pub use scenes::{SceneError, TRUTH_TOL, chain_scene, embedded_chain_scene, vertical_plane_map};
 pub use stability::{
     DRIFT_FLOOR, DRIFT_GROWTH, Envelope, StabilityRow, Verdict, envelope_run, judge,

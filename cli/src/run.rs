@@ -4,8 +4,8 @@ use crate::design::PilotArgs;
 use crate::{Reported, source};
 use dae_runtime::{
     AlphaChoice, ConstraintSpec, CsvSink, Decimate, ErrorSeries, Layout, Model, NoTrace, Policy,
-    Reaching, Sample, Settings, SimError, Simulator, Sink, SlidingSeries, Summary, Trace, YScale,
-    pilot_run, pilot_specs, plot_errors, plot_periods, plot_sliding, t_min,
+    Reaching, Sample, Settings, SimError, Simulator, Sink, SlidingSeries, SolverChoice, Summary,
+    Trace, YScale, pilot_run, pilot_specs, plot_errors, plot_periods, plot_sliding, t_min,
 };
 use serde_json::json;
 use std::fs::File;
@@ -69,6 +69,16 @@ pub(crate) struct Args {
     /// Print the summary as JSON.
     #[arg(long)]
     json: bool,
+    /// Solver of J_s at the control updates: `auto` (exact: dense up to 16 constraints,
+    /// `tree` when the Jacobian pattern's graph is a forest, `sparse` otherwise),
+    /// `dense`, `sparse`, `tree`, or an approximate inverse checked by (T 3.22):
+    /// `jacobi`, `gauss-seidel:K` (K sweeps), `cg:K` (K iterations), `ilu0`.
+    #[arg(long, default_value = "auto", value_parser = parse_solver)]
+    solver: SolverChoice,
+}
+
+fn parse_solver(text: &str) -> Result<SolverChoice, String> {
+    text.parse()
 }
 
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
@@ -147,6 +157,7 @@ pub(crate) fn run(args: &Args) -> Result<(), Reported> {
         .step(args.step)
         .t_end(args.t_end)
         .settle(args.settle)
+        .solver(args.solver)
         .policy(policy)
         .reaching(match args.reaching {
             ReachingArg::Attract => Reaching::AttractingSurfaces,
@@ -395,6 +406,7 @@ fn report_failure(model: &dyn Model, e: &SimError) {
             "J_Omega lost rank here: the algebraic unknowns no longer determine these constraints"
         }
         SimError::ReachingTimeout { .. } => "increase the gains or the layers",
+        SimError::SolverFailed { .. } => "choose another --solver (dense always applies)",
         _ => "",
     };
     if !hint.is_empty() {
@@ -489,6 +501,14 @@ fn print_summary(
             "max_abs_s": s.max_abs_s,
             "max_abs_w": s.max_abs_w,
             "robustness_violations": s.robustness_violations,
+            "solver": {
+                "name": s.solver.name,
+                "choice": s.solver.choice.to_string(),
+                "factorisations": s.solver.factorisations,
+                "solves": s.solver.solves,
+                "iterations": s.solver.iterations,
+                "robustness_failures": s.solver.robustness_failures,
+            },
             "states": (0..model.n_states()).map(|i| model.state_name(i)).collect::<Vec<_>>(),
             "x_final": s.x,
             "z_final": s.z,
@@ -526,5 +546,14 @@ fn print_summary(
             s.max_abs_s[i], s.max_abs_w[i]
         );
     }
+    println!(
+        "  solver {}: {} factorisations, {} solves, {} iterations, {} robustness failures",
+        s.solver.name,
+        s.solver.factorisations,
+        s.solver.solves,
+        s.solver.iterations,
+        s.robustness_violations
+            .map_or("unchecked".to_string(), |v| v.to_string())
+    );
     println!("  wall time {:.3} s", s.wall_time);
 }

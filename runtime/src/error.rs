@@ -71,6 +71,18 @@ pub enum SimError {
         /// Their names.
         names: Vec<String>,
     },
+    /// The solver of `J_s` could not be used at a control update (a vanished diagonal
+    /// pivot of a solver without row exchanges on a nonsingular `J_s`, unsymmetric
+    /// values for CG, a non-finite entry).
+    #[error("solver `{solver}` failed at t = {t}: {reason}")]
+    SolverFailed {
+        /// Simulation time of the update.
+        t: f64,
+        /// The solver's name.
+        solver: String,
+        /// What went wrong, naming the constraints involved, and what to do.
+        reason: String,
+    },
     /// The reaching phase (all `|s_i| <= eps_i`) was not finished within the limit.
     #[error(
         "reaching phase not finished after {limit} s (at t = {t}): constraints {names:?} still outside their layers, s = {s:?}"

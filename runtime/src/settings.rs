@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::SimError;
+use crate::{SimError, SolverChoice};
 
 /// How `x` (and, between updates, `z` along its exact ramp) is integrated over a step.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -100,6 +100,14 @@ pub struct Settings {
     /// Evaluate `beta` at every update to count robustness violations even with the
     /// cheap `alpha_hat` (one extra `beta` evaluation per update). On by default.
     pub check_robustness: bool,
+    /// Which solver applies `J_hat^{-1}` at the control updates (see the crate docs).
+    #[serde(default)]
+    pub solver: SolverChoice,
+    /// Raise the gains of the rows that fail the robustness condition (T 3.22) at an
+    /// update, to `(1 + margin)` times what the row needs (see
+    /// [`Settings::raise_gains`]); `None` keeps the gains and only counts.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub raise_gains: Option<f64>,
     /// Start from these states `x0` and algebraic values `z0` instead of the model's
     /// [`initial_state`](crate::Model::initial_state) and
     /// [`initial_alg`](crate::Model::initial_alg) (see [`Settings::initial`]).
@@ -137,6 +145,8 @@ impl Settings {
             settle: 0.0,
             reaching_limit: f64::INFINITY,
             check_robustness: true,
+            solver: SolverChoice::Auto,
+            raise_gains: None,
             initial: None,
         }
     }
@@ -193,6 +203,38 @@ impl Settings {
     /// Turn robustness counting (and its `beta` evaluation per update) on or off.
     pub fn check_robustness(mut self, on: bool) -> Self {
         self.check_robustness = on;
+        self
+    }
+
+    /// Choose the solver of `J_s` (default [`SolverChoice::Auto`]).
+    pub fn solver(mut self, solver: SolverChoice) -> Self {
+        self.solver = solver;
+        self
+    }
+
+    /// Raise failing rows' gains at the updates (T 3.22 policy), with a relative
+    /// `margin > 0` above the requirement.
+    ///
+    /// At every update (also in the reaching phase, which adds one `beta` evaluation
+    /// per update) the condition `D_ii > |gamma_i| + sum_{j != i} |D_ij| + k_i^c` is
+    /// evaluated for the solver's `J_hat`, and each failing row's gain becomes
+    /// `(1 + margin)` times the right-hand side, before `v` is computed:
+    ///
+    /// * exact solvers: `k_i = (1 + margin)(|alpha_i - alpha_hat_i| + k_i^c)`;
+    /// * Jacobi: rows are raised in passes, each with the other rows' current gains;
+    ///   the gains grow monotonically to the least solution of
+    ///   `(I - (1 + margin)|E_off|) k >= (1 + margin)(|gamma| + k^c)`
+    ///   (`E = J_s diag(J_s)^{-1}`), which exists when the absolute Jacobi iteration
+    ///   matrix has spectral radius below `1 / (1 + margin)`: then every row holds
+    ///   and the crossing condition is restored for all sign patterns;
+    /// * iterative and incomplete solvers: `k_i = (1 + margin)(|alpha_i - alpha_hat_i|
+    ///   + |r_i| + k_i^c)` with the residual `r` of the solve, then `v` is solved again.
+    ///
+    /// Raised gains stay raised for the rest of the run (reported in
+    /// [`Summary::gains`](crate::Summary::gains)) and never exceed 1000 times the
+    /// configured gain; the failures counted are those before the raise.
+    pub fn raise_gains(mut self, margin: f64) -> Self {
+        self.raise_gains = Some(margin);
         self
     }
 
@@ -261,6 +303,14 @@ impl Settings {
                 "reaching_limit",
                 format!("{} must be > 0", self.reaching_limit),
             );
+        }
+        if let Some(margin) = self.raise_gains {
+            if !(margin.is_finite() && margin > 0.0) {
+                return bad(
+                    "raise_gains",
+                    format!("margin {margin} must be finite and > 0"),
+                );
+            }
         }
         if let Some(init) = &self.initial {
             for (field, v, len, what) in [

@@ -9,9 +9,7 @@
 
 use std::time::Instant;
 
-use dae_runtime::{Initial, Model, w_offsets};
-
-use crate::linalg::Lu;
+use dae_runtime::{Initial, LinearSolver, Model, SolveError, Solver, SolverChoice, w_offsets};
 
 /// A callback `observe(t, x, w)` after each step: time, states, constraint residuals.
 pub type Observer<'a> = &'a mut dyn FnMut(f64, &[f64], &[f64]);
@@ -19,13 +17,14 @@ pub type Observer<'a> = &'a mut dyn FnMut(f64, &[f64], &[f64]);
 /// Errors of the index-1 baselines.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum BaselineError {
-    /// `J_s` could not be factored.
-    #[error("singular J_s at t = {t} (no pivot in column {column})")]
+    /// `J_s` could not be factored (the runtime's solver seam says why, naming the
+    /// dependent constraints of a singular `J_s`).
+    #[error("J_s at t = {t}: {reason}")]
     Singular {
         /// Time.
         t: f64,
-        /// Elimination column without a usable pivot.
-        column: usize,
+        /// The solver's error.
+        reason: SolveError,
     },
     /// Newton did not bring `max |s|` under the tolerance.
     #[error("Newton on s(x, z) = 0 did not converge at t = {t}: max |s| = {max_s}")]
@@ -52,13 +51,12 @@ pub struct ZSolver {
     mu: Vec<f64>,
     mu_pow: Vec<f64>,
     offs: Vec<usize>,
-    pattern: Vec<(usize, usize)>,
     jvals: Vec<f64>,
     w: Vec<f64>,
     s: Vec<f64>,
     ah: Vec<f64>,
     dz: Vec<f64>,
-    lu: Lu,
+    solver: Solver,
     /// Absolute tolerance on `max |s_i|`.
     pub tol: f64,
     /// Maximum Newton iterations per solve.
@@ -84,7 +82,9 @@ impl ZSolver {
             )));
         }
         let offs = w_offsets(r);
-        let pattern = model.jacobian_pattern().to_vec();
+        let pattern = model.jacobian_pattern();
+        let solver = Solver::new(m, pattern, SolverChoice::Auto)
+            .map_err(|e| BaselineError::Settings(format!("jacobian pattern: {e}")))?;
         Ok(Self {
             mu_pow: r
                 .iter()
@@ -95,11 +95,10 @@ impl ZSolver {
             w: vec![0.0; offs[m]],
             offs,
             jvals: vec![0.0; pattern.len()],
-            pattern,
             s: vec![0.0; m],
             ah: vec![0.0; m],
             dz: vec![0.0; m],
-            lu: Lu::new(m),
+            solver,
             tol,
             max_iter: 20,
             sliding_evals: 0,
@@ -117,7 +116,6 @@ impl ZSolver {
         x: &[f64],
         z: &mut [f64],
     ) -> Result<usize, BaselineError> {
-        let m = z.len();
         let mut iter = 0;
         let mut prev = f64::INFINITY;
         loop {
@@ -139,16 +137,11 @@ impl ZSolver {
                 return Err(BaselineError::NoConvergence { t, max_s });
             }
             model.jacobian(t, x, z, &mut self.jvals);
-            self.lu.a.fill(0.0);
-            for (&(i, j), v) in self.pattern.iter().zip(&self.jvals) {
-                self.lu.a[i * m + j] = self.mu_pow[i] * v;
-            }
-            self.lu.factor().map_err(|e| BaselineError::Singular {
-                t,
-                column: e.column,
-            })?;
+            self.solver
+                .factor(&self.jvals, &self.mu_pow)
+                .map_err(|reason| BaselineError::Singular { t, reason })?;
             self.dz.copy_from_slice(&self.s);
-            self.lu.solve(&mut self.dz);
+            self.solver.solve(&mut self.dz);
             self.j_solves += 1;
             let mut small = true;
             for (zi, d) in z.iter_mut().zip(&self.dz) {

@@ -19,7 +19,8 @@
 //! which [`PlanarChain::accelerations`] solves (dense LU, `M` is symmetric positive
 //! definite) at every evaluation.
 
-use crate::linalg::Lu;
+use dae_runtime::{LinearSolver, Solver, SolverChoice};
+
 use crate::truth::TruthError;
 
 /// A planar chain of point masses on massless rigid links, first joint pinned at the
@@ -112,11 +113,11 @@ impl PlanarChain {
         work: &mut ChainWork,
         out: &mut [f64],
     ) {
-        self.mass_matrix(theta, &mut work.lu.a);
+        self.mass_matrix(theta, &mut work.matrix);
         self.forces(theta, omega, out);
         // M is symmetric positive definite for positive masses and lengths, so the
         // factorisation cannot fail; a failure would mean NaN angles, passed through.
-        if work.lu.factor().is_err() {
+        if work.lu.factor(&work.matrix, &work.ones).is_err() {
             out.fill(f64::NAN);
             return;
         }
@@ -176,15 +177,23 @@ impl PlanarChain {
     }
 }
 
-/// Scratch space for [`PlanarChain::accelerations`] (no allocation per evaluation).
+/// Scratch space for [`PlanarChain::accelerations`] (no allocation per evaluation):
+/// the row-major mass matrix and the runtime's dense LU on the full `n x n` pattern.
 #[derive(Debug, Clone)]
 pub struct ChainWork {
-    lu: Lu,
+    matrix: Vec<f64>,
+    ones: Vec<f64>,
+    lu: Solver,
 }
 
 impl ChainWork {
     /// Scratch for a chain of `n` links.
     pub fn new(n: usize) -> Self {
-        Self { lu: Lu::new(n) }
+        let full: Vec<(usize, usize)> = (0..n).flat_map(|i| (0..n).map(move |j| (i, j))).collect();
+        Self {
+            matrix: vec![0.0; n * n],
+            ones: vec![1.0; n],
+            lu: Solver::new(n, &full, SolverChoice::Dense).expect("a full square pattern"),
+        }
     }
 }

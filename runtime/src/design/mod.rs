@@ -10,6 +10,9 @@
 //!   the two design choices of method.md section 5 in [`GainChoice`];
 //! * [`optimise_mu`] / [`design`]: maximise `T_i^min(mu_i)` with the gain substituted
 //!   (T corollary 4.1, section 4.3), and take the smallest over the constraints (T 3.15);
+//! * approximate inverses (T 3.22): [`approximate_inverse_gain`] (from a row's
+//!   dominance margin), [`approximate_inverse_gains`] (the least gains for a coupling
+//!   `E = J_s J_hat^{-1}`, solved with the solver seam) and [`jacobi_coupling`];
 //! * [`PilotEstimator`]: estimates `|beta_i|` and `M_i` from samples of a pilot run;
 //!   [`pilot_run`] feeds it from a simulation and [`auto_design`] runs the whole
 //!   procedure (pilot, design, pilot again with the design, design).
@@ -17,12 +20,14 @@
 //! Invalid input (non-finite numbers, `eps <= 0`, `mu <= 0`, `r = 0`, ...) is reported
 //! as a [`DesignError`] or [`PilotError`], never by a panic.
 
+mod approx;
 mod bounds;
 mod gains;
 mod optimise;
 mod pilot;
 mod pilot_run;
 
+pub use approx::{approximate_inverse_gain, approximate_inverse_gains, jacobi_coupling};
 pub use bounds::{LayerBound, c_r, reachable_bound, t_min};
 pub use gains::{GainChoice, robust_gain, sufficient_gain};
 pub use optimise::{ConstraintDesign, Design, MuSearch, design, optimise_mu};
@@ -126,6 +131,15 @@ pub enum DesignError {
         lo: f64,
         /// Upper end of the range.
         hi: f64,
+    },
+    /// No gains satisfy the robustness condition (T 3.22) with this approximate
+    /// inverse.
+    #[error("no robust gain for row {row}: {reason}")]
+    NoRobustGain {
+        /// The first row without a positive gain.
+        row: usize,
+        /// Why.
+        reason: String,
     },
     /// [`design`] was given no constraints.
     #[error("no constraints to design for")]

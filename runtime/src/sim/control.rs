@@ -1,9 +1,8 @@
-//! The control law `v = J_hat^{-1}(-alpha_hat - K sgn(s))` with `J_hat = J_s`, its
-//! buffers, and `z_eq`.
+//! The control law `v = J_hat^{-1}(-alpha_hat - K sgn(s))`, its buffers, the robustness
+//! check (T 3.22) with its gain-raising policy, and `z_eq`.
 
-use nalgebra::DVector;
-
-use super::lu::DenseLu;
+use super::robust::Robustness;
+use crate::solve::{InverseKind, LinearSolver, SolveError, Solver, SolverChoice, Structure};
 use crate::{Model, SimError, w_offsets};
 
 /// Switching function: `sgn` for DBSMC, `sat(s/eps)` for SPSM.
@@ -13,12 +12,48 @@ pub(crate) enum Switch {
     Saturation,
 }
 
+impl Switch {
+    /// `sgn(s)` or `sat(s / eps)`.
+    #[inline]
+    fn of(self, s: f64, eps: f64) -> f64 {
+        match self {
+            Switch::Sign => sgn(s),
+            Switch::Saturation => (s / eps).clamp(-1.0, 1.0),
+        }
+    }
+}
+
+/// What the law does about robustness (T 3.22) at one update.
+#[derive(Clone, Copy)]
+pub(crate) struct Check {
+    /// Evaluate the condition (needs `beta`).
+    pub(crate) evaluate: bool,
+    /// Count the failing rows (inside the statistics window).
+    pub(crate) count: bool,
+    /// Raise the failing rows' gains by this relative margin.
+    pub(crate) raise: Option<f64>,
+}
+
+impl Check {
+    pub(crate) const OFF: Check = Check {
+        evaluate: false,
+        count: false,
+        raise: None,
+    };
+}
+
+/// A raised gain never exceeds this multiple of its configured value: beyond it the
+/// approximation is too poor for any gain (the raise would not converge), and the
+/// failing rows stay counted.
+pub(crate) const GAIN_RAISE_LIMIT: f64 = 1e3;
+
 pub(crate) struct Controller {
     pub(crate) offs: Vec<usize>,
     mu: Vec<f64>,
     /// `mu_i^(r_i - 1)`, the row scaling from `J_Omega` to `J_s`.
     mu_pow: Vec<f64>,
-    gains: Vec<f64>,
+    pub(crate) gains: Vec<f64>,
+    gain_limit: Vec<f64>,
     margin: Vec<f64>,
     eps: Vec<f64>,
     exact_alpha: bool,
@@ -28,13 +63,21 @@ pub(crate) struct Controller {
     pub(crate) w: Vec<f64>,
     pub(crate) s: Vec<f64>,
     ah: Vec<f64>,
+    /// `alpha_hat` used by the law, `alpha - alpha_hat`, right-hand side, residual.
+    ah_used: Vec<f64>,
+    g: Vec<f64>,
     beta: Vec<f64>,
-    rhs: DVector<f64>,
-    lu: DenseLu,
-    dependent: Vec<usize>,
+    rhs: Vec<f64>,
+    res: Vec<f64>,
+    /// The previous `z_eq` correction, warm start of the iterative solvers.
+    dz: Vec<f64>,
+    pub(crate) solver: Solver,
+    factored: bool,
+    robust: Robustness,
     pub(crate) sliding_evals: u64,
     pub(crate) jacobian_evals: u64,
     pub(crate) beta_evals: u64,
+    pub(crate) gain_raises: u64,
 }
 
 fn sgn(v: f64) -> f64 {
@@ -56,6 +99,7 @@ impl Controller {
         margin: &[f64],
         eps: &[f64],
         exact_alpha: bool,
+        solver: SolverChoice,
     ) -> Result<Self, SimError> {
         let m = model.n_constraints();
         let r = model.indices();
@@ -66,45 +110,62 @@ impl Controller {
             });
         }
         let pattern = model.jacobian_pattern().to_vec();
-        if let Some(&(i, j)) = pattern.iter().find(|(i, j)| *i >= m || *j >= m) {
-            return Err(SimError::Settings {
-                field: "model",
-                reason: format!("jacobian pattern entry ({i}, {j}) outside {m} x {m}"),
-            });
-        }
+        let bad_pattern = |e: SolveError| SimError::Settings {
+            field: "model",
+            reason: format!("jacobian pattern: {e}"),
+        };
+        let structure = Structure::new(m, &pattern).map_err(bad_pattern)?;
+        let solver = Solver::new(m, &pattern, solver).map_err(|e| SimError::Settings {
+            field: "solver",
+            reason: e.to_string(),
+        })?;
         let offs = w_offsets(r);
         let mu_pow = r
             .iter()
             .zip(mu)
             .map(|(&ri, &mi)| mi.powi(ri as i32 - 1))
             .collect();
+        let vm = || vec![0.0; m];
         Ok(Self {
             w: vec![0.0; offs[m]],
             offs,
             mu: mu.to_vec(),
             mu_pow,
             gains: gains.to_vec(),
+            gain_limit: gains.iter().map(|k| GAIN_RAISE_LIMIT * k).collect(),
             margin: margin.to_vec(),
             eps: eps.to_vec(),
             exact_alpha,
             jvals: vec![0.0; pattern.len()],
             pattern,
-            s: vec![0.0; m],
-            ah: vec![0.0; m],
-            beta: vec![0.0; m],
-            rhs: DVector::zeros(m),
-            lu: DenseLu::new(m),
-            dependent: Vec::with_capacity(m),
+            s: vm(),
+            ah: vm(),
+            ah_used: vm(),
+            g: vm(),
+            beta: vm(),
+            rhs: vm(),
+            res: vm(),
+            dz: vm(),
+            solver,
+            factored: false,
+            robust: Robustness::new(structure),
             sliding_evals: 0,
             jacobian_evals: 0,
             beta_evals: 0,
+            gain_raises: 0,
         })
     }
 
-    pub(crate) fn reset_counters(&mut self) {
+    /// Reset counters and the configured gains for a new run.
+    pub(crate) fn reset(&mut self, gains: &[f64]) {
         self.sliding_evals = 0;
         self.jacobian_evals = 0;
         self.beta_evals = 0;
+        self.gain_raises = 0;
+        self.gains.copy_from_slice(gains);
+        self.solver.reset_stats();
+        self.factored = false;
+        self.dz.fill(0.0);
     }
 
     /// Evaluate w-derivatives, `s` and the cheap `alpha_hat` at `(t, x, z)`.
@@ -118,7 +179,7 @@ impl Controller {
         self.w[self.offs[i]]
     }
 
-    /// Assemble `J_s = diag(mu^(r-1)) J_Omega` at `(t, x, z)` and factor it.
+    /// Evaluate `J_Omega` at `(t, x, z)` and factor `J_s = diag(mu^(r-1)) J_Omega`.
     pub(crate) fn factor<M: Model + ?Sized>(
         &mut self,
         model: &M,
@@ -128,29 +189,57 @@ impl Controller {
     ) -> Result<(), SimError> {
         model.jacobian(t, x, z, &mut self.jvals);
         self.jacobian_evals += 1;
-        self.lu.a.fill(0.0);
-        for (&(i, j), &v) in self.pattern.iter().zip(&self.jvals) {
-            self.lu.a[(i, j)] = self.mu_pow[i] * v;
+        self.factored = false;
+        match self.solver.factor(&self.jvals, &self.mu_pow) {
+            Ok(()) => {
+                self.factored = true;
+                Ok(())
+            }
+            Err(e) => Err(self.solver_error(model, t, e)),
         }
-        if self.lu.factor(&mut self.dependent) {
-            Ok(())
-        } else {
-            Err(SimError::SingularJacobian {
-                t,
-                constraints: self.dependent.clone(),
-                names: self
-                    .dependent
-                    .iter()
-                    .map(|&i| model.constraint_name(i).to_string())
-                    .collect(),
-            })
+    }
+
+    fn solver_error<M: Model + ?Sized>(&self, model: &M, t: f64, e: SolveError) -> SimError {
+        let name = |i: usize| format!("`{}`", model.constraint_name(i));
+        let reason = match e {
+            SolveError::Singular { constraints } => {
+                return SimError::SingularJacobian {
+                    t,
+                    names: constraints
+                        .iter()
+                        .map(|&i| model.constraint_name(i).to_string())
+                        .collect(),
+                    constraints,
+                };
+            }
+            SolveError::Breakdown { row } => format!(
+                "no usable diagonal pivot at constraint {} although J_s is not singular; this solver eliminates without row exchanges: use --solver dense",
+                name(row)
+            ),
+            SolveError::NotSymmetric { row, col } => format!(
+                "J_Omega is not symmetric at constraints {} and {}: cg needs a symmetric J_Omega; use gauss-seidel, ilu0 or an exact solver",
+                name(row),
+                name(col)
+            ),
+            SolveError::NonFinite { row } => {
+                format!(
+                    "J_Omega has a non-finite entry in the row of constraint {}",
+                    name(row)
+                )
+            }
+            SolveError::Pattern(p) => p,
+        };
+        SimError::SolverFailed {
+            t,
+            solver: self.solver.name().to_string(),
+            reason,
         }
     }
 
     /// The control `v` at `(t, x, z)`, using `s`/`alpha_hat` from the last `sliding` call
     /// and the factors from the last `factor` call. Evaluates `beta` when the exact
-    /// alpha is used or `check` is set; returns the number of constraints violating the
-    /// robustness condition `k_i > |gamma_i| + k_i^c` (0 when not checked).
+    /// alpha is used or the robustness condition is evaluated; returns the number of
+    /// rows failing (T 3.22) when counted (0 otherwise).
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn law<M: Model + ?Sized>(
         &mut self,
@@ -159,51 +248,130 @@ impl Controller {
         x: &[f64],
         z: &[f64],
         switch: Switch,
-        check: bool,
+        check: Check,
         v: &mut [f64],
     ) -> u64 {
-        let need_beta = self.exact_alpha || check;
-        if need_beta {
+        let m = self.s.len();
+        if self.exact_alpha || check.evaluate {
             model.beta(t, x, z, &mut self.beta);
             self.beta_evals += 1;
         }
-        let mut violations = 0;
-        for i in 0..self.s.len() {
-            let exact_part = self.mu_pow[i] * self.beta[i];
-            let alpha_hat = if self.exact_alpha {
-                self.ah[i] + exact_part
-            } else {
-                self.ah[i]
-            };
-            let sw = match switch {
-                Switch::Sign => sgn(self.s[i]),
-                Switch::Saturation => (self.s[i] / self.eps[i]).clamp(-1.0, 1.0),
-            };
-            self.rhs[i] = -alpha_hat - self.gains[i] * sw;
-            if check {
-                // With J_hat = J_s, D = K and gamma = alpha - alpha_hat (T 3.22).
-                let gamma = if self.exact_alpha { 0.0 } else { exact_part };
-                // A NaN beta counts as a violation.
-                if gamma.is_nan() || self.gains[i] <= gamma.abs() + self.margin[i] {
-                    violations += 1;
+        let kind = self.solver.inverse();
+        if !check.evaluate || (kind == InverseKind::Exact && check.raise.is_none()) {
+            // The common paths: one pass for the right-hand side (and, with an exact
+            // solver, the condition k_i > |alpha_i - alpha_hat_i| + k_i^c), one solve.
+            let mut failures = 0;
+            for i in 0..m {
+                let exact_part = self.mu_pow[i] * self.beta[i];
+                let (ah, g) = if self.exact_alpha {
+                    (self.ah[i] + exact_part, 0.0)
+                } else {
+                    (self.ah[i], exact_part)
+                };
+                // A NaN beta counts as a failure.
+                let holds = self.gains[i] > g.abs() + self.margin[i];
+                if check.evaluate && !holds {
+                    failures += 1;
                 }
+                self.rhs[i] = -ah - self.gains[i] * switch.of(self.s[i], self.eps[i]);
+            }
+            self.solver.solve_from(&self.rhs, v);
+            return if check.count { failures } else { 0 };
+        }
+        for i in 0..m {
+            let exact_part = self.mu_pow[i] * self.beta[i];
+            if self.exact_alpha {
+                self.ah_used[i] = self.ah[i] + exact_part;
+                self.g[i] = 0.0;
+            } else {
+                self.ah_used[i] = self.ah[i];
+                self.g[i] = exact_part;
             }
         }
-        self.lu.solve(&mut self.rhs);
-        v.copy_from_slice(self.rhs.as_slice());
-        violations
+        let mut failures = 0;
+        if kind != InverseKind::Approximate {
+            self.robust.evaluate(
+                kind,
+                &self.jvals,
+                &self.mu_pow,
+                &self.g,
+                &self.ah_used,
+                &self.gains,
+                &self.margin,
+                &self.res,
+            );
+            failures = self.robust.failures(&self.gains);
+            if let (Some(margin), true) = (check.raise, failures > 0) {
+                self.gain_raises += if kind == InverseKind::Diagonal {
+                    self.robust.raise_jacobi(
+                        &self.jvals,
+                        &self.mu_pow,
+                        &self.margin,
+                        &mut self.gains,
+                        margin,
+                        &self.gain_limit,
+                    )
+                } else {
+                    self.robust.raise_rows(&mut self.gains, margin)
+                };
+                cap(&mut self.gains, &self.gain_limit);
+            }
+        }
+        self.solve_law(switch, v);
+        if kind == InverseKind::Approximate {
+            self.residual_of(v);
+            self.robust.evaluate(
+                kind,
+                &self.jvals,
+                &self.mu_pow,
+                &self.g,
+                &self.ah_used,
+                &self.gains,
+                &self.margin,
+                &self.res,
+            );
+            failures = self.robust.failures(&self.gains);
+            if let (Some(margin), true) = (check.raise, failures > 0) {
+                self.gain_raises += self.robust.raise_rows(&mut self.gains, margin);
+                cap(&mut self.gains, &self.gain_limit);
+                // The raised gains change the right-hand side: solve again, warm.
+                self.solve_law(switch, v);
+            }
+        }
+        if check.count { failures } else { 0 }
     }
 
-    /// `z_eq = z - J_s^{-1} s` with the last factors and the last `s`.
+    /// `v = J_hat^{-1}(-alpha_hat - K sw(s))`, warm-started from the previous `v`.
+    fn solve_law(&mut self, switch: Switch, v: &mut [f64]) {
+        for i in 0..self.s.len() {
+            self.rhs[i] = -self.ah_used[i] - self.gains[i] * switch.of(self.s[i], self.eps[i]);
+        }
+        self.solver.solve_from(&self.rhs, v);
+    }
+
+    /// `res = rhs - J_s v`.
+    fn residual_of(&mut self, v: &[f64]) {
+        crate::solve::mul_js(&self.pattern, &self.jvals, &self.mu_pow, v, &mut self.res);
+        for (r, b) in self.res.iter_mut().zip(&self.rhs) {
+            *r = b - *r;
+        }
+    }
+
+    /// `z_eq = z - J_hat^{-1} s` with the last factors and the last `s`.
     pub(crate) fn z_eq(&mut self, z: &[f64], out: &mut [f64]) {
-        if !self.lu.is_valid() {
+        if !self.factored {
             out.copy_from_slice(z);
             return;
         }
-        self.rhs.as_mut_slice().copy_from_slice(&self.s);
-        self.lu.solve(&mut self.rhs);
-        for ((o, zi), d) in out.iter_mut().zip(z).zip(self.rhs.iter()) {
+        self.solver.solve_from(&self.s, &mut self.dz);
+        for ((o, zi), d) in out.iter_mut().zip(z).zip(&self.dz) {
             *o = zi - d;
         }
+    }
+}
+
+fn cap(gains: &mut [f64], limit: &[f64]) {
+    for (k, l) in gains.iter_mut().zip(limit) {
+        *k = k.min(*l);
     }
 }

@@ -1,15 +1,18 @@
 //! The DBSMC simulator: integration, update policies, reaching phase, statistics.
 
 mod control;
-mod lu;
+mod robust;
 
 use std::time::Instant;
 
-use control::{Controller, Switch};
+use control::{Check, Controller, Switch};
 
 use crate::error::Quantity;
+use crate::solve::LinearSolver;
 use crate::trace::{Layout, Sample, Sink};
-use crate::{AlphaChoice, Integrator, Model, Policy, Reaching, Settings, SimError, Summary};
+use crate::{
+    AlphaChoice, Integrator, Model, Policy, Reaching, Settings, SimError, SolverSummary, Summary,
+};
 
 /// Simulates a [`Model`] with DBSMC (or SPSM) under given [`Settings`].
 ///
@@ -72,6 +75,7 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
             &settings.crossing_margin,
             &settings.eps,
             settings.alpha == AlphaChoice::Exact,
+            settings.solver,
         )?;
         let layout = Layout {
             states: (0..n).map(|i| model.state_name(i).to_string()).collect(),
@@ -142,7 +146,7 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
             min_period: f64::INFINITY,
             ..Stats::default()
         };
-        self.ctl.reset_counters();
+        self.ctl.reset(&self.set.gains);
         let (t0, t_end, h) = (self.set.t_start, self.set.t_end, self.set.step);
         self.t = t0;
         match &self.set.initial {
@@ -270,7 +274,12 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
             Switch::Sign
         };
         let in_window = self.stats.stats_from.is_some();
-        let check = self.set.check_robustness && in_window;
+        let count = self.set.check_robustness && in_window;
+        let check = Check {
+            evaluate: count || self.set.raise_gains.is_some(),
+            count,
+            raise: self.set.raise_gains,
+        };
         let violations = self
             .ctl
             .law(self.model, t, &self.x, &self.z, switch, check, &mut self.v);
@@ -417,7 +426,7 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
                             &self.xs,
                             &self.zs,
                             Switch::Saturation,
-                            false,
+                            Check::OFF,
                             &mut self.kz[stage],
                         );
                     } else {
@@ -436,7 +445,18 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
 
     fn summary(&self, wall_time: f64) -> Summary {
         let st = &self.stats;
+        let ss = self.ctl.solver.stats();
         Summary {
+            solver: SolverSummary {
+                name: self.ctl.solver.name().to_string(),
+                choice: self.set.solver,
+                factorisations: ss.factorisations,
+                solves: ss.solves,
+                iterations: ss.iterations,
+                robustness_failures: st.violations,
+                gain_raises: self.ctl.gain_raises,
+            },
+            gains: self.ctl.gains.clone(),
             model: self.model.name().to_string(),
             constraints: self.layout.constraints.clone(),
             t_end: self.t,
