@@ -10,11 +10,12 @@
 
 use std::collections::HashMap;
 
+use crate::Func;
 use crate::analysis::{Analysis, lower_expr};
 use crate::compiled::{CompiledModel, DENSE_JACOBIAN_MAX};
-use crate::model::{Func, Model};
-use crate::sym::{Arena, Fun2, Id, Node};
-use crate::tape::{BinaryOp, Input, Instr, Operand, Tape, UnaryOp};
+use crate::model::Model;
+use crate::sym::{Arena, Id, Node};
+use crate::tape::{BinaryOp, Instr, Operand, Tape, UnaryOp};
 
 /// Build the compiled form of an analysed model.
 pub fn compile(model: &Model, analysis: &Analysis) -> CompiledModel {
@@ -43,13 +44,13 @@ pub fn compile(model: &Model, analysis: &Analysis) -> CompiledModel {
                 jac_ids.push(
                     c.jacobian_row
                         .iter()
-                        .find(|(k, _)| *k == col)
+                        .find(|(k, _)| k.index() == col)
                         .map(|(_, id)| *id),
                 );
             }
         } else {
             for (col, id) in &c.jacobian_row {
-                pattern.push((row, *col));
+                pattern.push((row, col.index()));
                 jac_ids.push(Some(*id));
             }
         }
@@ -132,11 +133,7 @@ impl Emitter<'_> {
     fn node(&mut self, id: Id) -> Operand {
         match self.arena.node(id) {
             Node::Const(c) => Operand::Const(c.0),
-            Node::Param(i) => Operand::Input(Input::Param(*i)),
-            Node::State(i) => Operand::Input(Input::State(*i)),
-            Node::Alg(i) => Operand::Input(Input::Alg(*i)),
-            Node::Time => Operand::Input(Input::Time),
-            Node::Mu(i) => Operand::Input(Input::Mu(*i)),
+            Node::Var(v) => Operand::Input(*v),
             Node::Add(c, terms) => {
                 let terms: Vec<(Operand, f64)> =
                     terms.iter().map(|(t, a)| (self.get(*t), a.0)).collect();
@@ -148,20 +145,15 @@ impl Emitter<'_> {
             }
             Node::Pow(a, b) => {
                 let (a, b) = (self.get(*a), self.get(*b));
-                self.bin(BinaryOp::Pow, a, b)
+                self.bin(BinaryOp::Call(Func::Pow), a, b)
             }
             Node::F1(f, a) => {
                 let a = self.get(*a);
-                self.un(UnaryOp::Call(Func::from(*f)), a)
+                self.un(UnaryOp::Call(*f), a)
             }
             Node::F2(f, a, b) => {
                 let (a, b) = (self.get(*a), self.get(*b));
-                let op = match f {
-                    Fun2::Atan2 => BinaryOp::Atan2,
-                    Fun2::Min => BinaryOp::Min,
-                    Fun2::Max => BinaryOp::Max,
-                };
-                self.bin(op, a, b)
+                self.bin(BinaryOp::Call(*f), a, b)
             }
         }
     }
@@ -266,6 +258,6 @@ impl Emitter<'_> {
             self.powers.insert(key, o);
             return o;
         }
-        self.bin(BinaryOp::Pow, base, Operand::Const(e))
+        self.bin(BinaryOp::Call(Func::Pow), base, Operand::Const(e))
     }
 }

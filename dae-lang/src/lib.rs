@@ -59,9 +59,13 @@ pub mod tokens;
 mod compile;
 
 mod check;
+mod func;
+mod ids;
 mod syntax;
 
 pub use diag::{Diagnostic, line_col};
+pub use func::Func;
+pub use ids::{AlgId, ConstraintId, LetId, ParamId, StateId, VarRef};
 
 /// Parses a `.dae` source text into its syntax tree.
 pub fn parse(src: &str) -> Result<ast::File, Vec<Diagnostic>> {
@@ -93,7 +97,7 @@ pub use analysis::fixtures;
 pub use analysis::{
     Analysis, AnalysisOptions, ConstraintAnalysis, InitialPoint, Lowered, analyze, lower,
 };
-pub use sym::{Arena, Fun1, Fun2, Id, Names, Node, Num, Point};
+pub use sym::{Arena, Id, Names, Node, Num, Point};
 
 pub use compile::emit as emit_tape;
 pub use compiled::CompiledModel;

@@ -3,7 +3,8 @@
 //! and residuals match values computed by hand from the physics.
 
 use dae_lang::ast::BinOp;
-use dae_lang::model::{Func, Model, RExpr, Var};
+use dae_lang::model::{Model, RExpr};
+use dae_lang::{Func, VarRef};
 use std::path::PathBuf;
 
 fn models_dir() -> PathBuf {
@@ -40,11 +41,12 @@ struct Point<'a> {
 fn eval(e: &RExpr, p: &Point<'_>) -> f64 {
     match e {
         RExpr::Num(v) => *v,
-        RExpr::Var(Var::Param(i)) => p.m.params[*i].default,
-        RExpr::Var(Var::State(i)) => p.x[*i],
-        RExpr::Var(Var::Alg(i)) => p.z[*i],
-        RExpr::Var(Var::Let(i)) => p.lets[*i],
-        RExpr::Var(Var::Time) => p.t,
+        RExpr::Var(VarRef::Param(i)) => p.m.params[i.index()].default,
+        RExpr::Var(VarRef::State(i)) => p.x[i.index()],
+        RExpr::Var(VarRef::Alg(i)) => p.z[i.index()],
+        RExpr::Var(VarRef::Time) => p.t,
+        RExpr::Var(VarRef::Mu(_)) => panic!("a checked model has no realization parameter"),
+        RExpr::Let(i) => p.lets[i.index()],
         RExpr::Neg(a) => -eval(a, p),
         RExpr::Binary(op, a, b) => {
             let (a, b) = (eval(a, p), eval(b, p));

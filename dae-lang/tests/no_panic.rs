@@ -6,7 +6,7 @@
 //! and token mutations of the example models (which reach the checker far more often
 //! than random text does).
 
-use dae_lang::model::{Model, RExpr, Var};
+use dae_lang::model::{Model, RExpr};
 use proptest::prelude::*;
 use std::path::PathBuf;
 
@@ -29,7 +29,7 @@ fn examples() -> Vec<String> {
 
 fn max_let(e: &RExpr) -> Option<usize> {
     match e {
-        RExpr::Var(Var::Let(i)) => Some(*i),
+        RExpr::Let(i) => Some(i.index()),
         RExpr::Num(_) | RExpr::Var(_) => None,
         RExpr::Neg(a) => max_let(a),
         RExpr::Binary(_, a, b) => max_let(a).max(max_let(b)),

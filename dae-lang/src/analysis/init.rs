@@ -95,10 +95,11 @@ pub(super) fn check_initial_point(
                 .enumerate()
                 .map(|(j, &w)| (wname(&c.name, j, c.index), w))
                 .collect();
-        for &(k, id) in c.jacobian_row.iter().filter(|(k, _)| *k < n) {
+        for &(k, id) in c.jacobian_row.iter().filter(|(k, _)| k.index() < n) {
             let z = super::alg_name(&a.names, k);
-            named.push((format!("J({i}, {k}) = dOmega_{}/d{z}", c.name), id));
-            jac[i * n + k] = val(id);
+            let col = k.index();
+            named.push((format!("J({i}, {col}) = dOmega_{}/d{z}", c.name), id));
+            jac[i * n + col] = val(id);
         }
         named.push((format!("beta_{}", c.name), c.beta));
         if let Some((what, id)) = named.into_iter().find(|(_, id)| !val(*id).is_finite()) {

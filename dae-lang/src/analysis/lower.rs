@@ -1,7 +1,7 @@
 //! Lowering a checked [`Model`] into the symbolic arena.
 
 use crate::ast::BinOp;
-use crate::model::{Model, RExpr, Var};
+use crate::model::{Model, RExpr};
 use crate::sym::{Arena, Id};
 
 /// A model in the arena: lets as shared nodes, `f` per state, `g` per constraint.
@@ -50,13 +50,11 @@ pub fn lower(model: &Model, simplify: bool) -> Lowered {
 pub(crate) fn lower_expr(arena: &mut Arena, lets: &[Id], e: &RExpr) -> Id {
     match e {
         RExpr::Num(v) => arena.num(*v),
-        RExpr::Var(v) => match *v {
-            Var::Param(i) => arena.param(i),
-            Var::State(i) => arena.state(i),
-            Var::Alg(i) => arena.alg(i),
-            Var::Time => arena.time(),
-            Var::Let(i) => lets.get(i).copied().unwrap_or_else(|| arena.num(f64::NAN)),
-        },
+        RExpr::Var(v) => arena.var(*v),
+        RExpr::Let(l) => lets
+            .get(l.index())
+            .copied()
+            .unwrap_or_else(|| arena.num(f64::NAN)),
         RExpr::Neg(a) => {
             let a = lower_expr(arena, lets, a);
             arena.neg(a)

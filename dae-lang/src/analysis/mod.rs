@@ -21,6 +21,7 @@ use crate::ast::Span;
 use crate::diag::Diagnostic;
 use crate::model::Model;
 use crate::sym::{Arena, Id, Names, dep};
+use crate::{AlgId, ConstraintId};
 
 pub(crate) use lower::lower_expr;
 pub use lower::{Lowered, lower};
@@ -61,9 +62,9 @@ pub struct ConstraintAnalysis {
     pub w: Vec<Id>,
     /// `Omega = w^(r-1)`, the first derivative that contains an algebraic unknown.
     pub omega: Id,
-    /// The non-zero entries `(column = algebraic index, dOmega/dz_column)` of this row of
-    /// `J_Omega`, by column.
-    pub jacobian_row: Vec<(usize, Id)>,
+    /// The non-zero entries `(column = algebraic unknown, dOmega/dz_column)` of this row
+    /// of `J_Omega`, by column.
+    pub jacobian_row: Vec<(AlgId, Id)>,
     /// `beta = dOmega/dt + (dOmega/dx) f` (may contain z).
     pub beta: Id,
     /// The realization parameter `mu` of this constraint (a leaf, printed `mu<i+1>`).
@@ -235,7 +236,7 @@ fn realize(
         }
     }
     let beta = arena.dt(omega);
-    let mu = arena.mu(i);
+    let mu = arena.mu(ConstraintId::new(i));
     let mu_pow = |arena: &mut Arena, j: usize| arena.powf(mu, j as f64);
     // s = sum_{j=0}^{r-1} C(r-1, j) mu^j w^(j)
     let mut s_terms = Vec::with_capacity(r);
@@ -271,12 +272,8 @@ fn realize(
     }
 }
 
-fn alg_name(names: &Names, k: usize) -> String {
-    names
-        .algs
-        .get(k)
-        .cloned()
-        .unwrap_or_else(|| format!("z{k}"))
+fn alg_name(names: &Names, k: AlgId) -> String {
+    names.var(crate::VarRef::Alg(k))
 }
 
 fn no_index(

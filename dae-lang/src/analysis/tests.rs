@@ -87,7 +87,7 @@ fn check_sliding_dynamics(a: &Analysis, model: &crate::model::Model, rng: &mut R
         let jv: f64 = c
             .jacobian_row
             .iter()
-            .map(|&(k, id)| eval(a, id, &base) * v[k])
+            .map(|&(k, id)| eval(a, id, &base) * v[k.index()])
             .sum();
         let want = mur * jv + eval(a, c.alpha, &base);
         assert!(
@@ -445,7 +445,7 @@ fn planar_chain_jacobian_is_tridiagonal_with_the_closed_form_entries() {
     let a = analyze(&model, &opts()).unwrap();
     assert_eq!(a.indices(), vec![3; n]);
     for (i, c) in a.constraints.iter().enumerate() {
-        let cols: Vec<usize> = c.jacobian_row.iter().map(|(k, _)| *k).collect();
+        let cols: Vec<usize> = c.jacobian_row.iter().map(|(k, _)| k.index()).collect();
         let want: Vec<usize> = (i.saturating_sub(1)..(i + 2).min(n)).collect();
         assert_eq!(cols, want, "row {i}");
     }
@@ -583,19 +583,22 @@ fn derive_text_reads_back_to_the_same_expressions() {
         let mut arena = a.arena.clone();
         let mut table: HashMap<String, crate::sym::Id> = HashMap::new();
         for (i, p) in model.params.iter().enumerate() {
-            table.insert(p.name.clone(), arena.param(i));
+            table.insert(p.name.clone(), arena.param(crate::ParamId::new(i)));
         }
         for (i, s) in model.states.iter().enumerate() {
-            table.insert(s.name.clone(), arena.state(i));
+            table.insert(s.name.clone(), arena.state(crate::StateId::new(i)));
         }
         for (i, z) in model.algs.iter().enumerate() {
-            table.insert(z.name.clone(), arena.alg(i));
+            table.insert(z.name.clone(), arena.alg(crate::AlgId::new(i)));
         }
         for (name, &id) in a.let_names.iter().zip(&a.lets) {
             table.insert(name.clone(), id);
         }
         for i in 0..a.constraints.len() {
-            table.insert(format!("mu{}", i + 1), arena.mu(i));
+            table.insert(
+                format!("mu{}", i + 1),
+                arena.mu(crate::ConstraintId::new(i)),
+            );
         }
         table.insert("t".into(), arena.time());
         let mut expected: Vec<crate::sym::Id> = a.lets.clone();

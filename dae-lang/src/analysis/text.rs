@@ -126,7 +126,8 @@ impl Analysis {
             }
             for (k, _) in &c.jacobian_row {
                 let z = super::alg_name(&self.names, *k);
-                let _ = writeln!(out, "J({i}, {k}) = {}  // {} / {z}", next(), c.name);
+                let col = k.index();
+                let _ = writeln!(out, "J({i}, {col}) = {}  // {} / {z}", next(), c.name);
             }
             let _ = writeln!(out, "beta_{} = {}", c.name, next());
             let _ = writeln!(out, "s_{} = {}", c.name, next());

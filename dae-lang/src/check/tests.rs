@@ -3,7 +3,8 @@
 
 use crate::ast::BinOp;
 use crate::diag::line_col;
-use crate::model::{Func, Model, RExpr, Var};
+use crate::model::{Model, RExpr};
+use crate::{AlgId, Func, LetId, ParamId, StateId, VarRef};
 use crate::{compile_models, parse};
 
 fn model(src: &str) -> Model {
@@ -40,8 +41,24 @@ fn bin(op: BinOp, a: RExpr, b: RExpr) -> RExpr {
     RExpr::Binary(op, Box::new(a), Box::new(b))
 }
 
-fn var(v: Var) -> RExpr {
-    RExpr::Var(v)
+fn param(i: usize) -> RExpr {
+    RExpr::Var(VarRef::Param(ParamId::new(i)))
+}
+
+fn state(i: usize) -> RExpr {
+    RExpr::Var(VarRef::State(StateId::new(i)))
+}
+
+fn alg(i: usize) -> RExpr {
+    RExpr::Var(VarRef::Alg(AlgId::new(i)))
+}
+
+fn let_(i: usize) -> RExpr {
+    RExpr::Let(LetId::new(i))
+}
+
+fn time() -> RExpr {
+    RExpr::Var(VarRef::Time)
 }
 
 #[test]
@@ -58,32 +75,25 @@ fn names_resolve_over_the_whole_model() {
         }",
     );
     assert_eq!(m.name, "M");
-    assert_eq!(m.ders[0].expr, var(Var::State(1)));
+    assert_eq!(m.ders[0].expr, state(1));
     let rhs = bin(
         BinOp::Add,
         bin(
             BinOp::Add,
-            bin(
-                BinOp::Mul,
-                RExpr::Neg(Box::new(var(Var::Param(0)))),
-                var(Var::State(0)),
-            ),
-            var(Var::Alg(0)),
+            bin(BinOp::Mul, RExpr::Neg(Box::new(param(0))), state(0)),
+            alg(0),
         ),
-        var(Var::Time),
+        time(),
     );
     assert_eq!(m.ders[1].expr, rhs);
     // The residual is lhs - rhs.
     let residual = bin(
         BinOp::Sub,
-        bin(BinOp::Add, var(Var::State(0)), var(Var::Let(0))),
+        bin(BinOp::Add, state(0), let_(0)),
         RExpr::Num(1.0),
     );
     assert_eq!(m.constraints[0].residual, residual);
-    assert_eq!(
-        m.lets[0].expr,
-        bin(BinOp::Mul, var(Var::State(1)), RExpr::Num(2.0))
-    );
+    assert_eq!(m.lets[0].expr, bin(BinOp::Mul, state(1), RExpr::Num(2.0)));
 }
 
 #[test]
@@ -126,13 +136,9 @@ fn initial_values_stay_expressions_over_params() {
     );
     assert_eq!(
         m.states[0].init,
-        bin(
-            BinOp::Div,
-            RExpr::Neg(Box::new(var(Var::Param(0)))),
-            RExpr::Num(2.0)
-        )
+        bin(BinOp::Div, RExpr::Neg(Box::new(param(0))), RExpr::Num(2.0))
     );
-    assert_eq!(m.algs[0].init, var(Var::Param(0)));
+    assert_eq!(m.algs[0].init, param(0));
 }
 
 #[test]
@@ -159,14 +165,8 @@ fn lets_are_ordered_so_that_each_uses_only_earlier_ones() {
         );
     }
     // References were renumbered to the new order: c = b + a.
-    assert_eq!(
-        m.lets[2].expr,
-        bin(BinOp::Add, var(Var::Let(1)), var(Var::Let(0)))
-    );
-    assert_eq!(
-        m.ders[0].expr,
-        bin(BinOp::Add, var(Var::Let(2)), var(Var::Let(3)))
-    );
+    assert_eq!(m.lets[2].expr, bin(BinOp::Add, let_(1), let_(0)));
+    assert_eq!(m.ders[0].expr, bin(BinOp::Add, let_(2), let_(3)));
 }
 
 #[test]

@@ -14,8 +14,8 @@ use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 
 use crate::compiled::CompiledModel;
-use crate::model::Func;
-use crate::tape::{BinaryOp, Input, Instr, Operand, Tape, UnaryOp};
+use crate::tape::{BinaryOp, Instr, Operand, Tape, UnaryOp};
+use crate::{Func, VarRef};
 
 /// Rust keywords that cannot name a field as they are; such parameters get a trailing
 /// underscore (`type` -> `type_`).
@@ -243,23 +243,23 @@ fn operand(o: Operand, fields: &[Ident]) -> TokenStream {
             let v = slot(k);
             quote!(#v)
         }
-        Operand::Input(Input::Param(i)) => {
-            let f = &fields[i as usize];
+        Operand::Input(VarRef::Param(i)) => {
+            let f = &fields[i.index()];
             quote!(self.#f)
         }
-        Operand::Input(Input::State(i)) => {
-            let i = usize_lit(i as usize);
+        Operand::Input(VarRef::State(i)) => {
+            let i = usize_lit(i.index());
             quote!(x[#i])
         }
-        Operand::Input(Input::Alg(i)) => {
-            let i = usize_lit(i as usize);
+        Operand::Input(VarRef::Alg(i)) => {
+            let i = usize_lit(i.index());
             quote!(z[#i])
         }
-        Operand::Input(Input::Mu(i)) => {
-            let i = usize_lit(i as usize);
+        Operand::Input(VarRef::Mu(i)) => {
+            let i = usize_lit(i.index());
             quote!(mu[#i])
         }
-        Operand::Input(Input::Time) => quote!(t),
+        Operand::Input(VarRef::Time) => quote!(t),
     }
 }
 
@@ -292,18 +292,27 @@ fn instr(i: &Instr, fields: &[Ident]) -> TokenStream {
                 BinaryOp::Sub => quote!(#a - #b),
                 BinaryOp::Mul => quote!(#a * #b),
                 BinaryOp::Div => quote!(#a / #b),
-                BinaryOp::Pow => quote!(f64::powf(#a, #b)),
-                BinaryOp::Atan2 => quote!(f64::atan2(#a, #b)),
-                // NaN propagates, as in `Func::apply2` (f64::min would drop it).
-                BinaryOp::Min => quote!({
-                    let (a, b): (f64, f64) = (#a, #b);
-                    if a.is_nan() || b.is_nan() { f64::NAN } else { f64::min(a, b) }
-                }),
-                BinaryOp::Max => quote!({
-                    let (a, b): (f64, f64) = (#a, #b);
-                    if a.is_nan() || b.is_nan() { f64::NAN } else { f64::max(a, b) }
-                }),
+                BinaryOp::Call(f) => call2(f, a, b),
             }
+        }
+    }
+}
+
+/// A two-argument built-in, with the value [`Func::apply2`] defines.
+fn call2(f: Func, a: TokenStream, b: TokenStream) -> TokenStream {
+    match f {
+        Func::Pow => quote!(f64::powf(#a, #b)),
+        // NaN propagates, as in `Func::apply2` (f64::min would drop it).
+        Func::Min | Func::Max => {
+            let name = call_name(f);
+            quote!({
+                let (a, b): (f64, f64) = (#a, #b);
+                if a.is_nan() || b.is_nan() { f64::NAN } else { f64::#name(a, b) }
+            })
+        }
+        _ => {
+            let name = call_name(f);
+            quote!(f64::#name(#a, #b))
         }
     }
 }

@@ -13,7 +13,8 @@
 //! `d max(a, b) = (a' + b')/2 + sign(a - b) (a' - b')/2`: the derivative of the active
 //! branch away from ties, the mean of both at a tie (a subgradient there).
 
-use super::{Arena, Fun1, Fun2, Id, Node, dep};
+use super::{Arena, Id, Node, dep};
+use crate::{Func, VarRef};
 
 #[derive(Clone, Copy)]
 enum Seed {
@@ -74,22 +75,17 @@ impl Arena {
 
     fn d_node(&mut self, e: Id, seed: Seed) -> Id {
         match self.node(e).clone() {
-            Node::Const(_)
-            | Node::Param(_)
-            | Node::Alg(_)
-            | Node::Mu(_)
-            | Node::Time
-            | Node::State(_) => {
+            Node::Const(_) | Node::Var(_) => {
                 let one = match seed {
                     Seed::Partial(v) => e == v,
-                    Seed::Time => matches!(self.node(e), Node::Time),
+                    Seed::Time => matches!(self.node(e), Node::Var(VarRef::Time)),
                 };
                 if one {
                     return self.num(1.0);
                 }
                 match (seed, self.node(e)) {
-                    (Seed::Time, Node::State(k)) => {
-                        let k = *k as usize;
+                    (Seed::Time, Node::Var(VarRef::State(k))) => {
+                        let k = k.index();
                         self.flow
                             .get(k)
                             .copied()
@@ -134,7 +130,7 @@ impl Arena {
                 let (da, db) = (self.d(a, seed), self.d(b, seed));
                 let mut terms = Vec::new();
                 if !self.is_zero(db) {
-                    let ln = self.f1(Fun1::Ln, a);
+                    let ln = self.f1(Func::Ln, a);
                     terms.push((self.product(1.0, &[(e, 1.0), (ln, 1.0), (db, 1.0)]), 1.0));
                 }
                 if !self.is_zero(da) {
@@ -155,7 +151,7 @@ impl Arena {
             Node::F2(f, a, b) => {
                 let (da, db) = (self.d(a, seed), self.d(b, seed));
                 match f {
-                    Fun2::Atan2 => {
+                    Func::Atan2 => {
                         // d atan2(a, b) = (b a' - a b') / (a^2 + b^2)
                         let num1 = self.mul(b, da);
                         let num2 = self.mul(a, db);
@@ -164,53 +160,58 @@ impl Arena {
                         let den = self.add(a2, b2);
                         self.div(num, den)
                     }
-                    Fun2::Min | Fun2::Max => {
+                    Func::Min | Func::Max => {
                         let mean = self.lin(0.0, &[(da, 0.5), (db, 0.5)]);
                         let half = self.lin(0.0, &[(da, 0.5), (db, -0.5)]);
                         let diff = self.sub(a, b);
-                        let sg = self.f1(Fun1::Sign, diff);
+                        let sg = self.f1(Func::Sign, diff);
                         let jump = self.mul(sg, half);
-                        let s = if f == Fun2::Min { -1.0 } else { 1.0 };
+                        let s = if f == Func::Min { -1.0 } else { 1.0 };
                         self.lin(0.0, &[(mean, 1.0), (jump, s)])
                     }
+                    // Not an F2 node (see `Arena::f2`).
+                    _ => self.num(f64::NAN),
                 }
             }
         }
     }
 
     /// The derivative of the outer function `f` at `u`; `e = f(u)` for reuse.
-    fn d_f1(&mut self, f: Fun1, u: Id, e: Id) -> Id {
+    fn d_f1(&mut self, f: Func, u: Id, e: Id) -> Id {
         match f {
-            Fun1::Sin => self.f1(Fun1::Cos, u),
-            Fun1::Cos => {
-                let s = self.f1(Fun1::Sin, u);
+            Func::Sin => self.f1(Func::Cos, u),
+            Func::Cos => {
+                let s = self.f1(Func::Sin, u);
                 self.neg(s)
             }
-            Fun1::Tan => {
+            Func::Tan => {
                 let t2 = self.powf(e, 2.0);
                 self.lin(1.0, &[(t2, 1.0)])
             }
-            Fun1::Asin | Fun1::Acos => {
+            Func::Asin | Func::Acos => {
                 let u2 = self.powf(u, 2.0);
                 let one_m = self.lin(1.0, &[(u2, -1.0)]);
-                let c = if f == Fun1::Asin { 1.0 } else { -1.0 };
+                let c = if f == Func::Asin { 1.0 } else { -1.0 };
                 self.product(c, &[(one_m, -0.5)])
             }
-            Fun1::Atan => {
+            Func::Atan => {
                 let u2 = self.powf(u, 2.0);
                 let one_p = self.lin(1.0, &[(u2, 1.0)]);
                 self.powf(one_p, -1.0)
             }
-            Fun1::Sinh => self.f1(Fun1::Cosh, u),
-            Fun1::Cosh => self.f1(Fun1::Sinh, u),
-            Fun1::Tanh => {
+            Func::Sinh => self.f1(Func::Cosh, u),
+            Func::Cosh => self.f1(Func::Sinh, u),
+            Func::Tanh => {
                 let t2 = self.powf(e, 2.0);
                 self.lin(1.0, &[(t2, -1.0)])
             }
-            Fun1::Exp => e,
-            Fun1::Ln => self.powf(u, -1.0),
-            Fun1::Abs => self.f1(Fun1::Sign, u),
-            Fun1::Sign => self.num(0.0),
+            Func::Exp => e,
+            Func::Ln => self.powf(u, -1.0),
+            Func::Abs => self.f1(Func::Sign, u),
+            Func::Sign => self.num(0.0),
+            Func::Sqrt => self.product(0.5, &[(u, -0.5)]),
+            // Not an F1 node (see `Arena::f1`).
+            Func::Atan2 | Func::Pow | Func::Min | Func::Max => self.num(f64::NAN),
         }
     }
 }

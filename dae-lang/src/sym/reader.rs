@@ -108,8 +108,7 @@ impl Reader<'_, '_> {
                 args.push(self.sum(a));
             }
             assert!(self.eat(b')'));
-            let f =
-                crate::model::Func::from_name(name).unwrap_or_else(|| panic!("no function {name}"));
+            let f = crate::Func::from_name(name).unwrap_or_else(|| panic!("no function {name}"));
             assert_eq!(args.len(), f.arity());
             return a.call(f, &args);
         }
