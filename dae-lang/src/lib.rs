@@ -2,7 +2,7 @@
 //!
 //! The front end turns source text into checked models: [`parse`] gives the syntax tree
 //! ([`ast`]), [`check`] resolves and verifies one model ([`model::Model`]), and
-//! [`compile_models`] does both for every model of a file. Errors are [`Diagnostic`]s,
+//! [`check_source`] does both for every model of a file. Errors are [`Diagnostic`]s,
 //! rendered with their source context by [`Diagnostic::render`]. The language is
 //! described in `docs/language.md`.
 //!
@@ -13,12 +13,12 @@
 //!         state x = 2 * k;
 //!         der(x) = -k * x;
 //!     }";
-//! let models = dae_lang::compile_models(src).expect("a valid model");
+//! let models = dae_lang::check_source(src).expect("a valid model");
 //! assert_eq!(models[0].name, "Decay");
 //! assert_eq!(models[0].params[0].default, 0.5);
 //!
 //! let bad = "model M { state x = 0; der(x) = -k * x; }";
-//! let errors = dae_lang::compile_models(bad).unwrap_err();
+//! let errors = dae_lang::check_source(bad).unwrap_err();
 //! assert_eq!(errors[0].message, "unknown name `k`");
 //! assert_eq!(dae_lang::line_col(bad, errors[0].span), (1, 34));
 //! println!("{}", errors[0].render("bad.dae", bad, false));
@@ -83,7 +83,7 @@ pub fn check(model: &ast::ModelAst) -> Result<model::Model, Vec<Diagnostic>> {
 ///
 /// On failure returns all the errors: the syntax error, or the errors of every model,
 /// in source order.
-pub fn compile_models(src: &str) -> Result<Vec<model::Model>, Vec<Diagnostic>> {
+pub fn check_source(src: &str) -> Result<Vec<model::Model>, Vec<Diagnostic>> {
     check::check_file(&parse(src)?)
 }
 
@@ -95,24 +95,27 @@ mod sym;
 #[doc(hidden)]
 pub use analysis::fixtures;
 pub use analysis::{
-    Analysis, AnalysisOptions, ConstraintAnalysis, InitialPoint, Lowered, analyze, lower,
+    Analysis, AnalysisOptions, ConstraintAnalysis, ConstraintExprs, InitialPoint, Lowered,
+    SymbolicModel, analyze, lower,
 };
-pub use sym::{Arena, Id, Names, Node, Num, Point};
+pub use sym::{Arena, DiffContext, Id, Names, Node, Num, Point};
 
-pub use compile::emit as emit_tape;
 pub use compiled::CompiledModel;
 
-/// Compile one analysed model into straight-line programs (the input of the code
-/// generator and of the interpreter).
-pub fn compile(model: &model::Model, analysis: &Analysis) -> CompiledModel {
-    compile::compile(model, analysis)
+/// The compiled form of an analysed model: its functions as straight-line programs (the
+/// input of the code generator and of the interpreter).
+///
+/// The analysis emitted these tapes from its expressions and evaluated them at the
+/// initial point, so what runs is what was checked; this hands them over.
+pub fn compile(analysis: &Analysis) -> CompiledModel {
+    analysis.compiled.clone()
 }
 
 /// Parse, check and analyse (with default [`AnalysisOptions`]) every model of a source
 /// text. On failure, all the errors: the front end's, or the analysis errors of every
 /// model in order.
 pub fn analyze_source(src: &str) -> Result<Vec<(model::Model, Analysis)>, Vec<Diagnostic>> {
-    let models = compile_models(src)?;
+    let models = check_source(src)?;
     let opts = AnalysisOptions::default();
     let mut out = Vec::with_capacity(models.len());
     let mut errors = Vec::new();
@@ -133,7 +136,7 @@ pub fn analyze_source(src: &str) -> Result<Vec<(model::Model, Analysis)>, Vec<Di
 /// default [`AnalysisOptions`]) and compile. All errors of all models are returned.
 pub fn compile_source(src: &str) -> Result<Vec<CompiledModel>, Vec<Diagnostic>> {
     Ok(analyze_source(src)?
-        .iter()
-        .map(|(m, a)| compile(m, a))
+        .into_iter()
+        .map(|(_, a)| a.compiled)
         .collect())
 }

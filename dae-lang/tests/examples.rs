@@ -14,7 +14,7 @@ fn models_dir() -> PathBuf {
 fn load(name: &str) -> Model {
     let path = models_dir().join(name);
     let src = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    match dae_lang::compile_models(&src) {
+    match dae_lang::check_source(&src) {
         Ok(mut ms) if ms.len() == 1 => ms.remove(0),
         Ok(ms) => panic!("{name}: expected one model, got {}", ms.len()),
         Err(d) => {
@@ -120,7 +120,7 @@ fn every_example_model_checks() {
         let path = entry.expect("readable directory").path();
         if path.extension().is_some_and(|e| e == "dae") {
             let src = std::fs::read_to_string(&path).expect("readable model");
-            let models = dae_lang::compile_models(&src)
+            let models = dae_lang::check_source(&src)
                 .unwrap_or_else(|d| panic!("{}: {d:#?}", path.display()));
             assert!(!models.is_empty());
             count += 1;

@@ -44,6 +44,7 @@ use std::hash::{Hash, Hasher};
 
 use crate::{AlgId, Func, VarRef};
 
+pub use diff::DiffContext;
 pub use eval::Point;
 pub use print::Names;
 
@@ -128,12 +129,6 @@ pub struct Arena {
     deps: Vec<u8>,
     memo: HashMap<Node, Id>,
     simplify: bool,
-    /// Memo of partial derivatives: (node, variable node) -> derivative.
-    dmemo: HashMap<(Id, Id), Id>,
-    /// The flow `f` used by the total time derivative, one id per state.
-    flow: Vec<Id>,
-    /// Memo of total time derivatives for the current flow.
-    tmemo: HashMap<Id, Id>,
 }
 
 impl Default for Arena {
@@ -150,9 +145,6 @@ impl Arena {
             deps: Vec::new(),
             memo: HashMap::new(),
             simplify: true,
-            dmemo: HashMap::new(),
-            flow: Vec::new(),
-            tmemo: HashMap::new(),
         }
     }
 

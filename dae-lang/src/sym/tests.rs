@@ -479,7 +479,7 @@ proptest! {
         let mut a = Arena::new();
         let e = build(&mut a, &t);
         let var = leaves(&mut a)[k];
-        let d = a.diff(e, var);
+        let d = DiffContext::default().diff(&mut a, e, var);
         let mut dir = [0.0; 6];
         dir[k] = 1.0;
         let got = eval_at(&a, d, &v);
@@ -497,8 +497,7 @@ proptest! {
         let mut a = Arena::new();
         let e = build(&mut a, &t);
         let (fx, fy) = (build(&mut a, &fx), build(&mut a, &fy));
-        a.set_flow(vec![fx, fy]);
-        let d = a.dt(e);
+        let d = DiffContext::new(vec![fx, fy]).dt(&mut a, e);
         let got = eval_at(&a, d, &v);
         // Direction of motion: x' = f_x, y' = f_y, t' = 1, z, p, mu fixed.
         let dir = [eval_at(&a, fx, &v), eval_at(&a, fy, &v), 0.0, 0.0, 1.0, 0.0];
@@ -540,6 +539,27 @@ proptest! {
             "{text}: {v1} vs {v2}");
         }
     }
+}
+
+/// The flow and the memos live in a context beside the arena: two contexts with
+/// different flows take their time derivatives in one arena without mixing them up.
+#[test]
+fn time_derivatives_along_two_flows_share_one_arena() {
+    let mut a = Arena::new();
+    let [x, y, _, p, t, _] = leaves(&mut a);
+    let e = a.mul(x, y);
+    let (ex, ey) = (a.mul(p, x), a.f1(Func::Sin, t));
+    let mut along_first = DiffContext::new(vec![ex, ey]);
+    let mut along_second = DiffContext::new(vec![y, x]);
+    let d1 = along_first.dt(&mut a, e);
+    let d2 = along_second.dt(&mut a, e);
+    // D1[x y] = p x y + x sin t, D2[x y] = y^2 + x^2.
+    let v = at(&[2.0], &[0.5, 3.0], &[], 0.7, &[]);
+    let want1 = 2.0 * 0.5 * 3.0 + 0.5 * 0.7f64.sin();
+    assert!((a.eval(d1, &v) - want1).abs() < 1e-15);
+    assert_eq!(a.eval(d2, &v), 9.0 + 0.25);
+    assert_eq!(along_first.dt(&mut a, e), d1, "memoised per context");
+    assert_eq!(along_first.flow(), &[ex, ey]);
 }
 
 #[test]
