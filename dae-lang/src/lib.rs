@@ -24,11 +24,13 @@
 //! println!("{}", errors[0].render("bad.dae", bad, false));
 //! ```
 //!
-//! [`compile_source`] runs the whole pipeline: it also finds each constraint's index,
-//! differentiates symbolically and compiles every function of the model into a
-//! straight-line program ([`CompiledModel`]); [`codegen::emit_rust`] prints the Rust
-//! type implementing `dae_runtime::Model` that the `dae!` macro, `dae_file!` and build
-//! scripts ([`expand::compile_file_to_out_dir`]) compile, and that `daec emit` shows.
+//! [`compile_source`] runs the whole pipeline: [`analyze`] finds each constraint's index,
+//! differentiates symbolically and builds the realization (`s`, `J_Omega`, `beta`,
+//! `alpha`, `alpha_hat`; the method is in `docs/method.md`), and compiles every function
+//! of the model into a straight-line program ([`tape::Tape`]) of a [`CompiledModel`]. The
+//! tapes are the hand-off to the two back ends: the interpreter evaluates them
+//! ([`tape::Tape::eval`]), and the `dae-codegen` crate prints them as the Rust type
+//! implementing `dae_runtime::Model` that `dae!`, `dae_file!` and build scripts compile.
 //!
 //! ```
 //! let src = "
@@ -40,23 +42,39 @@
 //!         constraint follow: x = a * sin(t);
 //!     }";
 //! let models = dae_lang::compile_source(src).expect("a valid model");
-//! assert_eq!(models[0].indices, [2]); // x' holds z: differentiate once to reach it
-//! let rust = dae_lang::codegen::emit_rust(&models[0]);
-//! assert!(rust.contains("pub struct Tracking"));
-//! assert!(rust.contains("impl ::dae_runtime::Model for Tracking"));
+//! let m = &models[0];
+//! assert_eq!(m.indices, [2]); // x' holds z: differentiate once to reach it
+//!
+//! // J_Omega = dOmega/dz at t = 0, x = 0, z = 1: Omega = w' = z - x - a cos(t), so 1.
+//! let inputs = dae_lang::tape::Inputs {
+//!     params: &[1.0],
+//!     states: &[0.0],
+//!     algs: &[1.0],
+//!     mu: &[0.1],
+//!     t: 0.0,
+//! };
+//! let mut slots = vec![0.0; m.jacobian.n_slots()];
+//! let mut j = [0.0];
+//! m.jacobian.eval(&inputs, &mut slots, &mut j);
+//! assert_eq!(j, [1.0]);
 //! ```
+//!
+//! # Features
+//!
+//! * `internals`: the symbolic intermediate representation (the hash-consed [`Arena`] of
+//!   expressions, its [`Node`]s and [`Id`]s, [`lower`], [`Analysis::symbolic`]) as
+//!   public API, for the test crate and for tools that inspect a derivation. Not a
+//!   stable interface.
+//! * `fixtures`: models built in code ([`fixtures`]) for tests and benchmarks.
 #![warn(missing_docs)]
 
 pub mod ast;
-pub mod codegen;
-pub mod compiled;
-pub mod diag;
-pub mod expand;
 pub mod model;
 pub mod tape;
-pub mod tokens;
 
 mod compile;
+mod compiled;
+mod diag;
 
 mod check;
 mod func;
@@ -88,19 +106,19 @@ pub fn check_source(src: &str) -> Result<Vec<model::Model>, Vec<Diagnostic>> {
 }
 
 mod analysis;
+// The arena's API is whole for the `internals` feature; the compiler uses part of it.
+#[cfg_attr(not(feature = "internals"), allow(dead_code))]
 mod sym;
 
-/// Models built in code (3-D double pendulum, planar chains) for this crate's tests,
-/// benches and examples; not part of the supported API.
-#[doc(hidden)]
+#[cfg(any(test, feature = "fixtures"))]
 pub use analysis::fixtures;
-pub use analysis::{
-    Analysis, AnalysisOptions, ConstraintAnalysis, ConstraintExprs, InitialPoint, Lowered,
-    SymbolicModel, analyze, lower,
-};
+pub use analysis::{Analysis, AnalysisOptions, ConstraintAnalysis, InitialPoint, analyze};
+#[cfg(feature = "internals")]
+pub use analysis::{ConstraintExprs, Lowered, SymbolicModel, lower};
+#[cfg(feature = "internals")]
 pub use sym::{Arena, DiffContext, Id, Names, Node, Num, Point};
 
-pub use compiled::CompiledModel;
+pub use compiled::{CompiledModel, DENSE_JACOBIAN_MAX};
 
 /// The compiled form of an analysed model: its functions as straight-line programs (the
 /// input of the code generator and of the interpreter).

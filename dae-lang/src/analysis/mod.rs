@@ -12,6 +12,7 @@
 //! at the initial point, where non-finite values and a singular or ill-conditioned
 //! `J_Omega` are errors.
 
+#[cfg(any(test, feature = "fixtures"))]
 pub mod fixtures;
 mod init;
 mod lower;
@@ -145,6 +146,7 @@ impl Analysis {
 
     /// The expressions the analysis built (the arena, the realization of every
     /// constraint). Internal representation: feature `internals`.
+    #[cfg(any(test, feature = "internals"))]
     pub fn symbolic(&self) -> &SymbolicModel {
         &self.symbolic
     }

@@ -30,6 +30,8 @@
 
 mod build;
 mod diff;
+// The compiler evaluates tapes, never the arena: this evaluator serves the tests.
+#[cfg(any(test, feature = "internals"))]
 mod eval;
 #[cfg(test)]
 mod parse_back;
@@ -45,6 +47,7 @@ use std::hash::{Hash, Hasher};
 use crate::{AlgId, Func, VarRef};
 
 pub use diff::DiffContext;
+#[cfg(any(test, feature = "internals"))]
 pub use eval::Point;
 pub use print::Names;
 

@@ -13,9 +13,9 @@
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 
-use crate::compiled::CompiledModel;
-use crate::tape::{BinaryOp, Instr, Operand, Tape, UnaryOp};
-use crate::{Func, VarRef};
+use dae_lang::CompiledModel;
+use dae_lang::tape::{BinaryOp, Instr, Operand, Tape, UnaryOp};
+use dae_lang::{Func, VarRef};
 
 /// Rust keywords that cannot name a field as they are; such parameters get a trailing
 /// underscore (`type` -> `type_`).
@@ -192,15 +192,17 @@ pub fn generate(model: &CompiledModel) -> TokenStream {
     }
 }
 
-/// The generated code as formatted Rust source.
+/// The generated code as Rust source: formatted with feature `pretty`, the tokens' text
+/// (one line, the same code) without it.
 pub fn emit_rust(model: &CompiledModel) -> String {
     let tokens = generate(model);
-    match syn::parse2::<syn::File>(tokens.clone()) {
-        Ok(file) => prettyplease::unparse(&file),
-        // The generator always produces valid Rust; if it ever does not, show the raw
-        // tokens rather than lose them.
-        Err(_) => tokens.to_string(),
+    #[cfg(feature = "pretty")]
+    if let Ok(file) = syn::parse2::<syn::File>(tokens.clone()) {
+        return prettyplease::unparse(&file);
     }
+    // Without `pretty`, or if the generator ever produced something `syn` rejects (it
+    // always produces valid Rust): the raw tokens rather than nothing.
+    tokens.to_string()
 }
 
 /// `1 state`, `2 states`.
