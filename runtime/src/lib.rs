@@ -49,7 +49,8 @@
 //! # Recording
 //!
 //! Samples go to a [`Sink`]: a [`Trace`] in memory, a [`CsvSink`] that streams, either
-//! wrapped in [`Decimate`] to keep every k-th step or a minimum time spacing. Update
+//! wrapped in [`Decimate`] to keep every k-th step or a minimum time spacing, two of them
+//! at once with [`Tee`] (an `Option` of a sink is a sink that may be absent). Update
 //! times are always recorded. A failed run leaves the sink with everything up to the
 //! failure.
 //!
@@ -109,13 +110,14 @@ mod model;
 
 #[cfg(feature = "plot")]
 pub use charts::{
-    ChartError, ErrorSeries, SlidingSeries, YScale, plot_errors, plot_periods, plot_sliding,
+    ChartError, ErrorSeries, RunCharts, SlidingSeries, YScale, plot_errors, plot_periods, plot_run,
+    plot_sliding,
 };
 pub use design::{
     AutoDesign, AutoDesignOptions, ConstraintDesign, ConstraintSpec, Design, DesignError,
-    DesignPass, GainChoice, LayerBound, MAX_INDEX, MuSearch, PilotError, PilotEstimate,
-    PilotEstimator, PilotRun, PilotRunError, auto_design, c_r, design, optimise_mu, pilot_run,
-    pilot_specs, reachable_bound, robust_gain, sufficient_gain, t_min,
+    DesignPass, GainChoice, LayerBound, MAX_INDEX, MuChoice, MuSearch, PilotError, PilotEstimate,
+    PilotEstimator, PilotRun, PilotRunError, auto_design, c_r, design, design_at, optimise_mu,
+    pilot_run, pilot_specs, reachable_bound, robust_gain, sufficient_gain, t_min,
 };
 pub use model::{Model, w_offsets};
 
@@ -130,4 +132,4 @@ pub use error::{Quantity, SimError};
 pub use settings::{AlphaChoice, Initial, Integrator, Policy, Reaching, Settings};
 pub use sim::Simulator;
 pub use summary::Summary;
-pub use trace::{CsvSink, Decimate, Layout, NoTrace, Sample, Sink, Trace};
+pub use trace::{CsvSink, Decimate, Layout, NoTrace, Sample, Sink, Tee, Trace};

@@ -10,6 +10,7 @@
 //!   the two design choices of method.md section 5 in [`GainChoice`];
 //! * [`optimise_mu`] / [`design`]: maximise `T_i^min(mu_i)` with the gain substituted
 //!   (T corollary 4.1, section 4.3), and take the smallest over the constraints (T 3.15);
+//!   [`design_at`]: the same at given `mu_i`;
 //! * [`PilotEstimator`]: estimates `|beta_i|` and `M_i` from samples of a pilot run;
 //!   [`pilot_run`] feeds it from a simulation and [`auto_design`] runs the whole
 //!   procedure (pilot, design, pilot again with the design, design).
@@ -25,11 +26,11 @@ mod pilot_run;
 
 pub use bounds::{LayerBound, c_r, reachable_bound, t_min};
 pub use gains::{GainChoice, robust_gain, sufficient_gain};
-pub use optimise::{ConstraintDesign, Design, MuSearch, design, optimise_mu};
+pub use optimise::{ConstraintDesign, Design, MuSearch, design, design_at, optimise_mu};
 pub use pilot::{PilotError, PilotEstimate, PilotEstimator};
 pub use pilot_run::{
-    AutoDesign, AutoDesignOptions, DesignPass, PilotRun, PilotRunError, auto_design, pilot_run,
-    pilot_specs,
+    AutoDesign, AutoDesignOptions, DesignPass, MuChoice, PilotRun, PilotRunError, auto_design,
+    pilot_run, pilot_specs,
 };
 
 /// The largest constraint index the formulas accept; `mu^(r-1)` and `2^r` are computed
@@ -130,6 +131,16 @@ pub enum DesignError {
     /// [`design`] was given no constraints.
     #[error("no constraints to design for")]
     NoConstraints,
+    /// A per-constraint list has the wrong length.
+    #[error("{what} has {got} entries, expected {expected} (one per constraint)")]
+    CountMismatch {
+        /// The list (`mu`).
+        what: &'static str,
+        /// Its length.
+        got: usize,
+        /// The number of constraints.
+        expected: usize,
+    },
     /// An error about one constraint of a [`design`].
     #[error("constraint {index}: {source}")]
     Constraint {
