@@ -1,4 +1,4 @@
-//! `daec design`: the gain and surface design of method.md section 4, from given bounds
+//! `daec design`: the gain and surface design of docs/method.md section 5, from given bounds
 //! (one constraint) or from a pilot run of a model (every constraint).
 
 use crate::pilot::{PilotArgs, design_json, per_constraint};

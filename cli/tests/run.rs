@@ -1,4 +1,4 @@
-//! `daec run` run as a process on the interpreter: the thesis scene (method.md section 5)
+//! `daec run` run as a process on the interpreter: the thesis scene (docs/method.md section 8)
 //! with the figures of the generated code, the CSV and charts, and run-time errors.
 
 mod common;

@@ -46,7 +46,7 @@ fn table(title: &str, model: &Model) {
 
 fn main() {
     table(
-        "3-D double pendulum (method.md section 5), both constraints:",
+        "3-D double pendulum (docs/method.md section 8), both constraints:",
         &double_pendulum_3d(),
     );
     table(

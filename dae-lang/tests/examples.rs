@@ -1,5 +1,5 @@
 //! The example models in `examples/models/` check, and encode the equations their
-//! comments (and method.md) state: evaluated at chosen points, their right-hand sides
+//! comments (and docs/method.md) state: evaluated at chosen points, their right-hand sides
 //! and residuals match values computed by hand from the physics.
 
 use dae_lang::ast::BinOp;
@@ -161,7 +161,7 @@ fn double_pendulum_3d_has_the_thesis_equations() {
         &[-1.0, 0.0, 0.0, -5.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
     );
     close(&z0, &[0.0, 0.0]);
-    // method.md: w1(0) = |R1| - L1 = -1, w2(0) = |R2 - R1| - L2 = 2.
+    // docs/method.md section 8: w1(0) = |R1| - L1 = -1, w2(0) = |R2 - R1| - L2 = 2.
     let p = point(&m, x0.clone(), z0, 0.0);
     close(
         &m.constraints

@@ -1,4 +1,4 @@
-//! The thesis's chapter-5 example (method.md section 5) on generated code:
+//! The thesis's chapter-5 example (docs/method.md section 8) on generated code:
 //! `cargo run --release --example double_pendulum [OUT_DIR]` (default
 //! `out/double_pendulum/`).
 //!

@@ -71,7 +71,7 @@ fn spsm_cannot_be_a_pilot() {
     ));
 }
 
-/// method.md section 5: the thesis's pilot bounds are |beta| <= 1.3e3 / 2.3e3,
+/// docs/method.md section 8: the thesis's pilot bounds are |beta| <= 1.3e3 / 2.3e3,
 /// M = 9e4 / 11e4, and the relaxed design with (T 4.6) gives mu = 0.076 / 0.066,
 /// T_min = 0.0062 / 0.0053. Two passes from mu = 0.1, k = 40 (exact alpha) over 10 s must
 /// land within a factor of 3 of those bounds and within 0.01 of those mu (the motion is

@@ -268,7 +268,7 @@ fn chain_text(n: usize) -> String {
     s
 }
 
-/// The closed form of method.md section 6 for the chain of `chain_text`: diagonal
+/// The closed form of docs/method.md section 7 for the chain of `chain_text`: diagonal
 /// -(1/m_a + 1/m_b) (-1/m_1 for the pinned first link), off-diagonal (i, i+1) through
 /// their shared particle c = i: -(rhat_{c,i} . rhat_{c,i+1}) / m_c.
 fn chain_jacobian(n: usize) -> Vec<f64> {

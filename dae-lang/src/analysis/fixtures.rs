@@ -229,7 +229,7 @@ impl ModelBuilder {
     }
 }
 
-/// The 3-D double pendulum of the thesis (method.md section 5): masses 0.1, links 2.0,
+/// The 3-D double pendulum of the thesis (docs/method.md section 8): masses 0.1, links 2.0,
 /// g = 9.8, `R1 = (-1, 0, 0)`, `R2 = (-5, 0, 0)`, at rest, tensions `z1, z2` (initial 0).
 /// States in order `rx1 ry1 rz1 vx1 vy1 vz1 rx2 ry2 rz2 vx2 vy2 vz2`.
 pub fn double_pendulum_3d() -> Model {

@@ -1,4 +1,4 @@
-//! Index analysis and realization (method.md sections 1-2).
+//! Index analysis and realization (docs/method.md sections 1-2).
 //!
 //! For each constraint `g_i`: differentiate `w_i = g_i` along the flow (z held constant)
 //! until an algebraic unknown appears; that derivative is `Omega_i = w_i^(r_i - 1)` and

@@ -1,5 +1,5 @@
 //! Index analysis tests on models built in code, checked against hand derivations,
-//! closed forms (method.md section 6) and finite differences of s along the realized flow.
+//! closed forms (docs/method.md section 7) and finite differences of s along the realized flow.
 
 use super::fixtures::*;
 use super::*;
@@ -46,7 +46,7 @@ fn eval(a: &Analysis, id: crate::sym::Id, v: &Values) -> f64 {
 
 /// The oracle test of the realization: along the extended flow `x' = f, z' = v, t' = 1`,
 /// a central difference of `s_i` must equal `mu_i^(r_i-1) (J_Omega v)_i + alpha_i`
-/// (method.md (T 2.6)), and `alpha_hat_i = alpha_i - mu_i^(r_i-1) beta_i`.
+/// (docs/method.md section 2, (T 2.6)), and `alpha_hat_i = alpha_i - mu_i^(r_i-1) beta_i`.
 fn check_sliding_dynamics(a: &Analysis, model: &crate::model::Model, rng: &mut Rng, spread: f64) {
     let m = a.constraints.len();
     let base = Values {
@@ -391,7 +391,7 @@ fn non_finite_values_at_the_initial_point_are_errors() {
     assert_eq!(errs[1].span, model.constraints[0].span);
 }
 
-/// The 3-D double pendulum's J_Omega against method.md section 6 at random configurations:
+/// The 3-D double pendulum's J_Omega against docs/method.md section 7 at random configurations:
 /// J11 = -1/m1 (link 1 pinned), J22 = -(1/m1 + 1/m2), J12 = J21 = -(rhat_10 . rhat_12)/m1.
 #[test]
 fn double_pendulum_jacobian_matches_the_closed_form() {
@@ -507,7 +507,7 @@ fn double_pendulum_at_the_thesis_initial_state() {
     // cond of [[-10, 10], [10, -20]]: eigenvalues -15 -+ 5 sqrt(5).
     let e = 5.0 * 5f64.sqrt();
     assert!((a.condition_number - (15.0 + e) / (15.0 - e)).abs() < 1e-12);
-    // s(0) = w(0) at rest: -1 and 2 (method.md section 5).
+    // s(0) = w(0) at rest: -1 and 2 (docs/method.md section 8).
     let v = Values {
         params: a.initial.params.clone(),
         states: a.initial.states.clone(),

@@ -3,7 +3,7 @@
 //! Both are one structural chain-rule walk that differs only in the derivative of the
 //! leaves: `d/dv` has `dv/dv = 1` and 0 for every other leaf; the total time derivative
 //! `D[e] = de/dt + sum_k (de/dx_k) f_k` has `D[t] = 1`, `D[x_k] = f_k` and 0 for
-//! parameters, algebraic unknowns (z is held constant, method.md section 1) and the
+//! parameters, algebraic unknowns (z is held constant, docs/method.md section 1) and the
 //! realization parameters. Walking once with these leaf rules gives the same expression as
 //! summing partials, without building `n` partial derivatives first. A per-node bit set of
 //! the leaf kinds below it answers "is this a constant for this variable?" in O(1).

@@ -1,6 +1,6 @@
 //! A test-only reader of the printed syntax, to check that printed text reads back.
 //!
-//! A recursive-descent reader with the precedence of language.md, strict where the grammar
+//! A recursive-descent reader with the precedence of docs/language.md, strict where the grammar
 //! might be: an exponent is an atom or a power (never a bare unary minus), and a unary
 //! minus only starts a sum or a product's first operand. Panics on anything else.
 

@@ -1,5 +1,5 @@
-//! Design toolkit: guaranteed update periods, gains and the choice of `mu` (method.md
-//! sections 3-5; formula numbers "(T x.y)" refer to F. Rum's 2004 thesis).
+//! Design toolkit: guaranteed update periods, gains and the choice of `mu` (docs/method.md
+//! section 5; formula numbers "(T x.y)" refer to F. Rum's 2004 thesis).
 //!
 //! Everything here is a pure function of a few bounds that describe one constraint
 //! ([`ConstraintSpec`]: index `r`, layer half-width `eps`, drift bound `M`, `|beta|`):
@@ -7,7 +7,7 @@
 //! * [`t_min`] (T 3.14, with the (T 4.6) and (T 4.7) variants selected by
 //!   [`LayerBound`]) and its converse [`reachable_bound`] (T 3.13);
 //! * gains: [`sufficient_gain`] (T 4.4, corrected), [`robust_gain`] (T 3.17, 3.21) and
-//!   the two design choices of method.md section 5 in [`GainChoice`];
+//!   the design choices of docs/method.md section 5 in [`GainChoice`];
 //! * [`optimise_mu`] / [`design`]: maximise `T_i^min(mu_i)` with the gain substituted
 //!   (T corollary 4.1, section 4.3), and take the smallest over the constraints (T 3.15);
 //!   [`design_at`]: the same at given `mu_i`;

@@ -149,7 +149,7 @@ pub fn optimise_mu(
 /// Optimises every constraint with [`optimise_mu`] and takes `T_min = min_i T_i^min`
 /// (T 3.15). Errors name the constraint ([`DesignError::Constraint`]).
 ///
-/// The double pendulum of the thesis (method.md section 5), relaxed gains with (T 4.6):
+/// The double pendulum of the thesis (docs/method.md section 8), relaxed gains with (T 4.6):
 ///
 /// ```
 /// use dae_runtime::{ConstraintSpec, GainChoice, LayerBound, MuSearch, design};

@@ -1,4 +1,4 @@
-//! The pilot simulation and the automatic design procedure (method.md section 4, T
+//! The pilot simulation and the automatic design procedure (docs/method.md section 5, T
 //! corollary 4.1): run the simulator once, estimate `|beta_i|` and `M_i` from what it
 //! did with a [`PilotEstimator`], and choose `mu_i`, `k_i` from those bounds.
 //!
@@ -303,7 +303,7 @@ pub struct AutoDesign {
     pub passes: Vec<DesignPass>,
 }
 
-/// The design procedure of method.md section 4 (T corollary 4.1), automated: estimate
+/// The design procedure of docs/method.md section 5 (T corollary 4.1), automated: estimate
 /// `|beta_i|` and `M_i` from a pilot run, maximise `T_i^min(mu_i)` with the gain choice
 /// substituted, and repeat the pilot with the new design.
 ///

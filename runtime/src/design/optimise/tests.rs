@@ -11,7 +11,7 @@ fn pendulum_link(beta_abs: f64, m: f64, layer: LayerBound) -> ConstraintSpec {
     }
 }
 
-/// method.md section 5 / thesis chapter 5: sufficient gains with (T 3.14).
+/// docs/method.md section 8 / thesis chapter 5: sufficient gains with (T 3.14).
 #[test]
 fn thesis_example_sufficient_gains_give_mu_0065_and_0060() {
     let links = [
@@ -26,7 +26,7 @@ fn thesis_example_sufficient_gains_give_mu_0065_and_0060() {
     assert_eq!(d.limiting, 1);
 }
 
-/// method.md section 5 / thesis chapter 5: relaxed gains with (T 4.6).
+/// docs/method.md section 8 / thesis chapter 5: relaxed gains with (T 4.6).
 #[test]
 fn thesis_example_relaxed_gains_give_mu_0076_0066_and_periods_00062_00053() {
     let links = [
@@ -46,7 +46,7 @@ fn thesis_example_relaxed_gains_give_mu_0076_0066_and_periods_00062_00053() {
 }
 
 /// At the published mu (0.076, 0.066), relaxed gains with (T 4.6) give the published
-/// periods 0.0062 / 0.0053 (method.md section 5), and each entry is `t_min` at its mu and
+/// periods 0.0062 / 0.0053 (docs/method.md section 8), and each entry is `t_min` at its mu and
 /// gain; a wrong number of mu is an error, not a panic.
 #[test]
 fn design_at_the_thesis_mu_gives_the_published_periods() {
