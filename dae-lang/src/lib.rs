@@ -61,11 +61,10 @@
 //!
 //! # Features
 //!
-//! * `internals`: the symbolic intermediate representation (the hash-consed [`Arena`] of
-//!   expressions, its [`Node`]s and [`Id`]s, [`lower`], [`Analysis::symbolic`]) as
-//!   public API, for the test crate and for tools that inspect a derivation. Not a
-//!   stable interface.
-//! * `fixtures`: models built in code ([`fixtures`]) for tests and benchmarks.
+//! * `internals`: the symbolic intermediate representation (the hash-consed `Arena` of
+//!   expressions, its `Node`s and `Id`s, `lower`, `Analysis::symbolic`) as public API,
+//!   for the test crate and for tools that inspect a derivation. Not a stable interface.
+//! * `fixtures`: models built in code (module `fixtures`) for tests and benchmarks.
 #![warn(missing_docs)]
 
 pub mod ast;

@@ -20,7 +20,7 @@ pub struct Lowered {
 
 /// Lower a model's equations. `simplify = false` builds without the simplifying rules
 /// (for measuring). A let is lowered once and every use refers to its node, so lets are
-/// shared, not copied. The initial values are lowered separately ([`lower_initial`]).
+/// shared, not copied. The initial values are lowered separately, after the analysis.
 pub fn lower(model: &Model, simplify: bool) -> Lowered {
     let mut arena = if simplify {
         Arena::new()
