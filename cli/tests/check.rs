@@ -198,7 +198,7 @@ fn unreadable_or_binary_files_are_errors_not_panics() {
     let o = daec(&["check", path.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(1));
     assert!(
-        stderr(&o).contains("is not UTF-8 text (invalid byte at offset 1)"),
+        stderr(&o).contains("is not UTF-8 text: byte 0xFF at "),
         "{}",
         stderr(&o)
     );

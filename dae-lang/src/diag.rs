@@ -57,9 +57,13 @@ impl Diagnostic {
     /// assert!(text.contains("unknown name `y`"));
     /// ```
     pub fn render(&self, file_name: &str, source: &str, color: bool) -> String {
+        // A byte order mark is not shown: render the text after it, spans moved back.
+        let full = source;
+        let shift = if source.starts_with('\u{feff}') { 3 } else { 0 };
+        let source = &source[shift..];
         let clamp = |s: Span| {
-            let end = floor_char_boundary(source, s.end.min(source.len()));
-            let start = floor_char_boundary(source, s.start.min(end));
+            let end = floor_char_boundary(source, s.end.saturating_sub(shift).min(source.len()));
+            let start = floor_char_boundary(source, s.start.saturating_sub(shift).min(end));
             start..end
         };
         let primary = clamp(self.span);
@@ -100,7 +104,7 @@ impl Diagnostic {
             .write((file_name, Source::from(source)), &mut out)
             .is_err()
         {
-            let (line, col) = line_col(source, self.span);
+            let (line, col) = line_col(full, self.span);
             return format!("error: {}\n --> {file_name}:{line}:{col}\n", self.message);
         }
         String::from_utf8_lossy(&out).into_owned()
@@ -114,10 +118,17 @@ impl Diagnostic {
 pub fn line_col(source: &str, span: Span) -> (usize, usize) {
     let pos = floor_char_boundary(source, span.start.min(source.len()));
     let before = &source[..pos];
-    let line = before.matches('\n').count() + 1;
+    let line_no = before.matches('\n').count() + 1;
     let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-    let col = before[line_start..].chars().count() + 1;
-    (line, col)
+    // A byte order mark at the start of the text is not shown by editors: not a column.
+    let line = &before[line_start..];
+    let line = if line_start == 0 {
+        line.strip_prefix('\u{feff}').unwrap_or(line)
+    } else {
+        line
+    };
+    let col = line.chars().count() + 1;
+    (line_no, col)
 }
 
 /// The largest char boundary of `s` at or below `i` (`i <= s.len()`).
@@ -217,5 +228,17 @@ mod tests {
         let first = text.find("first").unwrap_or(usize::MAX);
         let second = text.find("second").unwrap_or(0);
         assert!(first < second, "labels in source order: {text}");
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_neither_shown_nor_counted() {
+        let src = "\u{feff}model M {\n    der(x) = y;\n}\n";
+        let d = Diagnostic::new("m", Span::new(9, 10), "the name");
+        let text = d.render("m.dae", src, false);
+        assert!(text.contains("m.dae:1:7"), "{text}");
+        assert!(!text.contains('\u{feff}'), "{text}");
+        let d = Diagnostic::new("m", Span::new(26, 27), "y");
+        assert!(d.render("m.dae", src, false).contains("m.dae:2:14"));
+        assert_eq!(line_col(src, Span::new(26, 27)), (2, 14));
     }
 }

@@ -83,6 +83,7 @@ mod syntax;
 pub use diag::{Diagnostic, line_col};
 pub use func::Func;
 pub use ids::{AlgId, ConstraintId, LetId, ParamId, StateId, VarRef};
+pub use syntax::MAX_SOURCE_BYTES;
 
 /// Parses a `.dae` source text into its syntax tree.
 pub fn parse(src: &str) -> Result<ast::File, Vec<Diagnostic>> {
