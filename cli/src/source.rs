@@ -58,8 +58,9 @@ fn not_utf8(name: &str, bytes: &[u8], e: std::str::Utf8Error) -> String {
 /// unless `NO_COLOR` is set), then a count line.
 pub(crate) fn report(name: &str, source: &str, diags: &[Diagnostic]) -> Reported {
     let color = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();
+    let renderer = dae_lang::Renderer::new(name, source, color);
     for d in diags {
-        eprint!("{}", d.render(name, source, color));
+        eprint!("{}", renderer.render(d));
     }
     let n = diags.len();
     eprintln!(

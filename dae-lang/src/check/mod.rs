@@ -194,6 +194,8 @@ fn declare<'a>(m: &'a ModelAst, diags: &mut Vec<Diagnostic>) -> (Scope<'a>, Decl
         ordered: Vec::new(),
         duplicated: HashSet::new(),
         model_name: &m.name.name,
+        suggestions: Default::default(),
+        function_suggestions: Default::default(),
     };
     let mut decls = Decls::default();
     for item in &m.items {
