@@ -275,10 +275,11 @@ impl Printer<'_> {
     /// The numerator factors in printing order: by id, except that a factor which is not a
     /// sum goes first when there is one (`2*mu*(a - b)` rather than `2*((a - b)*mu)`,
     /// which needs the brackets to read back to the same node).
+    /// (A NaN exponent, from a folded `0/0`, counts as the numerator's.)
     fn numerator(&self, fs: &[(Id, Num)]) -> Vec<(Id, f64)> {
         let mut num: Vec<(Id, f64)> = fs
             .iter()
-            .filter(|(_, e)| !(e.0 < 0.0))
+            .filter(|(_, e)| e.0 >= 0.0 || e.0.is_nan())
             .map(|(b, e)| (*b, e.0))
             .collect();
         if let Some(p) = num.iter().position(|&(b, e)| !self.is_sum_factor(b, e)) {
@@ -318,7 +319,7 @@ impl Printer<'_> {
 
     fn product(&mut self, c: f64, fs: &[(Id, Num)]) -> Piece {
         let mag = c.abs();
-        let has_num = fs.iter().any(|(_, e)| !(e.0 < 0.0));
+        let has_num = fs.iter().any(|(_, e)| e.0 >= 0.0 || e.0.is_nan());
         let mut coef = None;
         let mut den: Vec<String> = Vec::new();
         // `x/3` for a coefficient 1/3, unless a sum is in the denominator: `x/(3*(a + b))`
