@@ -81,6 +81,19 @@ pub(crate) struct PilotArgs {
 }
 
 impl PilotArgs {
+    /// Checks the values of these options before any pilot runs.
+    pub(crate) fn validate(&self) -> Result<(), Reported> {
+        use crate::messages::{at_least, check, positive};
+        check(self.passes >= 1, || {
+            "--passes must be at least 1".to_string()
+        })?;
+        positive("--pilot-mu", self.pilot_mu)?;
+        if let Some(k) = self.pilot_gain {
+            positive("--pilot-gain", k)?;
+        }
+        at_least("--safety", self.safety, 1.0)
+    }
+
     /// The automatic design of `model` with pilots under `base` (its eps, step, time
     /// span, settle time, policy and reaching rule are used). With `mu`, the surfaces are
     /// given and only the gains are designed; with `fixed_gain`, every pass (the pilots
@@ -111,7 +124,11 @@ impl PilotArgs {
             mu: mu.map_or_else(MuChoice::default, MuChoice::Given),
         };
         auto_design(model, &base.eps, &pilot, &opts).map_err(|e| {
-            eprintln!("error: automatic design of `{}`: {e}", model.name());
+            eprintln!(
+                "error: automatic design of `{}`: {}",
+                model.name(),
+                crate::messages::pilot_run_error(model, &e)
+            );
             Reported
         })
     }
@@ -123,9 +140,12 @@ pub(crate) fn per_constraint(what: &str, values: &[f64], m: usize) -> Result<Vec
         1 => Ok(vec![values[0]; m]),
         n if n == m => Ok(values.to_vec()),
         n => {
-            eprintln!(
-                "error: {what} has {n} values, the model has {m} constraints (give 1 or {m})"
-            );
+            let (constraints, give) = if m == 1 {
+                ("1 constraint".to_string(), "1 value".to_string())
+            } else {
+                (format!("{m} constraints"), format!("1 or {m} values"))
+            };
+            eprintln!("error: {what} has {n} values, the model has {constraints} (give {give})");
             Err(Reported)
         }
     }
