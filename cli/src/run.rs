@@ -541,10 +541,15 @@ fn print_summary(
         opt(s.mean_period)
     );
     for (i, c) in s.constraints.iter().enumerate() {
-        println!(
-            "  {c}: max |s| = {:.6}, max |w| = {:.6}",
-            s.max_abs_s[i], s.max_abs_w[i]
-        );
+        match (&s.max_abs_s, &s.max_abs_w) {
+            (Some(ms), Some(mw)) => {
+                println!("  {c}: max |s| = {:.6}, max |w| = {:.6}", ms[i], mw[i])
+            }
+            _ => println!(
+                "  {c}: not reached; largest |s| seen {:.6}, |w| {:.6}",
+                s.seen_max_abs_s[i], s.seen_max_abs_w[i]
+            ),
+        }
     }
     println!(
         "  solver {}: {} factorisations, {} solves, {} iterations, {} robustness failures",

@@ -210,10 +210,13 @@ mod summary;
 mod trace;
 
 pub use error::{Quantity, SimError};
-pub use settings::{AlphaChoice, Initial, Integrator, Policy, Reaching, Settings};
+pub use settings::{
+    AlphaChoice, BOUND_TOL, CROSSING_TOL, Crossing, Initial, Integrator, Policy, Reaching,
+    Settings, TOLERANCE_PER_EPS, Tolerance,
+};
 pub use sim::Simulator;
 pub use solve::{
     DENSE_MAX, InverseKind, LinearSolver, SolveError, Solver, SolverChoice, SolverStats, mul_js,
 };
-pub use summary::{SolverSummary, Summary};
+pub use summary::{BoundLoss, NEAR_SINGULAR, NearSingular, SolverSummary, Summary};
 pub use trace::{CsvSink, Decimate, Layout, NoTrace, Sample, Sink, Trace};

@@ -3,11 +3,13 @@
 mod common;
 
 use common::Tracking;
-use dae_runtime::{Quantity, Settings, SimError, Simulator, Trace};
+use dae_runtime::{Crossing, Quantity, Settings, SimError, Simulator, Trace};
 
+/// A fixed grid (the step-end rule), so that the failure's time is a grid point.
 fn settings() -> Settings {
     Settings::new(vec![1e-3], vec![0.05], vec![0.2])
         .step(1e-3)
+        .crossing(Crossing::StepEnd)
         .t_end(2.0)
 }
 

@@ -311,15 +311,16 @@ fn run_once<M: Model + ?Sized>(scene: &Scene<'_, M>, method: &Method) -> Result<
                 .and_then(|mut sim| sim.run(&mut NoTrace))
                 .map_err(|e| e.to_string())?;
             Ok(Outcome {
-                max_w: max_of(&s.max_abs_w),
-                max_s: if s.reaching_time.is_some() {
-                    max_of(&s.max_abs_s)
-                } else {
-                    f64::INFINITY
-                },
+                // The window's maxima once the layers were reached; before that the
+                // residuals seen, and an infinite |s| (the layer never held).
+                max_w: s
+                    .max_abs_w
+                    .as_deref()
+                    .map_or_else(|| max_of(&s.seen_max_abs_w), max_of),
+                max_s: s.max_abs_s.as_deref().map_or(f64::INFINITY, max_of),
                 wall: s.wall_time,
                 j_solves: s.jacobian_evals,
-                f_evals: s.rhs_evals,
+                f_evals: s.f_evals,
                 steps: s.steps,
                 x: s.x,
             })
