@@ -97,3 +97,29 @@ fn z_eq_matches_the_tension_from_the_physics() {
     }
     assert!(worst_far[2] < 0.05 * worst_far[0], "{worst_far:?}");
 }
+
+/// `z* = z - J_Omega^{-1} Omega` is the `z` with `l'' = 0` at the recorded state, which
+/// [`chapter5::tension_oracle`] computes from the physics alone: `Omega` is affine in
+/// `z` (accelerations are affine in the tensions), so the one solve is exact.
+#[test]
+fn z_star_is_the_tension_of_the_constrained_motion_at_every_sample() {
+    let model = DoublePendulum3D::default();
+    let mut trace = Trace::new();
+    Simulator::new(&model, chapter5::monitored(1.0, 0.0).step(1e-3))
+        .unwrap()
+        .run(&mut trace)
+        .unwrap();
+    for k in (0..trace.len()).step_by(50) {
+        let (on_manifold, _) =
+            chapter5::tension_oracle(&model, trace.times()[k], trace.x(k), THESIS_MU);
+        for i in 0..2 {
+            let zs = trace.z_star(k)[i];
+            assert!(
+                (zs - on_manifold[i]).abs() <= 1e-9 * (1.0 + on_manifold[i].abs()),
+                "t = {}: z* {zs} vs l'' = 0 tension {}",
+                trace.times()[k],
+                on_manifold[i]
+            );
+        }
+    }
+}

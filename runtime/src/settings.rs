@@ -46,7 +46,7 @@ pub struct Tolerance {
 /// [`Settings::tolerance`] is not given: `rtol = atol = TOLERANCE_PER_EPS * min eps_i`.
 /// Measured on the double pendulum (docs/work-precision.md): at this factor the position
 /// error stays that of the layer and one step usually spans a control interval.
-pub const TOLERANCE_PER_EPS: f64 = 0.1;
+pub const TOLERANCE_PER_EPS: f64 = 0.01;
 
 /// How the monitoring policy and the reaching-phase rules find the moment to update.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

@@ -67,7 +67,15 @@ impl<M: Model> Simulator<M> {
         } else if self.set.integrator.is_adaptive() {
             self.adaptive_step(target)?;
         } else {
-            let t_new = self.grid_time();
+            let mut t_new = self.grid_time();
+            let aim = t0 + AIM_PAST_CROSSING * self.predicted_crossing();
+            let off_grid = self.located() && self.set.policy == Policy::Monitor && aim < t_new;
+            if off_grid {
+                // The user's step is the longest: a step aimed past the predicted
+                // crossing is not wasted on motion after it, and its trial end stays
+                // close enough for the cubic of s to find the crossing.
+                t_new = aim;
+            }
             self.first_stage();
             self.fixed_step(t_new - t0);
             self.x.copy_from_slice(&self.rk.y1);
@@ -85,10 +93,20 @@ impl<M: Model> Simulator<M> {
             } else {
                 self.measure_ends(t_new - t0);
             }
+            if off_grid && self.run.origin != self.t {
+                self.restart_grid();
+            }
         }
         self.measure.h = self.t - t0;
         self.stats.steps += 1;
         Ok(())
+    }
+
+    /// Start the fixed grid again at the current time (after a cut or an aimed step).
+    fn restart_grid(&mut self) {
+        self.run.origin = self.t;
+        self.run.k = 0;
+        self.run.n = self.grid_steps(self.run.grid_target);
     }
 
     /// The end of the next step on the fixed grid.
@@ -456,12 +474,8 @@ impl<M: Model> Simulator<M> {
             self.t = t0;
             self.fixed_step(t_cut - t0);
             self.x.copy_from_slice(&self.rk.y1);
-            self.run.origin = t_cut;
-            self.run.k = 0;
-            let h = self.set.step;
-            self.run.n = (((self.run.grid_target - t_cut) / h) - 1e-9)
-                .ceil()
-                .max(1.0) as u64;
+            self.t = t_cut;
+            self.restart_grid();
         }
         self.t = t_cut;
         self.ramp_z();

@@ -120,6 +120,10 @@ impl LinearSolver for DenseSolver {
     fn solve(&mut self, b: &mut [f64]) {
         self.stats.solves += 1;
         let m = self.m;
+        if m == 0 {
+            // No constraints (an ODE): nothing to solve.
+            return;
+        }
         for (i, &p) in self.swaps.iter().enumerate() {
             if p != i {
                 b.swap(i, p);
