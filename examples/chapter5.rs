@@ -1,4 +1,4 @@
-//! The scene of the thesis's chapter 5 (method.md section 5) on code generated from
+//! The scene of the thesis's chapter 5 (docs/method.md section 8) on code generated from
 //! `models/double_pendulum_3d.dae`: the design from the published pilot bounds, the
 //! settings of the monitored and fixed-rate runs, and an independent tension oracle.
 //!
@@ -12,7 +12,7 @@ use dae_runtime::{
 
 dae_runtime::dae_file!("models/double_pendulum_3d.dae");
 
-/// Layer half-width of both links (method.md section 5).
+/// Layer half-width of both links (docs/method.md section 8).
 pub const EPS: f64 = 0.2;
 /// RK4 step of the published runs.
 pub const STEP: f64 = 1e-4;
@@ -29,7 +29,7 @@ pub const FIXED_PERIOD: f64 = 0.005;
 
 /// The design from the thesis's pilot bounds: `Sufficient` gains go with (T 3.14)
 /// (`LayerBound::General`), `Relaxed` with (T 4.6) (`LayerBound::TightIndex3`), as in
-/// method.md section 5.
+/// docs/method.md section 8.
 pub fn thesis_design(gain: GainChoice) -> Result<Design, DesignError> {
     let layer = match gain {
         GainChoice::Relaxed => LayerBound::TightIndex3,

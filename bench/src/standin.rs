@@ -1,6 +1,6 @@
 //! DEVELOPMENT STAND-IN: a hand-written planar N-link chain in Cartesian coordinates
 //! implementing [`dae_runtime::Model`], used until the compiler generates the same
-//! models. For two links it is the planar `DoublePendulum` of language.md.
+//! models. For two links it is the planar `DoublePendulum` of docs/language.md.
 //!
 //! Particle `k` (end of link `k`, link 0 pinned at the origin) has the states
 //! `x_k, y_k, vx_k, vy_k` (in that order, particle after particle), the algebraic

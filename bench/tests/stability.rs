@@ -37,7 +37,7 @@ fn dbsmc_envelope_stays_bounded_while_the_unstabilised_reduction_drifts() {
 
 #[test]
 fn an_inconsistent_start_is_reached_by_dbsmc_and_not_repaired_without_stabilisation() {
-    // The generated model's own initial state is language.md's: |R1| = 1 != L1 = 2.
+    // The generated model's own initial state is docs/language.md's: |R1| = 1 != L1 = 2.
     let lang = DoublePendulum::default();
     let mut x0 = vec![0.0; 8];
     lang.initial_state(&mut x0);

@@ -1,110 +1,11 @@
-//! `daec design`: the gain and surface design of method.md section 4, from given bounds
+//! `daec design`: the gain and surface design of docs/method.md section 5, from given bounds
 //! (one constraint) or from a pilot run of a model (every constraint).
 
+use crate::pilot::{PilotArgs, design_json, per_constraint};
 use crate::{Reported, source};
-use dae_runtime::{
-    AutoDesign, AutoDesignOptions, ConstraintSpec, GainChoice, LayerBound, Model, MuSearch,
-    Settings, auto_design, optimise_mu,
-};
+use dae_runtime::{ConstraintSpec, Model, MuSearch, Settings, optimise_mu};
 use serde_json::json;
 use std::path::PathBuf;
-
-/// How the gain follows from `mu` (`--gains`).
-#[derive(Clone, Copy, Debug, clap::ValueEnum)]
-pub(crate) enum GainsArg {
-    /// `k = k* + mu^(r-1) |beta|`: the crossing guarantee (T 4.4) made robust for the
-    /// cheap alpha_hat.
-    Sufficient,
-    /// `k = mu^(r-1) |beta|`: only what the cheap alpha_hat neglects (the thesis example).
-    Relaxed,
-}
-
-impl GainsArg {
-    pub(crate) fn choice(self) -> GainChoice {
-        match self {
-            GainsArg::Sufficient => GainChoice::Sufficient,
-            GainsArg::Relaxed => GainChoice::Relaxed,
-        }
-    }
-}
-
-/// Which bound enters T_min (`--bound`).
-#[derive(Clone, Copy, Debug, clap::ValueEnum)]
-pub(crate) enum BoundArg {
-    /// (T 3.14), `c_r = 4 (2^(r-1) - 1)`; any index.
-    General,
-    /// (T 4.6), the tighter `c_3 = 4 (2 + e^-3)`; index 3 only.
-    Index3,
-}
-
-impl BoundArg {
-    pub(crate) fn layer(self) -> LayerBound {
-        match self {
-            BoundArg::General => LayerBound::General,
-            BoundArg::Index3 => LayerBound::TightIndex3,
-        }
-    }
-}
-
-/// Options of the pilot runs, shared by `daec design FILE` and `daec run --mu auto`.
-#[derive(clap::Args, Clone, Debug)]
-pub(crate) struct PilotArgs {
-    /// How the gain follows from mu in the design.
-    #[arg(long, value_enum, default_value = "sufficient")]
-    pub(crate) gains: GainsArg,
-    /// Which bound enters T_min.
-    #[arg(long, value_enum, default_value = "general")]
-    pub(crate) bound: BoundArg,
-    /// Number of pilot -> design passes (the first pilot uses --pilot-mu, --pilot-gain and
-    /// the exact alpha; later ones the previous design with the cheap alpha).
-    #[arg(long, default_value_t = 2)]
-    pub(crate) passes: usize,
-    /// mu of every constraint in the first pilot.
-    #[arg(long, default_value_t = 0.1)]
-    pub(crate) pilot_mu: f64,
-    /// Gain of every constraint in the first pilot [default: 2 eps / (100 h), so that a
-    /// layer is crossed in about 100 steps].
-    #[arg(long)]
-    pub(crate) pilot_gain: Option<f64>,
-    /// Factor (>= 1) on the pilot bounds before designing.
-    #[arg(long, default_value_t = 1.0)]
-    pub(crate) safety: f64,
-}
-
-impl PilotArgs {
-    /// The automatic design of `model` with a pilot under `base` (its eps, step, time
-    /// span, settle time, policy and reaching rule are used). With `fixed_gain`, every
-    /// pass (the pilots included) uses that gain and only mu is designed.
-    pub(crate) fn auto_design(
-        &self,
-        model: &dyn Model,
-        base: &Settings,
-        fixed_gain: Option<f64>,
-    ) -> Result<AutoDesign, Reported> {
-        let m = model.n_constraints();
-        let mut pilot = base.clone();
-        pilot.mu = vec![self.pilot_mu; m];
-        pilot.gains = match (fixed_gain, self.pilot_gain) {
-            (Some(k), _) | (None, Some(k)) => vec![k; m],
-            (None, None) => base
-                .eps
-                .iter()
-                .map(|e| 2.0 * e / (100.0 * base.step))
-                .collect(),
-        };
-        let opts = AutoDesignOptions {
-            gain: fixed_gain.map_or(self.gains.choice(), GainChoice::Fixed),
-            layer: self.bound.layer(),
-            passes: self.passes,
-            safety: self.safety,
-            search: MuSearch::default(),
-        };
-        auto_design(model, &base.eps, &pilot, &opts).map_err(|e| {
-            eprintln!("error: automatic design of `{}`: {e}", model.name());
-            Reported
-        })
-    }
-}
 
 /// Arguments of `daec design`.
 #[derive(clap::Args)]
@@ -202,12 +103,12 @@ fn from_pilot(args: &Args, file: &std::path::Path) -> Result<(), Reported> {
     }
     let model = source::interpreted(file, args.model.as_deref())?;
     let m = model.n_constraints();
-    let eps = crate::run::per_constraint("--eps", &args.eps, m)?;
+    let eps = per_constraint("--eps", &args.eps, m)?;
     let base = Settings::new(eps, vec![1.0; m], vec![1.0; m])
         .step(args.step)
         .t_end(duration)
         .settle(args.settle);
-    let a = args.pilot_args.auto_design(&model, &base, None)?;
+    let a = args.pilot_args.auto_design(&model, &base, None, None)?;
     let out = design_json(&model, &a);
     if args.json {
         println!("{out}");
@@ -227,27 +128,4 @@ fn from_pilot(args: &Args, file: &std::path::Path) -> Result<(), Reported> {
         println!("  T_min = {}", a.design.t_min);
     }
     Ok(())
-}
-
-/// The design of a model as JSON: per-constraint arrays `mu`, `gain`, `t_min`, the
-/// bounds used (`beta_abs`, `m`: the largest over the passes) and `t_min_design`.
-pub(crate) fn design_json(model: &dyn Model, a: &AutoDesign) -> serde_json::Value {
-    let m = model.n_constraints();
-    let max_over = |f: &dyn Fn(&dae_runtime::DesignPass, usize) -> f64| -> Vec<f64> {
-        (0..m)
-            .map(|i| a.passes.iter().map(|p| f(p, i)).fold(0.0, f64::max))
-            .collect()
-    };
-    let c = &a.design.constraints;
-    json!({
-        "model": model.name(),
-        "constraints": (0..m).map(|i| model.constraint_name(i)).collect::<Vec<_>>(),
-        "mu": c.iter().map(|c| c.mu).collect::<Vec<_>>(),
-        "gain": c.iter().map(|c| c.k).collect::<Vec<_>>(),
-        "t_min": c.iter().map(|c| c.t_min).collect::<Vec<_>>(),
-        "t_min_design": a.design.t_min,
-        "beta_abs": max_over(&|p, i| p.pilot.estimate.beta_abs[i]),
-        "m": max_over(&|p, i| p.pilot.estimate.m[i]),
-        "passes": a.passes.len(),
-    })
 }

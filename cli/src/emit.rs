@@ -17,7 +17,7 @@ pub(crate) struct Args {
 pub(crate) fn run(args: &Args) -> Result<(), Reported> {
     let (name, source) = read_source(&args.file)?;
     let models = dae_lang::compile_source(&source).map_err(|d| report(&name, &source, &d))?;
-    let code: Vec<String> = models.iter().map(dae_lang::codegen::emit_rust).collect();
+    let code: Vec<String> = models.iter().map(dae_codegen::emit_rust).collect();
     print!("{}", code.join("\n"));
     Ok(())
 }

@@ -4,7 +4,7 @@
 
 use std::cell::RefCell;
 
-use dae_lang::compiled::CompiledModel;
+use dae_lang::CompiledModel;
 use dae_lang::tape::{Inputs, Tape};
 use dae_runtime::Model;
 

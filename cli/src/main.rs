@@ -22,6 +22,7 @@ mod check;
 mod derive;
 mod design;
 mod emit;
+mod pilot;
 mod run;
 mod source;
 

@@ -1,16 +1,15 @@
 //! `daec run FILE ...`: simulate a model with DBSMC on the interpreter.
 
-use crate::design::PilotArgs;
+use crate::pilot::{PilotArgs, design_json, per_constraint};
 use crate::{Reported, source};
 use dae_runtime::{
-    AlphaChoice, ConstraintSpec, CsvSink, Decimate, ErrorSeries, Layout, Model, NoTrace, Policy,
-    Reaching, Sample, Settings, SimError, Simulator, Sink, SlidingSeries, SolverChoice, Summary,
-    Trace, YScale, pilot_run, pilot_specs, plot_errors, plot_periods, plot_sliding, t_min,
+    AlphaChoice, CsvSink, Decimate, Model, Policy, Reaching, Settings, SimError, Simulator,
+    SolverChoice, Summary, Tee, Trace, plot_run,
 };
 use serde_json::json;
 use std::fs::File;
 use std::io::{self, BufWriter};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Most rows written to `--csv` (and kept for `--plot`) before steps are decimated.
 const MAX_ROWS: u64 = 200_000;
@@ -97,20 +96,6 @@ enum AlphaArg {
     Exact,
 }
 
-/// `values` expanded to one per constraint: one value applies to all.
-pub(crate) fn per_constraint(what: &str, values: &[f64], m: usize) -> Result<Vec<f64>, Reported> {
-    match values.len() {
-        1 => Ok(vec![values[0]; m]),
-        n if n == m => Ok(values.to_vec()),
-        n => {
-            eprintln!(
-                "error: {what} has {n} values, the model has {m} constraints (give 1 or {m})"
-            );
-            Err(Reported)
-        }
-    }
-}
-
 /// `auto` or a comma-separated list of numbers.
 fn auto_or_list(what: &str, text: &str) -> Result<Option<Vec<f64>>, Reported> {
     if text.trim() == "auto" {
@@ -183,36 +168,33 @@ pub(crate) fn run(args: &Args) -> Result<(), Reported> {
             settings.gains = per_constraint("--gain", &k, m)?;
             None
         }
-        (None, k) => {
-            let pa = &args.pilot_args;
-            let mut fixed = None;
-            if let Some(k) = k {
-                let k = per_constraint("--gain", &k, m)?;
-                if k.iter().any(|v| *v != k[0]) {
-                    eprintln!("error: --mu auto takes one --gain value (or `auto`)");
-                    return Err(Reported);
+        // At least one of them `auto`: the pilots design it; given mu are kept, a given
+        // gain (one value for all) is used throughout.
+        (mu, k) => {
+            let mu = mu.map(|mu| per_constraint("--mu", &mu, m)).transpose()?;
+            let fixed = match k {
+                None => None,
+                Some(k) => {
+                    let k = per_constraint("--gain", &k, m)?;
+                    if k.iter().any(|v| *v != k[0]) {
+                        eprintln!("error: --mu auto takes one --gain value (or `auto`)");
+                        return Err(Reported);
+                    }
+                    Some(k[0])
                 }
-                fixed = Some(k[0]);
-            }
-            let a = pa.auto_design(&model, &pilot_base, fixed)?;
+            };
+            let a = args
+                .pilot_args
+                .auto_design(&model, &pilot_base, mu, fixed)?;
             settings.mu = a.design.constraints.iter().map(|c| c.mu).collect();
             settings.gains = a.design.constraints.iter().map(|c| c.k).collect();
             if fixed.is_some() && settings.alpha == AlphaChoice::Cheap {
                 warn_uncovered_beta(&model, &settings, &a);
             }
             Some(DesignInfo {
-                json: crate::design::design_json(&model, &a),
+                json: design_json(&model, &a),
                 t_min: a.design.t_min,
             })
-        }
-        (Some(mu), None) => {
-            settings.mu = per_constraint("--mu", &mu, m)?;
-            Some(gains_for_mu(
-                &args.pilot_args,
-                &model,
-                &pilot_base,
-                &mut settings,
-            )?)
         }
     };
     let summary = simulate(args, &model, settings.clone(), design.as_ref())?;
@@ -240,103 +222,6 @@ fn warn_uncovered_beta(model: &dyn Model, settings: &Settings, a: &dae_runtime::
     }
 }
 
-/// `--mu LIST --gain auto`: one pilot at the given mu (exact alpha, the pilot gain), then
-/// `k_i` from the gain choice at that mu and the measured bounds.
-fn gains_for_mu(
-    pa: &PilotArgs,
-    model: &dyn Model,
-    base: &Settings,
-    settings: &mut Settings,
-) -> Result<DesignInfo, Reported> {
-    let mut pilot = base.clone().alpha(AlphaChoice::Exact);
-    pilot.mu = settings.mu.clone();
-    pilot.gains = match pa.pilot_gain {
-        Some(k) => vec![k; settings.mu.len()],
-        None => base
-            .eps
-            .iter()
-            .map(|e| 2.0 * e / (100.0 * base.step))
-            .collect(),
-    };
-    let fail = |e: &dyn std::fmt::Display| {
-        eprintln!("error: pilot run of `{}`: {e}", model.name());
-        Reported
-    };
-    let run = pilot_run(model, &pilot).map_err(|e| fail(&e))?;
-    let specs = pilot_specs(model.indices(), &base.eps, &run.estimate, pa.bound.layer())
-        .map_err(|e| fail(&e))?;
-    let mut tm = Vec::new();
-    settings.gains.clear();
-    for (spec, &mu) in specs.iter().zip(&settings.mu) {
-        let spec = ConstraintSpec {
-            m: spec.m * pa.safety,
-            beta_abs: spec.beta_abs * pa.safety,
-            ..*spec
-        };
-        let k = pa.gains.choice().gain(&spec, mu).map_err(|e| fail(&e))?;
-        settings.gains.push(k);
-        tm.push(t_min(&spec, mu, k).map_err(|e| fail(&e))?);
-    }
-    let t = tm.iter().copied().fold(f64::INFINITY, f64::min);
-    Ok(DesignInfo {
-        json: json!({
-            "mu": settings.mu, "gain": settings.gains, "t_min": tm, "t_min_design": t,
-            "beta_abs": run.estimate.beta_abs, "m": run.estimate.m,
-        }),
-        t_min: t,
-    })
-}
-
-/// A CSV stream and/or an in-memory trace for the charts.
-struct RunSink {
-    csv: Option<Decimate<CsvSink<BufWriter<File>>>>,
-    trace: Option<Decimate<Trace>>,
-}
-
-impl Sink for RunSink {
-    fn begin(&mut self, layout: &Layout) -> io::Result<()> {
-        if let Some(c) = &mut self.csv {
-            c.begin(layout)?;
-        }
-        if let Some(t) = &mut self.trace {
-            t.begin(layout)?;
-        }
-        Ok(())
-    }
-    fn wants(&self, step: u64, t: f64) -> bool {
-        self.csv.as_ref().is_some_and(|c| c.wants(step, t))
-            || self.trace.as_ref().is_some_and(|c| c.wants(step, t))
-    }
-    fn record(&mut self, s: &Sample<'_>) -> io::Result<()> {
-        if let Some(c) = &mut self.csv {
-            if s.last || s.step == 0 || c.wants(s.step, s.t) {
-                c.record(s)?;
-            }
-        }
-        if let Some(c) = &mut self.trace {
-            if s.last || s.step == 0 || c.wants(s.step, s.t) {
-                c.record(s)?;
-            }
-        }
-        Ok(())
-    }
-    fn update(&mut self, t: f64) -> io::Result<()> {
-        if let Some(c) = &mut self.csv {
-            c.update(t)?;
-        }
-        if let Some(c) = &mut self.trace {
-            c.update(t)?;
-        }
-        Ok(())
-    }
-    fn finish(&mut self) -> io::Result<()> {
-        if let Some(c) = &mut self.csv {
-            c.finish()?;
-        }
-        Ok(())
-    }
-}
-
 fn simulate(
     args: &Args,
     model: &dyn Model,
@@ -361,21 +246,17 @@ fn simulate(
         .plot
         .as_ref()
         .map(|_| Decimate::new(Trace::new()).every(every));
-    let mut sink = RunSink { csv, trace };
+    // Each output keeps its own decimation (both are `None` without --csv and --plot).
+    let mut sink = Tee(csv, trace);
     let mut sim = Simulator::new(model, settings.clone()).map_err(|e| {
         eprintln!("error: {e}");
         Reported
     })?;
-    let outcome = if sink.csv.is_none() && sink.trace.is_none() {
-        sim.run(&mut NoTrace)
-    } else {
-        sim.run(&mut sink)
-    };
-    let summary = match outcome {
+    let summary = match sim.run(&mut sink) {
         Ok(s) => s,
         Err(e) => {
             report_failure(model, &e);
-            if let Some(c) = sink.csv.take() {
+            if let Some(c) = sink.0.take() {
                 // The rows up to the failure stay in the file.
                 if let Err(e) = io::Write::flush(&mut c.into_inner().into_inner()) {
                     eprintln!("error: writing the CSV: {e}");
@@ -384,14 +265,12 @@ fn simulate(
             return Err(Reported);
         }
     };
-    if let (Some(dir), Some(trace)) = (&args.plot, &sink.trace) {
-        write_charts(
-            dir,
-            model,
-            &settings,
-            trace.inner(),
-            design.map(|d| d.t_min),
-        )?;
+    if let (Some(dir), Some(trace)) = (&args.plot, &sink.1) {
+        let t_min = design.map(|d| d.t_min);
+        plot_run(dir, model.name(), trace.inner(), &settings.eps, t_min).map_err(|e| {
+            eprintln!("error: charts in `{}`: {e}", dir.display());
+            Reported
+        })?;
     }
     Ok(summary)
 }
@@ -412,67 +291,6 @@ fn report_failure(model: &dyn Model, e: &SimError) {
     if !hint.is_empty() {
         eprintln!("  hint: {hint}");
     }
-}
-
-fn write_charts(
-    dir: &Path,
-    model: &dyn Model,
-    settings: &Settings,
-    trace: &Trace,
-    t_min: Option<f64>,
-) -> Result<(), Reported> {
-    let fail = |e: &dyn std::fmt::Display| {
-        eprintln!("error: charts in `{}`: {e}", dir.display());
-        Reported
-    };
-    std::fs::create_dir_all(dir).map_err(|e| fail(&e))?;
-    let m = model.n_constraints();
-    let t = trace.times();
-    let col = |f: &dyn Fn(usize) -> f64| -> Vec<f64> { (0..t.len()).map(f).collect() };
-    let s: Vec<Vec<f64>> = (0..m).map(|i| col(&|k| trace.s(k)[i])).collect();
-    let w: Vec<Vec<f64>> = (0..m).map(|i| col(&|k| trace.w(k)[i])).collect();
-    let sliding: Vec<SlidingSeries<'_>> = (0..m)
-        .map(|i| SlidingSeries {
-            name: model.constraint_name(i),
-            s: &s[i],
-            eps: settings.eps[i],
-        })
-        .collect();
-    let errors: Vec<ErrorSeries<'_>> = (0..m)
-        .map(|i| ErrorSeries {
-            name: model.constraint_name(i),
-            w: &w[i],
-        })
-        .collect();
-    let name = model.name();
-    let sliding_path = dir.join("sliding.svg");
-    plot_sliding(
-        &sliding_path,
-        &format!("{name}: sliding variables"),
-        t,
-        &sliding,
-    )
-    .map_err(|e| fail(&e))?;
-    let errors_path = dir.join("errors.svg");
-    plot_errors(
-        &errors_path,
-        &format!("{name}: constraint errors"),
-        t,
-        &errors,
-        YScale::Log,
-    )
-    .map_err(|e| fail(&e))?;
-    let periods_path = dir.join("periods.svg");
-    if trace.update_times().len() >= 2 {
-        plot_periods(
-            &periods_path,
-            &format!("{name}: update periods"),
-            trace.update_times(),
-            t_min,
-        )
-        .map_err(|e| fail(&e))?;
-    }
-    Ok(())
 }
 
 fn print_summary(

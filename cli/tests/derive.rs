@@ -42,7 +42,7 @@ fn derive_prints_the_library_derive_text_of_every_example() {
         let o = daec(&["derive", path.to_str().unwrap()]);
         assert_eq!(o.status.code(), Some(0), "{name}: {}", text(&o.stderr));
         let src = std::fs::read_to_string(&path).unwrap();
-        let model = dae_lang::compile_models(&src).unwrap().remove(0);
+        let model = dae_lang::check_source(&src).unwrap().remove(0);
         let a = dae_lang::analyze(&model, &dae_lang::AnalysisOptions::default()).unwrap();
         assert_eq!(text(&o.stdout), a.derive_text(), "{name}");
     }

@@ -1,5 +1,5 @@
-//! `daec design` run as a process: the thesis design from its bounds (method.md section
-//! 5), a design from a pilot run of the 3-D double pendulum, and user errors.
+//! `daec design` run as a process: the thesis design from its bounds (docs/method.md
+//! section 8), a design from a pilot run of the 3-D double pendulum, and user errors.
 
 mod common;
 
@@ -55,7 +55,7 @@ fn sufficient_general_design_of_link_two_is_the_thesis_one() {
     ]));
     let mu = num(&v["mu"]);
     assert!((mu - 0.060).abs() < 0.002, "{v}");
-    // k = mu^3 M / 2 + 4 eps / mu + mu^2 |beta| (method.md section 5).
+    // k = mu^3 M / 2 + 4 eps / mu + mu^2 |beta| (docs/method.md section 5).
     let k = mu.powi(3) * 11e4 / 2.0 + 4.0 * 0.2 / mu + mu * mu * 2.3e3;
     assert!((num(&v["gain"]) - k).abs() < 1e-9 * k, "{v}");
 }

@@ -1,5 +1,5 @@
 //! `daec emit` run as a process: the generated Rust of every model on stdout (the same
-//! text as `dae_lang::codegen::emit_rust`), user errors on stderr with exit status 1.
+//! text as `dae_codegen::emit_rust`), user errors on stderr with exit status 1.
 
 mod common;
 
@@ -24,7 +24,7 @@ fn emit_prints_the_generated_rust_of_the_model() {
     );
     let text = String::from_utf8(out.stdout).unwrap();
     let src = std::fs::read_to_string(&path).unwrap();
-    let expected = dae_lang::codegen::emit_rust(&dae_lang::compile_source(&src).unwrap()[0]);
+    let expected = dae_codegen::emit_rust(&dae_lang::compile_source(&src).unwrap()[0]);
     assert_eq!(text, expected);
     assert!(text.contains("impl ::dae_runtime::Model for TankLevel"));
 }

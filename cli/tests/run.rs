@@ -1,4 +1,4 @@
-//! `daec run` run as a process on the interpreter: the thesis scene (method.md section 5)
+//! `daec run` run as a process on the interpreter: the thesis scene (docs/method.md section 8)
 //! with the figures of the generated code, the CSV and charts, and run-time errors.
 
 mod common;
@@ -277,6 +277,9 @@ fn gains_for_given_mu_come_from_the_pilot() {
         "--json",
     ]));
     let d = &v["design"];
+    // The given mu are kept, by the design and by the run.
+    assert_eq!(d["mu"], serde_json::json!([0.076, 0.066]), "{v}");
+    assert_eq!(v["mu"], d["mu"], "{v}");
     for (i, mu) in [0.076f64, 0.066].iter().enumerate() {
         let beta = num(&d["beta_abs"][i]);
         assert!(beta > 0.0, "{v}");

@@ -1,5 +1,6 @@
-//! Whole index analysis (lowering, derivatives, J_Omega, beta, s, alpha, checks and SVD at
-//! the initial point) of a planar chain of 100 links: `cargo bench -p dae-lang --bench analysis`.
+//! Whole index analysis (lowering, derivatives, J_Omega, beta, s, alpha, the tapes, checks
+//! and SVD at the initial point) of a planar chain of 100 links:
+//! `cargo bench -p dae-lang --bench analysis`.
 
 use std::hint::black_box;
 

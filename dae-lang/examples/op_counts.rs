@@ -21,21 +21,24 @@ fn table(title: &str, model: &Model) {
             ..AnalysisOptions::default()
         };
         let a = analyze(model, &opts).expect("the fixture analyses");
-        let omega: Vec<Id> = a.constraints.iter().map(|c| c.omega).collect();
-        let jac: Vec<Id> = a
+        let sym = a.symbolic();
+        let omega: Vec<Id> = sym.constraints.iter().map(|c| c.omega).collect();
+        let jac: Vec<Id> = sym
             .constraints
             .iter()
             .flat_map(|c| c.jacobian_row.iter().map(|e| e.1))
             .collect();
-        let beta: Vec<Id> = a.constraints.iter().map(|c| c.beta).collect();
-        let count =
-            |ids: &[Id]| format!("{} / {}", a.arena.op_count(ids), a.arena.tree_op_count(ids));
+        let beta: Vec<Id> = sym.constraints.iter().map(|c| c.beta).collect();
+        let count = |ids: &[Id]| {
+            let arena = &sym.arena;
+            format!("{} / {}", arena.op_count(ids), arena.tree_op_count(ids))
+        };
         println!(
             "| {simplify} | {} | {} | {} | {} |",
             count(&omega),
             count(&jac),
             count(&beta),
-            a.arena.len()
+            sym.arena.len()
         );
     }
     println!();
@@ -43,7 +46,7 @@ fn table(title: &str, model: &Model) {
 
 fn main() {
     table(
-        "3-D double pendulum (method.md section 5), both constraints:",
+        "3-D double pendulum (docs/method.md section 8), both constraints:",
         &double_pendulum_3d(),
     );
     table(

@@ -10,97 +10,93 @@
 
 use std::collections::HashMap;
 
-use crate::analysis::{Analysis, lower_expr};
+use crate::Func;
+use crate::analysis::{ConstraintAnalysis, SymbolicModel};
 use crate::compiled::{CompiledModel, DENSE_JACOBIAN_MAX};
-use crate::model::{Func, Model};
-use crate::sym::{Arena, Fun2, Id, Node};
-use crate::tape::{BinaryOp, Input, Instr, Operand, Tape, UnaryOp};
+use crate::sym::{Arena, Id, Node};
+use crate::tape::{BinaryOp, Instr, Operand, Tape, UnaryOp};
 
-/// Build the compiled form of an analysed model.
-pub fn compile(model: &Model, analysis: &Analysis) -> CompiledModel {
-    // Initial values are expressions over parameters; lower them into a copy of the
-    // arena so they get the same simplification and the same emitter.
-    let mut arena = analysis.arena.clone();
-    let no_lets: Vec<Id> = Vec::new();
-    let init_state: Vec<Id> = model
-        .states
-        .iter()
-        .map(|s| lower_expr(&mut arena, &no_lets, &s.init))
-        .collect();
-    let init_alg: Vec<Id> = model
-        .algs
-        .iter()
-        .map(|a| lower_expr(&mut arena, &no_lets, &a.init))
-        .collect();
-
-    let m = analysis.constraints.len();
+/// Build the compiled form of an analysed model: `sym` holds its expressions, `params`
+/// the parameters with their defaults and `constraints` the constraints' names and
+/// indices. Reads nothing else: every expression, the initial values included, was
+/// lowered once by the analysis.
+pub(crate) fn compile(
+    name: &str,
+    params: &[(String, f64)],
+    constraints: &[ConstraintAnalysis],
+    sym: &SymbolicModel,
+) -> CompiledModel {
+    let arena = &sym.arena;
+    let m = sym.constraints.len();
     let mut pattern: Vec<(usize, usize)> = Vec::new();
     let mut jac_ids: Vec<Option<Id>> = Vec::new();
-    for (row, c) in analysis.constraints.iter().enumerate() {
+    for (row, c) in sym.constraints.iter().enumerate() {
         if m <= DENSE_JACOBIAN_MAX {
             for col in 0..m {
                 pattern.push((row, col));
                 jac_ids.push(
                     c.jacobian_row
                         .iter()
-                        .find(|(k, _)| *k == col)
+                        .find(|(k, _)| k.index() == col)
                         .map(|(_, id)| *id),
                 );
             }
         } else {
             for (col, id) in &c.jacobian_row {
-                pattern.push((row, *col));
+                pattern.push((row, col.index()));
                 jac_ids.push(Some(*id));
             }
         }
     }
-    let zero = arena.num(0.0);
-    let jac: Vec<Id> = jac_ids.into_iter().map(|id| id.unwrap_or(zero)).collect();
 
-    let mut sliding: Vec<Id> = analysis
+    let mut sliding: Vec<Id> = sym
         .constraints
         .iter()
         .flat_map(|c| c.w.iter().copied())
         .collect();
-    sliding.extend(analysis.constraints.iter().map(|c| c.s));
-    sliding.extend(analysis.constraints.iter().map(|c| c.alpha_hat));
-    let beta: Vec<Id> = analysis.constraints.iter().map(|c| c.beta).collect();
+    sliding.extend(sym.constraints.iter().map(|c| c.s));
+    sliding.extend(sym.constraints.iter().map(|c| c.alpha_hat));
+    let beta: Vec<Id> = sym.constraints.iter().map(|c| c.beta).collect();
 
     CompiledModel {
-        name: model.name.clone(),
-        params: model
-            .params
-            .iter()
-            .map(|p| (p.name.clone(), p.default))
-            .collect(),
-        states: model.states.iter().map(|s| s.name.clone()).collect(),
-        algs: model.algs.iter().map(|a| a.name.clone()).collect(),
-        constraints: model.constraints.iter().map(|c| c.name.clone()).collect(),
-        indices: analysis.indices(),
+        name: name.to_string(),
+        params: params.to_vec(),
+        states: sym.names.states.clone(),
+        algs: sym.names.algs.clone(),
+        constraints: constraints.iter().map(|c| c.name.clone()).collect(),
+        indices: constraints.iter().map(|c| c.index).collect(),
         jacobian_pattern: pattern,
-        init_state: emit(&arena, &init_state),
-        init_alg: emit(&arena, &init_alg),
-        rhs: emit(&arena, &analysis.f),
-        sliding: emit(&arena, &sliding),
-        jacobian: emit(&arena, &jac),
-        beta: emit(&arena, &beta),
+        init_state: emit(arena, &sym.init_state),
+        init_alg: emit(arena, &sym.init_alg),
+        rhs: emit(arena, &sym.f),
+        sliding: emit(arena, &sliding),
+        jacobian: emit_outputs(arena, &jac_ids),
+        beta: emit(arena, &beta),
     }
 }
 
 /// Emit the nodes reachable from `roots` as one tape whose outputs are the roots.
-pub fn emit(arena: &Arena, roots: &[Id]) -> Tape {
+fn emit(arena: &Arena, roots: &[Id]) -> Tape {
+    let roots: Vec<Option<Id>> = roots.iter().copied().map(Some).collect();
+    emit_outputs(arena, &roots)
+}
+
+/// [`emit`], where a `None` output is the literal 0 (a structural zero of a dense
+/// `J_Omega`).
+fn emit_outputs(arena: &Arena, roots: &[Option<Id>]) -> Tape {
+    let nodes: Vec<Id> = roots.iter().flatten().copied().collect();
     let mut e = Emitter {
         arena,
         tape: Tape::new(),
         done: HashMap::new(),
         powers: HashMap::new(),
     };
-    for &id in &arena.reachable(roots) {
+    for &id in &arena.reachable(&nodes) {
         let o = e.node(id);
         e.done.insert(id, o);
     }
     for r in roots {
-        let o = e.done[r];
+        let o = r.map_or(Operand::Const(0.0), |id| e.done[&id]);
         e.tape.push_output(o);
     }
     e.tape
@@ -132,11 +128,7 @@ impl Emitter<'_> {
     fn node(&mut self, id: Id) -> Operand {
         match self.arena.node(id) {
             Node::Const(c) => Operand::Const(c.0),
-            Node::Param(i) => Operand::Input(Input::Param(*i)),
-            Node::State(i) => Operand::Input(Input::State(*i)),
-            Node::Alg(i) => Operand::Input(Input::Alg(*i)),
-            Node::Time => Operand::Input(Input::Time),
-            Node::Mu(i) => Operand::Input(Input::Mu(*i)),
+            Node::Var(v) => Operand::Input(*v),
             Node::Add(c, terms) => {
                 let terms: Vec<(Operand, f64)> =
                     terms.iter().map(|(t, a)| (self.get(*t), a.0)).collect();
@@ -148,30 +140,25 @@ impl Emitter<'_> {
             }
             Node::Pow(a, b) => {
                 let (a, b) = (self.get(*a), self.get(*b));
-                self.bin(BinaryOp::Pow, a, b)
+                self.bin(BinaryOp::Call(Func::Pow), a, b)
             }
             Node::F1(f, a) => {
                 let a = self.get(*a);
-                self.un(UnaryOp::Call(Func::from(*f)), a)
+                self.un(UnaryOp::Call(*f), a)
             }
             Node::F2(f, a, b) => {
                 let (a, b) = (self.get(*a), self.get(*b));
-                let op = match f {
-                    Fun2::Atan2 => BinaryOp::Atan2,
-                    Fun2::Min => BinaryOp::Min,
-                    Fun2::Max => BinaryOp::Max,
-                };
-                self.bin(op, a, b)
+                self.bin(BinaryOp::Call(*f), a, b)
             }
         }
     }
 
     /// `c + sum a_k t_k`, with positive terms first so that negative ones become
-    /// subtractions.
+    /// subtractions. A NaN coefficient or constant is kept (added), not dropped.
     fn sum(&mut self, c: f64, terms: &[(Operand, f64)]) -> Operand {
         let mut acc: Option<Operand> = None;
         let mut ordered: Vec<&(Operand, f64)> = terms.iter().filter(|t| t.1 > 0.0).collect();
-        ordered.extend(terms.iter().filter(|t| t.1 <= 0.0));
+        ordered.extend(terms.iter().filter(|t| t.1 <= 0.0 || t.1.is_nan()));
         for &&(t, a) in &ordered {
             let mag = a.abs();
             let term = if mag == 1.0 {
@@ -188,8 +175,8 @@ impl Emitter<'_> {
         }
         match acc {
             None => Operand::Const(c),
-            Some(s) if c > 0.0 => self.bin(BinaryOp::Add, s, Operand::Const(c)),
             Some(s) if c < 0.0 => self.bin(BinaryOp::Sub, s, Operand::Const(-c)),
+            Some(s) if c != 0.0 => self.bin(BinaryOp::Add, s, Operand::Const(c)),
             Some(s) => s,
         }
     }
@@ -266,6 +253,6 @@ impl Emitter<'_> {
             self.powers.insert(key, o);
             return o;
         }
-        self.bin(BinaryOp::Pow, base, Operand::Const(e))
+        self.bin(BinaryOp::Call(Func::Pow), base, Operand::Const(e))
     }
 }

@@ -51,7 +51,7 @@ impl Diagnostic {
     ///
     /// ```
     /// let src = "model M {\n    state x = 0;\n    der(x) = y;\n}\n";
-    /// let errors = dae_lang::compile_models(src).unwrap_err();
+    /// let errors = dae_lang::check_source(src).unwrap_err();
     /// let text = errors[0].render("m.dae", src, false);
     /// assert!(text.contains("m.dae:3:14"));
     /// assert!(text.contains("unknown name `y`"));

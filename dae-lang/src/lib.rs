@@ -2,7 +2,7 @@
 //!
 //! The front end turns source text into checked models: [`parse`] gives the syntax tree
 //! ([`ast`]), [`check`] resolves and verifies one model ([`model::Model`]), and
-//! [`compile_models`] does both for every model of a file. Errors are [`Diagnostic`]s,
+//! [`check_source`] does both for every model of a file. Errors are [`Diagnostic`]s,
 //! rendered with their source context by [`Diagnostic::render`]. The language is
 //! described in `docs/language.md`.
 //!
@@ -13,22 +13,24 @@
 //!         state x = 2 * k;
 //!         der(x) = -k * x;
 //!     }";
-//! let models = dae_lang::compile_models(src).expect("a valid model");
+//! let models = dae_lang::check_source(src).expect("a valid model");
 //! assert_eq!(models[0].name, "Decay");
 //! assert_eq!(models[0].params[0].default, 0.5);
 //!
 //! let bad = "model M { state x = 0; der(x) = -k * x; }";
-//! let errors = dae_lang::compile_models(bad).unwrap_err();
+//! let errors = dae_lang::check_source(bad).unwrap_err();
 //! assert_eq!(errors[0].message, "unknown name `k`");
 //! assert_eq!(dae_lang::line_col(bad, errors[0].span), (1, 34));
 //! println!("{}", errors[0].render("bad.dae", bad, false));
 //! ```
 //!
-//! [`compile_source`] runs the whole pipeline: it also finds each constraint's index,
-//! differentiates symbolically and compiles every function of the model into a
-//! straight-line program ([`CompiledModel`]); [`codegen::emit_rust`] prints the Rust
-//! type implementing `dae_runtime::Model` that the `dae!` macro, `dae_file!` and build
-//! scripts ([`expand::compile_file_to_out_dir`]) compile, and that `daec emit` shows.
+//! [`compile_source`] runs the whole pipeline: [`analyze`] finds each constraint's index,
+//! differentiates symbolically and builds the realization (`s`, `J_Omega`, `beta`,
+//! `alpha`, `alpha_hat`; the method is in `docs/method.md`), and compiles every function
+//! of the model into a straight-line program ([`tape::Tape`]) of a [`CompiledModel`]. The
+//! tapes are the hand-off to the two back ends: the interpreter evaluates them
+//! ([`tape::Tape::eval`]), and the `dae-codegen` crate prints them as the Rust type
+//! implementing `dae_runtime::Model` that `dae!`, `dae_file!` and build scripts compile.
 //!
 //! ```
 //! let src = "
@@ -40,28 +42,47 @@
 //!         constraint follow: x = a * sin(t);
 //!     }";
 //! let models = dae_lang::compile_source(src).expect("a valid model");
-//! assert_eq!(models[0].indices, [2]); // x' holds z: differentiate once to reach it
-//! let rust = dae_lang::codegen::emit_rust(&models[0]);
-//! assert!(rust.contains("pub struct Tracking"));
-//! assert!(rust.contains("impl ::dae_runtime::Model for Tracking"));
+//! let m = &models[0];
+//! assert_eq!(m.indices, [2]); // x' holds z: differentiate once to reach it
+//!
+//! // J_Omega = dOmega/dz at t = 0, x = 0, z = 1: Omega = w' = z - x - a cos(t), so 1.
+//! let inputs = dae_lang::tape::Inputs {
+//!     params: &[1.0],
+//!     states: &[0.0],
+//!     algs: &[1.0],
+//!     mu: &[0.1],
+//!     t: 0.0,
+//! };
+//! let mut slots = vec![0.0; m.jacobian.n_slots()];
+//! let mut j = [0.0];
+//! m.jacobian.eval(&inputs, &mut slots, &mut j);
+//! assert_eq!(j, [1.0]);
 //! ```
+//!
+//! # Features
+//!
+//! * `internals`: the symbolic intermediate representation (the hash-consed `Arena` of
+//!   expressions, its `Node`s and `Id`s, `lower`, `Analysis::symbolic`) as public API,
+//!   for the test crate and for tools that inspect a derivation. Not a stable interface.
+//! * `fixtures`: models built in code (module `fixtures`) for tests and benchmarks.
 #![warn(missing_docs)]
 
 pub mod ast;
-pub mod codegen;
-pub mod compiled;
-pub mod diag;
-pub mod expand;
 pub mod model;
 pub mod tape;
-pub mod tokens;
 
 mod compile;
+mod compiled;
+mod diag;
 
 mod check;
+mod func;
+mod ids;
 mod syntax;
 
 pub use diag::{Diagnostic, line_col};
+pub use func::Func;
+pub use ids::{AlgId, ConstraintId, LetId, ParamId, StateId, VarRef};
 
 /// Parses a `.dae` source text into its syntax tree.
 pub fn parse(src: &str) -> Result<ast::File, Vec<Diagnostic>> {
@@ -79,36 +100,39 @@ pub fn check(model: &ast::ModelAst) -> Result<model::Model, Vec<Diagnostic>> {
 ///
 /// On failure returns all the errors: the syntax error, or the errors of every model,
 /// in source order.
-pub fn compile_models(src: &str) -> Result<Vec<model::Model>, Vec<Diagnostic>> {
+pub fn check_source(src: &str) -> Result<Vec<model::Model>, Vec<Diagnostic>> {
     check::check_file(&parse(src)?)
 }
 
 mod analysis;
+// The arena's API is whole for the `internals` feature; the compiler uses part of it.
+#[cfg_attr(not(feature = "internals"), allow(dead_code))]
 mod sym;
 
-/// Models built in code (3-D double pendulum, planar chains) for this crate's tests,
-/// benches and examples; not part of the supported API.
-#[doc(hidden)]
+#[cfg(any(test, feature = "fixtures"))]
 pub use analysis::fixtures;
-pub use analysis::{
-    Analysis, AnalysisOptions, ConstraintAnalysis, InitialPoint, Lowered, analyze, lower,
-};
-pub use sym::{Arena, Fun1, Fun2, Id, Names, Node, Num, Point};
+pub use analysis::{Analysis, AnalysisOptions, ConstraintAnalysis, InitialPoint, analyze};
+#[cfg(feature = "internals")]
+pub use analysis::{ConstraintExprs, Lowered, SymbolicModel, lower};
+#[cfg(feature = "internals")]
+pub use sym::{Arena, DiffContext, Id, Names, Node, Num, Point};
 
-pub use compile::emit as emit_tape;
-pub use compiled::CompiledModel;
+pub use compiled::{CompiledModel, DENSE_JACOBIAN_MAX};
 
-/// Compile one analysed model into straight-line programs (the input of the code
-/// generator and of the interpreter).
-pub fn compile(model: &model::Model, analysis: &Analysis) -> CompiledModel {
-    compile::compile(model, analysis)
+/// The compiled form of an analysed model: its functions as straight-line programs (the
+/// input of the code generator and of the interpreter).
+///
+/// The analysis emitted these tapes from its expressions and evaluated them at the
+/// initial point, so what runs is what was checked; this hands them over.
+pub fn compile(analysis: &Analysis) -> CompiledModel {
+    analysis.compiled.clone()
 }
 
 /// Parse, check and analyse (with default [`AnalysisOptions`]) every model of a source
 /// text. On failure, all the errors: the front end's, or the analysis errors of every
 /// model in order.
 pub fn analyze_source(src: &str) -> Result<Vec<(model::Model, Analysis)>, Vec<Diagnostic>> {
-    let models = compile_models(src)?;
+    let models = check_source(src)?;
     let opts = AnalysisOptions::default();
     let mut out = Vec::with_capacity(models.len());
     let mut errors = Vec::new();
@@ -129,7 +153,7 @@ pub fn analyze_source(src: &str) -> Result<Vec<(model::Model, Analysis)>, Vec<Di
 /// default [`AnalysisOptions`]) and compile. All errors of all models are returned.
 pub fn compile_source(src: &str) -> Result<Vec<CompiledModel>, Vec<Diagnostic>> {
     Ok(analyze_source(src)?
-        .iter()
-        .map(|(m, a)| compile(m, a))
+        .into_iter()
+        .map(|(_, a)| a.compiled)
         .collect())
 }

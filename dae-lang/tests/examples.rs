@@ -1,9 +1,10 @@
 //! The example models in `examples/models/` check, and encode the equations their
-//! comments (and method.md) state: evaluated at chosen points, their right-hand sides
+//! comments (and docs/method.md) state: evaluated at chosen points, their right-hand sides
 //! and residuals match values computed by hand from the physics.
 
 use dae_lang::ast::BinOp;
-use dae_lang::model::{Func, Model, RExpr, Var};
+use dae_lang::model::{Model, RExpr};
+use dae_lang::{Func, VarRef};
 use std::path::PathBuf;
 
 fn models_dir() -> PathBuf {
@@ -13,7 +14,7 @@ fn models_dir() -> PathBuf {
 fn load(name: &str) -> Model {
     let path = models_dir().join(name);
     let src = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    match dae_lang::compile_models(&src) {
+    match dae_lang::check_source(&src) {
         Ok(mut ms) if ms.len() == 1 => ms.remove(0),
         Ok(ms) => panic!("{name}: expected one model, got {}", ms.len()),
         Err(d) => {
@@ -40,11 +41,12 @@ struct Point<'a> {
 fn eval(e: &RExpr, p: &Point<'_>) -> f64 {
     match e {
         RExpr::Num(v) => *v,
-        RExpr::Var(Var::Param(i)) => p.m.params[*i].default,
-        RExpr::Var(Var::State(i)) => p.x[*i],
-        RExpr::Var(Var::Alg(i)) => p.z[*i],
-        RExpr::Var(Var::Let(i)) => p.lets[*i],
-        RExpr::Var(Var::Time) => p.t,
+        RExpr::Var(VarRef::Param(i)) => p.m.params[i.index()].default,
+        RExpr::Var(VarRef::State(i)) => p.x[i.index()],
+        RExpr::Var(VarRef::Alg(i)) => p.z[i.index()],
+        RExpr::Var(VarRef::Time) => p.t,
+        RExpr::Var(VarRef::Mu(_)) => panic!("a checked model has no realization parameter"),
+        RExpr::Let(i) => p.lets[i.index()],
         RExpr::Neg(a) => -eval(a, p),
         RExpr::Binary(op, a, b) => {
             let (a, b) = (eval(a, p), eval(b, p));
@@ -118,7 +120,7 @@ fn every_example_model_checks() {
         let path = entry.expect("readable directory").path();
         if path.extension().is_some_and(|e| e == "dae") {
             let src = std::fs::read_to_string(&path).expect("readable model");
-            let models = dae_lang::compile_models(&src)
+            let models = dae_lang::check_source(&src)
                 .unwrap_or_else(|d| panic!("{}: {d:#?}", path.display()));
             assert!(!models.is_empty());
             count += 1;
@@ -159,7 +161,7 @@ fn double_pendulum_3d_has_the_thesis_equations() {
         &[-1.0, 0.0, 0.0, -5.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
     );
     close(&z0, &[0.0, 0.0]);
-    // method.md: w1(0) = |R1| - L1 = -1, w2(0) = |R2 - R1| - L2 = 2.
+    // docs/method.md section 8: w1(0) = |R1| - L1 = -1, w2(0) = |R2 - R1| - L2 = 2.
     let p = point(&m, x0.clone(), z0, 0.0);
     close(
         &m.constraints

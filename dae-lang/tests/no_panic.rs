@@ -6,7 +6,7 @@
 //! and token mutations of the example models (which reach the checker far more often
 //! than random text does).
 
-use dae_lang::model::{Model, RExpr, Var};
+use dae_lang::model::{Model, RExpr};
 use proptest::prelude::*;
 use std::path::PathBuf;
 
@@ -29,7 +29,7 @@ fn examples() -> Vec<String> {
 
 fn max_let(e: &RExpr) -> Option<usize> {
     match e {
-        RExpr::Var(Var::Let(i)) => Some(*i),
+        RExpr::Let(i) => Some(i.index()),
         RExpr::Num(_) | RExpr::Var(_) => None,
         RExpr::Neg(a) => max_let(a),
         RExpr::Binary(_, a, b) => max_let(a).max(max_let(b)),
@@ -52,7 +52,7 @@ fn check_invariants(m: &Model) {
 
 /// Compiles `src`; on error, every diagnostic must point inside it and render.
 fn run(src: &str) {
-    match dae_lang::compile_models(src) {
+    match dae_lang::check_source(src) {
         Ok(models) => models.iter().for_each(check_invariants),
         Err(diags) => {
             assert!(!diags.is_empty());
@@ -314,8 +314,8 @@ fn token_round_trip_keeps_the_examples_valid() {
     // The token tests start from text that checks: the tokens of an example, re-joined
     // with spaces, give the same models.
     for src in examples() {
-        let a = dae_lang::compile_models(&src).expect("example checks");
-        let b = dae_lang::compile_models(&tokens(&src).join(" ")).expect("tokens re-joined check");
+        let a = dae_lang::check_source(&src).expect("example checks");
+        let b = dae_lang::check_source(&tokens(&src).join(" ")).expect("tokens re-joined check");
         assert_eq!(a.len(), b.len());
         for (x, y) in a.iter().zip(&b) {
             assert_eq!(x.name, y.name);

@@ -1,5 +1,5 @@
-//! Procedural macros for DAE models, a thin shim over `dae-lang` (whose `expand` module
-//! holds the logic and its tests).
+//! Procedural macros for DAE models, a thin shim over `dae-codegen` (which holds the
+//! logic: the token front end, the expansion and the code generator).
 //!
 //! Use them through `dae-runtime` with its `macros` feature, so that a crate needs one
 //! dependency:
@@ -51,15 +51,15 @@
 //! ```
 //!
 //! `dae_file!("models/name.dae")` does the same for a file (path relative to the crate's
-//! `Cargo.toml`); build scripts can instead call
-//! `dae_lang::expand::compile_file_to_out_dir` and `include!` the result.
+//! `Cargo.toml`); build scripts can instead call `dae_codegen::compile_file_to_out_dir`
+//! and `include!` the result.
 
 use proc_macro::TokenStream;
 
 /// Compile the `.dae` model(s) written inside the braces into Rust types.
 #[proc_macro]
 pub fn dae(input: TokenStream) -> TokenStream {
-    dae_lang::expand::expand_dae(input.into()).into()
+    dae_codegen::expand_dae(input.into()).into()
 }
 
 /// Compile the `.dae` file at a path relative to the crate's `Cargo.toml`
@@ -67,5 +67,5 @@ pub fn dae(input: TokenStream) -> TokenStream {
 #[proc_macro]
 pub fn dae_file(input: TokenStream) -> TokenStream {
     let dir = std::env::var_os("CARGO_MANIFEST_DIR").unwrap_or_default();
-    dae_lang::expand::expand_dae_file(input.into(), std::path::Path::new(&dir)).into()
+    dae_codegen::expand_dae_file(input.into(), std::path::Path::new(&dir)).into()
 }

@@ -1,4 +1,4 @@
-//! The thesis's chapter-5 example (method.md section 5) on generated code:
+//! The thesis's chapter-5 example (docs/method.md section 8) on generated code:
 //! `cargo run --release --example double_pendulum [OUT_DIR]` (default
 //! `out/double_pendulum/`).
 //!
@@ -24,9 +24,8 @@ use dae_examples::chapter5::{
     self, DoublePendulum3D, EPS, STEP, T_END, THESIS_BETA, THESIS_M, THESIS_MU,
 };
 use dae_runtime::{
-    AutoDesignOptions, CsvSink, Decimate, ErrorSeries, GainChoice, LayerBound, Model, NoTrace,
-    Settings, Simulator, SlidingSeries, Summary, Trace, YScale, auto_design, plot_errors,
-    plot_periods, plot_sliding,
+    AutoDesignOptions, CsvSink, Decimate, GainChoice, LayerBound, NoTrace, Settings, Simulator,
+    Summary, Tee, Trace, auto_design, plot_run,
 };
 
 type Failure = Box<dyn std::error::Error>;
@@ -139,11 +138,12 @@ fn scene() -> Result<bool, Failure> {
         t_guar[0], t_guar[1], t_min
     );
     std::fs::create_dir_all(&out)?;
-    let mut trace = Trace::new();
     let csv_path = out.join("trace.csv");
-    let mut csv = Decimate::new(CsvSink::new(BufWriter::new(File::create(&csv_path)?))).every(10);
-    let full = Simulator::new(&model, chapter5::monitored(T_END, 0.0))?.run(&mut trace)?;
-    Simulator::new(&model, chapter5::monitored(T_END, 0.0))?.run(&mut csv)?;
+    // Every sample in memory for the charts and the z_eq table, every 10th in the CSV.
+    let csv = Decimate::new(CsvSink::new(BufWriter::new(File::create(&csv_path)?))).every(10);
+    let mut sink = Tee(Trace::new(), csv);
+    let full = Simulator::new(&model, chapter5::monitored(T_END, 0.0))?.run(&mut sink)?;
+    let trace = sink.0;
     let mon_14 = run(&model, chapter5::monitored(4.0, 1.0))?;
     let mon_110 = run(&model, chapter5::monitored(T_END, 1.0))?;
     let fix_14 = run(&model, chapter5::fixed(4.0, 1.0))?;
@@ -306,50 +306,16 @@ fn scene() -> Result<bool, Failure> {
     }
 
     // 4. Charts and CSV.
-    let t = trace.times();
-    let col = |f: &dyn Fn(usize) -> f64| -> Vec<f64> { (0..t.len()).map(f).collect() };
-    let s: Vec<Vec<f64>> = (0..2).map(|i| col(&|k| trace.s(k)[i])).collect();
-    let w: Vec<Vec<f64>> = (0..2).map(|i| col(&|k| trace.w(k)[i])).collect();
-    let names = [model.constraint_name(0), model.constraint_name(1)];
-    let sliding: Vec<SlidingSeries<'_>> = (0..2)
-        .map(|i| SlidingSeries {
-            name: names[i],
-            s: &s[i],
-            eps: EPS,
-        })
-        .collect();
-    let errors: Vec<ErrorSeries<'_>> = (0..2)
-        .map(|i| ErrorSeries {
-            name: names[i],
-            w: &w[i],
-        })
-        .collect();
-    let paths = [
-        out.join("sliding.svg"),
-        out.join("periods.svg"),
-        out.join("errors.svg"),
-    ];
-    plot_sliding(
-        &paths[0],
-        "Double pendulum 3-D, monitored DBSMC: s with +-eps",
-        t,
-        &sliding,
-    )?;
-    plot_periods(
-        &paths[1],
-        "Update periods (line: guaranteed T_min)",
-        trace.update_times(),
+    let charts = plot_run(
+        &out,
+        "Double pendulum 3-D, monitored DBSMC",
+        &trace,
+        &[EPS; 2],
         Some(t_min),
     )?;
-    plot_errors(
-        &paths[2],
-        "Constraint errors |w| = ||R| - L|",
-        t,
-        &errors,
-        YScale::Log,
-    )?;
+    let paths = [Some(charts.sliding), charts.periods, Some(charts.errors)];
     println!("\n== Files");
-    for p in paths.iter().chain([&csv_path]) {
+    for p in paths.iter().flatten().chain([&csv_path]) {
         println!("   {}", p.display());
     }
     Ok(ok)

@@ -1,4 +1,4 @@
-//! The claims of `examples/double_pendulum.rs` (method.md section 5) on GENERATED code.
+//! The claims of `examples/double_pendulum.rs` (docs/method.md section 8) on GENERATED code.
 //!
 //! The design formulas themselves (mu = 0.065 / 0.060 with sufficient gains and (T 3.14),
 //! mu = 0.076 / 0.066 and T_min = 0.0062 / 0.0053 with relaxed gains and (T 4.6)) are

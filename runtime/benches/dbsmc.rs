@@ -4,7 +4,7 @@
 //! Reports ns per RK4 step (with `v` held; includes the per-step `sliding` evaluation
 //! and checks), ns per control update (Jacobian, 2 x 2 LU, solve; with and without the
 //! `beta` evaluation used for robustness counting), and the wall time of the 10 s scene of
-//! method.md section 5 at h = 1e-4. Each figure is the best of several repetitions.
+//! docs/method.md section 8 at h = 1e-4. Each figure is the best of several repetitions.
 
 #[path = "../tests/common/pendulum.rs"]
 mod pendulum;

@@ -1,5 +1,5 @@
 //! Recording a run: the [`Sink`] trait, a Vec-backed [`Trace`], a streaming
-//! [`CsvSink`] and the [`Decimate`] adapter.
+//! [`CsvSink`], the [`Decimate`] adapter and the [`Tee`] that feeds two sinks.
 //!
 //! The simulator offers a sample after every step (and always the first and the last);
 //! it asks [`Sink::wants`] first, so that `z_eq` (one solve with the update's factors)
@@ -75,7 +75,8 @@ pub trait Sink {
     }
     /// Whether the samples need `z_eq` and `z*` (one solve, and one factorisation of
     /// `J_Omega` at the sample); a sink that never reads them (e.g. a pilot estimator)
-    /// returns `false` and receives empty slices.
+    /// returns `false` and then receives empty slices (unless another sink it is teed
+    /// with asks for them).
     fn algebraic_outputs(&self) -> bool {
         true
     }
@@ -345,5 +346,67 @@ impl<S: Sink> Sink for Decimate<S> {
     }
     fn finish(&mut self) -> io::Result<()> {
         self.inner.finish()
+    }
+}
+
+/// An absent sink records nothing; a present one records as itself. For a run whose
+/// outputs are optional (a CSV file, charts), usually inside a [`Tee`].
+impl<S: Sink> Sink for Option<S> {
+    fn begin(&mut self, layout: &Layout) -> io::Result<()> {
+        self.as_mut().map_or(Ok(()), |s| s.begin(layout))
+    }
+    fn wants(&self, step: u64, t: f64) -> bool {
+        self.as_ref().is_some_and(|s| s.wants(step, t))
+    }
+    fn algebraic_outputs(&self) -> bool {
+        self.as_ref().is_some_and(|s| s.algebraic_outputs())
+    }
+    fn record(&mut self, sample: &Sample<'_>) -> io::Result<()> {
+        self.as_mut().map_or(Ok(()), |s| s.record(sample))
+    }
+    fn update(&mut self, t: f64) -> io::Result<()> {
+        self.as_mut().map_or(Ok(()), |s| s.update(t))
+    }
+    fn finish(&mut self) -> io::Result<()> {
+        self.as_mut().map_or(Ok(()), |s| s.finish())
+    }
+}
+
+/// Two sinks fed the same run (`Tee(a, b)`). Each is asked [`Sink::wants`] on its own
+/// and receives only the samples it wants (and, as always, the first and the last), so
+/// each keeps its own decimation: a CSV of every step beside a thinned trace for charts,
+/// say. Both see every update and `begin`/`finish`.
+#[derive(Debug, Clone, Default)]
+pub struct Tee<A, B>(pub A, pub B);
+
+impl<A: Sink, B: Sink> Sink for Tee<A, B> {
+    fn begin(&mut self, layout: &Layout) -> io::Result<()> {
+        self.0.begin(layout)?;
+        self.1.begin(layout)
+    }
+    fn wants(&self, step: u64, t: f64) -> bool {
+        self.0.wants(step, t) || self.1.wants(step, t)
+    }
+    fn algebraic_outputs(&self) -> bool {
+        self.0.algebraic_outputs() || self.1.algebraic_outputs()
+    }
+    fn record(&mut self, s: &Sample<'_>) -> io::Result<()> {
+        // The simulator records the first sample (step 0), the last, and what `wants`.
+        let always = s.step == 0 || s.last;
+        if always || self.0.wants(s.step, s.t) {
+            self.0.record(s)?;
+        }
+        if always || self.1.wants(s.step, s.t) {
+            self.1.record(s)?;
+        }
+        Ok(())
+    }
+    fn update(&mut self, t: f64) -> io::Result<()> {
+        self.0.update(t)?;
+        self.1.update(t)
+    }
+    fn finish(&mut self) -> io::Result<()> {
+        self.0.finish()?;
+        self.1.finish()
     }
 }

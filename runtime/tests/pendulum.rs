@@ -1,4 +1,4 @@
-//! The method.md section 5 scene on a hand-written 3-D double pendulum.
+//! The docs/method.md section 8 scene on a hand-written 3-D double pendulum.
 
 mod common;
 
@@ -12,7 +12,7 @@ const BETA: [f64; 2] = [1.3e3, 2.3e3];
 const EPS: f64 = 0.2;
 
 fn scene(policy: Policy, reaching: Reaching, t_end: f64) -> Settings {
-    // Relaxed gains k_i = mu_i^2 |beta_i| (method.md section 5).
+    // Relaxed gains k_i = mu_i^2 |beta_i| (docs/method.md section 5).
     let gains = (0..2).map(|i| MU[i] * MU[i] * BETA[i]).collect();
     Settings::new(vec![EPS; 2], MU.to_vec(), gains)
         .step(1e-4)

@@ -6,8 +6,8 @@ mod common;
 use common::Tracking;
 use common::pendulum::Pendulum;
 use dae_runtime::{
-    AutoDesignOptions, Crossing, GainChoice, LayerBound, PilotRunError, Policy, Settings,
-    Simulator, Trace, auto_design, pilot_run,
+    AutoDesignOptions, ConstraintSpec, Crossing, GainChoice, LayerBound, MuChoice, PilotRunError,
+    Policy, Settings, Simulator, Trace, auto_design, pilot_run, t_min,
 };
 
 /// Tracking (`x' = z - x`, `0 = x - sin t`): `beta = -(z - x) + sin t` and, with `v`
@@ -71,7 +71,7 @@ fn spsm_cannot_be_a_pilot() {
     ));
 }
 
-/// method.md section 5: the thesis's pilot bounds are |beta| <= 1.3e3 / 2.3e3,
+/// docs/method.md section 8: the thesis's pilot bounds are |beta| <= 1.3e3 / 2.3e3,
 /// M = 9e4 / 11e4, and the relaxed design with (T 4.6) gives mu = 0.076 / 0.066,
 /// T_min = 0.0062 / 0.0053. Two passes from mu = 0.1, k = 40 (exact alpha) over 10 s must
 /// land within a factor of 3 of those bounds and within 0.01 of those mu (the motion is
@@ -126,4 +126,50 @@ fn auto_design_of_the_pendulum_is_of_the_thesis_order() {
     }
     // The second pass ran the first pass's design with the cheap alpha.
     assert_eq!(a.passes[1].mu[0], a.passes[0].design.constraints[0].mu);
+}
+
+/// With given mu, every pilot runs at that mu (the first with the exact alpha and the
+/// pilot gain, the next with the designed gain and the cheap alpha) and the design keeps
+/// it: the gain is the gain choice at that mu with the largest bounds of all passes, and
+/// `T_min` is (T 3.14) at that mu and gain. The wrong number of mu is an error.
+#[test]
+fn auto_design_at_given_mu_designs_only_the_gains() {
+    let model = Tracking::default();
+    let pilot = Settings::new(vec![1e-3], vec![0.5], vec![0.1])
+        .step(1e-3)
+        .t_end(3.0)
+        .settle(0.5);
+    let opts = AutoDesignOptions {
+        gain: GainChoice::Sufficient,
+        mu: MuChoice::Given(vec![0.07]),
+        ..Default::default()
+    };
+    let a = auto_design(&model, &[2e-3], &pilot, &opts).unwrap();
+    assert_eq!(a.passes.len(), 2);
+    assert_eq!(a.passes[0].mu, [0.07]);
+    assert_eq!(a.passes[0].gains, [0.1]);
+    assert_eq!(a.passes[1].mu, [0.07]);
+    assert_eq!(a.passes[1].gains, [a.passes[0].design.constraints[0].k]);
+    let largest =
+        |f: &dyn Fn(&dae_runtime::DesignPass) -> f64| a.passes.iter().map(f).fold(0.0, f64::max);
+    let spec = ConstraintSpec {
+        r: 2,
+        eps: 2e-3,
+        m: largest(&|p| p.pilot.estimate.m[0]),
+        beta_abs: largest(&|p| p.pilot.estimate.beta_abs[0]),
+        layer: LayerBound::General,
+    };
+    let c = a.design.constraints[0];
+    assert_eq!(c.mu, 0.07);
+    assert_eq!(c.k, GainChoice::Sufficient.gain(&spec, 0.07).unwrap());
+    assert_eq!(c.t_min, t_min(&spec, 0.07, c.k).unwrap());
+
+    let two = AutoDesignOptions {
+        mu: MuChoice::Given(vec![0.07, 0.07]),
+        ..opts
+    };
+    assert!(matches!(
+        auto_design(&model, &[2e-3], &pilot, &two),
+        Err(PilotRunError::Mismatch(_))
+    ));
 }

@@ -4,7 +4,9 @@
 mod common;
 
 use common::{Chain, Tracking};
-use dae_runtime::{Crossing, CsvSink, Decimate, Integrator, Settings, Simulator, Summary, Trace};
+use dae_runtime::{
+    Crossing, CsvSink, Decimate, Integrator, Settings, Simulator, Summary, Tee, Trace,
+};
 
 /// Fixed steps on a grid with the step-end rule: these tests are about the sinks and the
 /// fixed-step integrators' costs (`located.rs` tests the located crossings).
@@ -31,6 +33,42 @@ fn decimation_by_steps_keeps_every_kth_sample_and_all_updates() {
     assert_eq!(trace.update_times().len() as u64, summary.updates);
     assert!(summary.updates > 2);
     assert!(trace.update_times().windows(2).all(|p| p[1] > p[0]));
+}
+
+/// A tee feeds each sink the samples it asks for: every 10th step to one, every 25th to
+/// the other (each with the first and the last), all updates to both; the same samples
+/// as two separate runs with one sink each. An absent (`None`) side records nothing.
+#[test]
+fn tee_feeds_each_sink_its_own_decimation() {
+    let run = |sink: &mut dyn dae_runtime::Sink| {
+        Simulator::new(&Tracking::default(), settings().t_end(0.995))
+            .unwrap()
+            .run(sink)
+            .unwrap()
+    };
+    let mut tee = Tee(
+        Decimate::new(Trace::new()).every(10),
+        Some(Decimate::new(Trace::new()).every(25)),
+    );
+    let summary = run(&mut tee);
+    let (mut alone10, mut alone25) = (
+        Decimate::new(Trace::new()).every(10),
+        Decimate::new(Trace::new()).every(25),
+    );
+    run(&mut alone10);
+    run(&mut alone25);
+    let (ten, quarter) = (tee.0.into_inner(), tee.1.unwrap().into_inner());
+    // 995 steps: steps 0, 10, ..., 990 and the last; 0, 25, ..., 975 and the last.
+    assert_eq!(ten.len(), 101);
+    assert_eq!(quarter.len(), 41);
+    assert_eq!(ten.times(), alone10.inner().times());
+    assert_eq!(quarter.times(), alone25.inner().times());
+    for trace in [&ten, &quarter] {
+        assert_eq!(trace.update_times().len() as u64, summary.updates);
+    }
+    let mut half = Tee(Decimate::new(Trace::new()).every(10), None::<Trace>);
+    run(&mut half);
+    assert_eq!(half.0.inner().times(), ten.times());
 }
 
 #[test]

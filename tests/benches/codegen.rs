@@ -22,12 +22,13 @@ fn source(file: &str) -> String {
 
 /// Tape operations against tree operations for each benchmarked function.
 fn print_op_counts(label: &str, src: &str) {
-    let models = dae_lang::compile_models(src).expect("valid model");
+    let models = dae_lang::check_source(src).expect("valid model");
     let model = &models[0];
     let analysis =
         dae_lang::analyze(model, &dae_lang::AnalysisOptions::default()).expect("analysable model");
-    let compiled = dae_lang::compile(model, &analysis);
-    let cs = &analysis.constraints;
+    let compiled = dae_lang::compile(&analysis);
+    let sym = analysis.symbolic();
+    let cs = &sym.constraints;
     let sliding: Vec<_> = cs
         .iter()
         .flat_map(|c| c.w.iter().copied())
@@ -40,14 +41,14 @@ fn print_op_counts(label: &str, src: &str) {
         .collect();
     let beta: Vec<_> = cs.iter().map(|c| c.beta).collect();
     let rows = [
-        ("rhs", &compiled.rhs, analysis.f.clone()),
+        ("rhs", &compiled.rhs, sym.f.clone()),
         ("sliding", &compiled.sliding, sliding),
         ("jacobian", &compiled.jacobian, jacobian),
         ("beta", &compiled.beta, beta),
     ];
     println!("{label}: operation counts (generated code vs expression trees)");
     for (name, tape, roots) in rows {
-        let tree = analysis.arena.tree_op_count(&roots);
+        let tree = sym.arena.tree_op_count(&roots);
         let shared = tape.op_count();
         println!(
             "  {name:<9} tape {shared:>6}   trees {tree:>10}   ratio {:>8.1}",

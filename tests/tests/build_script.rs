@@ -1,9 +1,9 @@
-//! `dae_lang::expand::compile_file_to_out_dir`, the build-script entry point: it writes
+//! `dae_codegen::compile_file_to_out_dir`, the build-script entry point: it writes
 //! formatted Rust into `OUT_DIR` that parses and defines the model's type, and reports
 //! a bad file as rendered diagnostics. One test in this binary, because it sets the
 //! process-wide `OUT_DIR`.
 
-use dae_lang::expand::compile_file_to_out_dir;
+use dae_codegen::compile_file_to_out_dir;
 use dae_tests::models_dir;
 
 #[test]

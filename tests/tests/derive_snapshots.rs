@@ -25,7 +25,7 @@ fn source(name: &str) -> String {
 }
 
 fn analysed(src: &str) -> (Model, Analysis) {
-    let mut models = dae_lang::compile_models(src).expect("the example checks");
+    let mut models = dae_lang::check_source(src).expect("the example checks");
     assert_eq!(models.len(), 1);
     let m = models.remove(0);
     let a = analyze(&m, &AnalysisOptions::default()).expect("the example analyses");
@@ -52,8 +52,9 @@ fn equations(text: &str) -> Vec<(&str, &str)> {
 
 /// The nodes the derive text prints, in its order.
 fn printed_ids(a: &Analysis) -> Vec<dae_lang::Id> {
-    let mut ids = a.lets.clone();
-    for c in &a.constraints {
+    let sym = a.symbolic();
+    let mut ids = sym.lets.clone();
+    for c in &sym.constraints {
         ids.extend(&c.w);
         ids.extend(c.jacobian_row.iter().map(|e| e.1));
         ids.extend([c.beta, c.s, c.alpha, c.alpha_hat]);
@@ -91,7 +92,7 @@ fn every_right_hand_side_parses_back_with_the_real_parser() {
         }
         let close = src.rfind('}').expect("the model's closing brace");
         let pasted = format!("{}{extra}{}", &src[..close], &src[close..]);
-        let back = match dae_lang::compile_models(&pasted) {
+        let back = match dae_lang::check_source(&pasted) {
             Ok(mut ms) => ms.remove(0),
             Err(d) => panic!(
                 "{name}: {}",
@@ -135,7 +136,7 @@ fn every_right_hand_side_parses_back_with_the_real_parser() {
                     .iter()
                     .position(|l| l.name == format!("derive_rhs_{k}"))
                     .expect("the pasted let");
-                let want = a.arena.eval(id, &original);
+                let want = a.symbolic().arena.eval(id, &original);
                 let got = low.arena.eval(low.lets[j], &pasted_point);
                 assert!(
                     (got - want).abs() <= 1e-9 * (1.0 + want.abs()),

@@ -2,7 +2,7 @@
 //! `dae!` which rebuilds text from Rust tokens) give the same syntax tree for every
 //! example model, up to spans (and comments, which Rust's tokenizer drops).
 
-use dae_lang::tokens::TokenSource;
+use dae_codegen::TokenSource;
 use dae_tests::example_sources;
 use proc_macro2::TokenStream;
 

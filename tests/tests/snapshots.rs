@@ -7,7 +7,7 @@ use dae_tests::example_sources;
 fn generated_code_of_every_example_model() {
     for (stem, text) in example_sources() {
         let models = dae_lang::compile_source(&text).unwrap_or_else(|e| panic!("{stem}: {e:?}"));
-        let code: Vec<String> = models.iter().map(dae_lang::codegen::emit_rust).collect();
+        let code: Vec<String> = models.iter().map(dae_codegen::emit_rust).collect();
         insta::assert_snapshot!(stem, code.join("\n"));
     }
 }

@@ -55,7 +55,7 @@ impl PlanarChain {
         Ok(Self { masses, lengths, g })
     }
 
-    /// The planar double pendulum of language.md: `m1 = m2 = 0.1`, `L1 = L2 = 2`,
+    /// The planar double pendulum of docs/language.md: `m1 = m2 = 0.1`, `L1 = L2 = 2`,
     /// `g = 9.8`.
     pub fn double_pendulum() -> Self {
         Self {
@@ -151,7 +151,7 @@ impl PlanarChain {
         t + v
     }
 
-    /// Cartesian state in the layout of the DAE stand-in and of language.md: per
+    /// Cartesian state in the layout of the DAE stand-in and of docs/language.md: per
     /// particle `[x_k, y_k, vx_k, vy_k]` (so `4 N` values).
     pub fn cartesian(&self, y: &[f64]) -> Vec<f64> {
         let n = self.links();

@@ -6,7 +6,7 @@ use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
     let Ok(src) = std::str::from_utf8(data) else { return };
-    if let Err(diags) = dae_lang::compile_models(src) {
+    if let Err(diags) = dae_lang::check_source(src) {
         for d in &diags {
             assert!(d.span.start <= d.span.end && d.span.end <= src.len());
             let text = d.render("fuzz.dae", src, false);

@@ -16,7 +16,8 @@
 use std::ops;
 
 use crate::ast::{BinOp, Span};
-use crate::model::{ConstraintDef, DerDef, Func, LetDef, Model, ParamDef, RExpr, Var, VarDef};
+use crate::model::{ConstraintDef, DerDef, LetDef, Model, ParamDef, RExpr, VarDef};
+use crate::{AlgId, Func, LetId, ParamId, StateId, VarRef};
 
 /// A resolved expression with arithmetic operators, for building models in code.
 #[derive(Clone, Debug, PartialEq)]
@@ -30,7 +31,7 @@ impl E {
 
     /// Time `t`.
     pub fn t() -> E {
-        E(RExpr::Var(Var::Time))
+        E(RExpr::Var(VarRef::Time))
     }
 
     /// `self ^ e`.
@@ -147,7 +148,9 @@ impl ModelBuilder {
             default,
             span,
         });
-        E(RExpr::Var(Var::Param(self.m.params.len() - 1)))
+        E(RExpr::Var(VarRef::Param(ParamId::new(
+            self.m.params.len() - 1,
+        ))))
     }
 
     /// `state name = init;`
@@ -159,7 +162,9 @@ impl ModelBuilder {
             span,
         });
         self.ders.push(None);
-        E(RExpr::Var(Var::State(self.m.states.len() - 1)))
+        E(RExpr::Var(VarRef::State(StateId::new(
+            self.m.states.len() - 1,
+        ))))
     }
 
     /// `alg name = init;`
@@ -170,7 +175,7 @@ impl ModelBuilder {
             init: init.into().0,
             span,
         });
-        E(RExpr::Var(Var::Alg(self.m.algs.len() - 1)))
+        E(RExpr::Var(VarRef::Alg(AlgId::new(self.m.algs.len() - 1))))
     }
 
     /// `let name = expr;`
@@ -181,15 +186,15 @@ impl ModelBuilder {
             expr: expr.0,
             span,
         });
-        E(RExpr::Var(Var::Let(self.m.lets.len() - 1)))
+        E(RExpr::Let(LetId::new(self.m.lets.len() - 1)))
     }
 
     /// `der(state) = rhs;` (`state` must be an expression returned by [`ModelBuilder::state`];
     /// anything else is ignored).
     pub fn der(&mut self, state: &E, rhs: impl Into<E>) {
         let span = self.span();
-        if let E(RExpr::Var(Var::State(i))) = state {
-            self.ders[*i] = Some(DerDef {
+        if let E(RExpr::Var(VarRef::State(i))) = state {
+            self.ders[i.index()] = Some(DerDef {
                 expr: rhs.into().0,
                 span,
             });
@@ -224,7 +229,7 @@ impl ModelBuilder {
     }
 }
 
-/// The 3-D double pendulum of the thesis (method.md section 5): masses 0.1, links 2.0,
+/// The 3-D double pendulum of the thesis (docs/method.md section 8): masses 0.1, links 2.0,
 /// g = 9.8, `R1 = (-1, 0, 0)`, `R2 = (-5, 0, 0)`, at rest, tensions `z1, z2` (initial 0).
 /// States in order `rx1 ry1 rz1 vx1 vy1 vz1 rx2 ry2 rz2 vx2 vy2 vz2`.
 pub fn double_pendulum_3d() -> Model {

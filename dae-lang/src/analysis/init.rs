@@ -1,47 +1,47 @@
 //! Checks at the initial point: finite values, and a well-conditioned `J_Omega`.
+//!
+//! The values are those of the compiled tapes, the code that will run (the interpreter
+//! evaluates exactly these, the generated Rust is checked against them), not of a
+//! separate evaluator.
 
 use nalgebra::DMatrix;
 
-use super::{Analysis, AnalysisOptions, InitialPoint, lower::lower_expr, text::wname};
+use super::{ConstraintAnalysis, InitialPoint, text::wname};
+use crate::analysis::AnalysisOptions;
 use crate::ast::Span;
+use crate::compiled::CompiledModel;
 use crate::diag::Diagnostic;
 use crate::model::{Model, VarDef};
-use crate::sym::{Id, Point};
+use crate::tape::{Inputs, Tape};
 
-/// Evaluate the initial values of states or algebraic unknowns (expressions over params).
-fn initial_values(
-    a: &mut Analysis,
-    defs: &[VarDef],
-    params: &[f64],
-    what: &str,
-    errors: &mut Vec<Diagnostic>,
-) -> Vec<f64> {
-    let ids: Vec<Id> = defs
-        .iter()
-        .map(|d| lower_expr(&mut a.arena, &[], &d.init))
-        .collect();
-    let p = Point {
-        params,
-        ..Point::default()
-    };
-    let mut buf = Vec::new();
-    a.arena.eval_all(&p, &mut buf);
-    ids.iter()
-        .zip(defs)
-        .map(|(id, d)| {
-            let v = buf[id.index()];
-            if !v.is_finite() {
-                errors.push(Diagnostic {
-                    message: format!("the {what} of `{}` is {v}", d.name),
-                    span: d.span,
-                    label: "not a finite number".into(),
-                    hint: Some("initial values must be finite; check the parameters used".into()),
-                    related: vec![],
-                });
-            }
-            v
-        })
-        .collect()
+/// What the initial point showed, for the [`super::Analysis`].
+pub(super) struct AtInitial {
+    pub point: InitialPoint,
+    pub jacobian: Vec<f64>,
+    pub condition_number: f64,
+}
+
+/// The outputs of `tape` at `inputs`.
+fn run(tape: &Tape, inputs: &Inputs<'_>) -> Vec<f64> {
+    let mut slots = vec![0.0; tape.n_slots()];
+    let mut out = vec![0.0; tape.outputs().len()];
+    tape.eval(inputs, &mut slots, &mut out);
+    out
+}
+
+/// Report the non-finite initial values of states or algebraic unknowns.
+fn check_finite(values: &[f64], defs: &[VarDef], what: &str, errors: &mut Vec<Diagnostic>) {
+    for (v, d) in values.iter().zip(defs) {
+        if !v.is_finite() {
+            errors.push(Diagnostic {
+                message: format!("the {what} of `{}` is {v}", d.name),
+                span: d.span,
+                label: "not a finite number".into(),
+                hint: Some("initial values must be finite; check the parameters used".into()),
+                related: vec![],
+            });
+        }
+    }
 }
 
 fn non_finite(span: Span, what: String, v: f64) -> Diagnostic {
@@ -58,66 +58,104 @@ fn non_finite(span: Span, what: String, v: f64) -> Diagnostic {
 }
 
 pub(super) fn check_initial_point(
-    a: &mut Analysis,
     model: &Model,
+    constraints: &[ConstraintAnalysis],
+    compiled: &CompiledModel,
     opts: &AnalysisOptions,
-) -> Result<(), Vec<Diagnostic>> {
+) -> Result<AtInitial, Vec<Diagnostic>> {
     let mut errors = Vec::new();
-    let params: Vec<f64> = model.params.iter().map(|p| p.default).collect();
-    let states = initial_values(a, &model.states, &params, "initial value", &mut errors);
-    let algs = initial_values(a, &model.algs, &params, "initial guess", &mut errors);
+    let (n, m) = (model.states.len(), model.algs.len());
+    let params: Vec<f64> = compiled.params.iter().map(|p| p.1).collect();
+    // The initial values read only parameters; the rest is NaN so that a value that
+    // reads anything else is reported, not read out of bounds.
+    let (no_x, no_z, no_mu) = (vec![f64::NAN; n], vec![f64::NAN; m], vec![f64::NAN; m]);
+    let before = Inputs {
+        params: &params,
+        states: &no_x,
+        algs: &no_z,
+        mu: &no_mu,
+        t: 0.0,
+    };
+    let states = run(&compiled.init_state, &before);
+    let algs = run(&compiled.init_alg, &before);
+    check_finite(&states, &model.states, "initial value", &mut errors);
+    check_finite(&algs, &model.algs, "initial guess", &mut errors);
     if !errors.is_empty() {
         return Err(errors);
     }
-    let p = Point {
+    // `mu` is not part of the initial point: it enters only `s` and `alpha_hat`, which
+    // are not checked here.
+    let at = Inputs {
         params: &params,
         states: &states,
         algs: &algs,
+        mu: &no_mu,
         t: 0.0,
-        mu: &[],
     };
-    let mut v = Vec::new();
-    a.arena.eval_all(&p, &mut v);
-    let val = |id: Id| v[id.index()];
-    for (k, (&fk, d)) in a.f.iter().zip(&model.ders).enumerate() {
-        if !val(fk).is_finite() {
-            let name = a.names.states.get(k).cloned().unwrap_or_default();
-            errors.push(non_finite(d.span, format!("der({name})"), val(fk)));
+    let f = run(&compiled.rhs, &at);
+    for (k, (v, d)) in f.iter().zip(&model.ders).enumerate() {
+        if !v.is_finite() {
+            let name = &compiled.states[k];
+            errors.push(non_finite(d.span, format!("der({name})"), *v));
         }
     }
-    let m = a.constraints.len();
-    let n = model.algs.len();
-    let mut jac = vec![0.0; m * n];
-    for (i, c) in a.constraints.iter().enumerate() {
-        // Report the first non-finite quantity of each constraint: later ones derive from it.
-        let mut named: Vec<(String, Id)> =
-            c.w.iter()
-                .enumerate()
-                .map(|(j, &w)| (wname(&c.name, j, c.index), w))
-                .collect();
-        for &(k, id) in c.jacobian_row.iter().filter(|(k, _)| *k < n) {
-            let z = super::alg_name(&a.names, k);
-            named.push((format!("J({i}, {k}) = dOmega_{}/d{z}", c.name), id));
-            jac[i * n + k] = val(id);
+    let w = run(&compiled.sliding, &at);
+    let entries = run(&compiled.jacobian, &at);
+    let beta = run(&compiled.beta, &at);
+    let mut jac = vec![0.0; m * m];
+    for (&(row, col), &v) in compiled.jacobian_pattern.iter().zip(&entries) {
+        jac[row * m + col] = v;
+    }
+    let mut w_start = 0;
+    for (i, c) in constraints.iter().enumerate() {
+        // Report the first non-finite quantity of each constraint, in the order of the
+        // derivation (w, J_Omega, beta): later ones derive from it.
+        let mut named: Vec<(String, f64)> = (0..c.index)
+            .map(|j| (wname(&c.name, j, c.index), w[w_start + j]))
+            .collect();
+        w_start += c.index;
+        for (&(_, col), &v) in compiled
+            .jacobian_pattern
+            .iter()
+            .zip(&entries)
+            .filter(|((row, _), _)| *row == i)
+        {
+            let z = compiled.algs[col].as_str();
+            named.push((format!("J({i}, {col}) = dOmega_{}/d{z}", c.name), v));
         }
-        named.push((format!("beta_{}", c.name), c.beta));
-        if let Some((what, id)) = named.into_iter().find(|(_, id)| !val(*id).is_finite()) {
-            errors.push(non_finite(c.span, what, val(id)));
+        named.push((format!("beta_{}", c.name), beta[i]));
+        if let Some((what, v)) = named.into_iter().find(|(_, v)| !v.is_finite()) {
+            errors.push(non_finite(c.span, what, v));
         }
     }
     if !errors.is_empty() {
         return Err(errors);
     }
-    a.initial = InitialPoint {
+    let point = InitialPoint {
         params,
         states,
         algs,
     };
-    a.jacobian_at_initial = jac;
+    let condition_number = condition(constraints, &jac, m, opts)?;
+    Ok(AtInitial {
+        point,
+        jacobian: jac,
+        condition_number,
+    })
+}
+
+/// The 2-norm condition number of the `m x m` matrix `jac` (row-major), 1 for `m = 0`;
+/// an error naming the dependent constraints if it is infinite or above the threshold.
+fn condition(
+    constraints: &[ConstraintAnalysis],
+    jac: &[f64],
+    m: usize,
+    opts: &AnalysisOptions,
+) -> Result<f64, Vec<Diagnostic>> {
     if m == 0 {
-        return Ok(());
+        return Ok(1.0);
     }
-    let mat = DMatrix::from_row_slice(m, n, &a.jacobian_at_initial);
+    let mat = DMatrix::from_row_slice(m, m, jac);
     let svd = mat.svd(true, false);
     let sv = &svd.singular_values;
     let (imin, smin) = sv.argmin();
@@ -127,9 +165,8 @@ pub(super) fn check_initial_point(
     } else {
         f64::INFINITY
     };
-    a.condition_number = cond;
     if cond.is_finite() && cond <= opts.condition_threshold {
-        return Ok(());
+        return Ok(cond);
     }
     // Rows with large components in the left singular vector of the smallest singular value
     // are the constraints whose rows are (nearly) dependent.
@@ -143,9 +180,9 @@ pub(super) fn check_initial_point(
     let involved: Vec<usize> = (0..m).filter(|&i| u[i].abs() >= 0.1 * umax).collect();
     let names: Vec<String> = involved
         .iter()
-        .map(|&i| format!("`{}`", a.constraints[i].name))
+        .map(|&i| format!("`{}`", constraints[i].name))
         .collect();
-    let first = &a.constraints[involved[0]];
+    let first = &constraints[involved[0]];
     let message = if smin == 0.0 || !cond.is_finite() {
         format!(
             "J_Omega is singular at the initial point (constraints {})",
@@ -161,7 +198,7 @@ pub(super) fn check_initial_point(
     let related = involved[1..]
         .iter()
         .map(|&i| {
-            let c = &a.constraints[i];
+            let c = &constraints[i];
             (
                 c.span,
                 format!("`{}` is part of the same dependent combination", c.name),

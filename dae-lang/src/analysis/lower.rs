@@ -1,13 +1,14 @@
 //! Lowering a checked [`Model`] into the symbolic arena.
 
 use crate::ast::BinOp;
-use crate::model::{Model, RExpr, Var};
+use crate::model::{Model, RExpr};
 use crate::sym::{Arena, Id};
+use crate::{Func, VarRef};
 
 /// A model in the arena: lets as shared nodes, `f` per state, `g` per constraint.
 #[derive(Clone, Debug)]
 pub struct Lowered {
-    /// The arena holding every expression (its flow is set to `f`).
+    /// The arena holding every expression.
     pub arena: Arena,
     /// `f[k]`: the right-hand side of `der(x_k)`.
     pub f: Vec<Id>,
@@ -17,8 +18,9 @@ pub struct Lowered {
     pub lets: Vec<Id>,
 }
 
-/// Lower a model. `simplify = false` builds without the simplifying rules (for measuring).
-/// A let is lowered once and every use refers to its node, so lets are shared, not copied.
+/// Lower a model's equations. `simplify = false` builds without the simplifying rules
+/// (for measuring). A let is lowered once and every use refers to its node, so lets are
+/// shared, not copied. The initial values are lowered separately, after the analysis.
 pub fn lower(model: &Model, simplify: bool) -> Lowered {
     let mut arena = if simplify {
         Arena::new()
@@ -27,57 +29,102 @@ pub fn lower(model: &Model, simplify: bool) -> Lowered {
     };
     let mut lets = Vec::with_capacity(model.lets.len());
     for l in &model.lets {
-        let id = lower_expr(&mut arena, &lets, &l.expr);
+        let id = Lowering::new(model, &lets).expr(&mut arena, &l.expr);
         lets.push(id);
     }
+    let mut lowering = Lowering::new(model, &lets);
     let f: Vec<Id> = model
         .ders
         .iter()
-        .map(|d| lower_expr(&mut arena, &lets, &d.expr))
+        .map(|d| lowering.expr(&mut arena, &d.expr))
         .collect();
     let g = model
         .constraints
         .iter()
-        .map(|c| lower_expr(&mut arena, &lets, &c.residual))
+        .map(|c| lowering.expr(&mut arena, &c.residual))
         .collect();
-    arena.set_flow(f.clone());
     Lowered { arena, f, g, lets }
 }
 
-/// Lower one expression; `lets` holds the nodes of the lets lowered so far. A reference
-/// the checked-model contract rules out (a later let, a wrong arity) lowers to NaN, which
-/// the initial-point check then reports instead of panicking.
-pub(crate) fn lower_expr(arena: &mut Arena, lets: &[Id], e: &RExpr) -> Id {
-    match e {
-        RExpr::Num(v) => arena.num(*v),
-        RExpr::Var(v) => match *v {
-            Var::Param(i) => arena.param(i),
-            Var::State(i) => arena.state(i),
-            Var::Alg(i) => arena.alg(i),
-            Var::Time => arena.time(),
-            Var::Let(i) => lets.get(i).copied().unwrap_or_else(|| arena.num(f64::NAN)),
-        },
-        RExpr::Neg(a) => {
-            let a = lower_expr(arena, lets, a);
-            arena.neg(a)
+/// Lower the initial values of the states and the initial guesses of the algebraic
+/// unknowns (expressions over the parameters) into `arena`.
+pub(crate) fn lower_initial(arena: &mut Arena, model: &Model) -> (Vec<Id>, Vec<Id>) {
+    let mut lowering = Lowering::new(model, &[]);
+    let states = model
+        .states
+        .iter()
+        .map(|s| lowering.expr(arena, &s.init))
+        .collect();
+    let algs = model
+        .algs
+        .iter()
+        .map(|a| lowering.expr(arena, &a.init))
+        .collect();
+    (states, algs)
+}
+
+/// What an expression of `model` may refer to: its variables, and the lets lowered so
+/// far. A reference the checked-model contract rules out (a variable out of range, a
+/// realization parameter, a later let, a wrong arity) lowers to NaN, which the
+/// initial-point check then reports, so that no tape ever reads outside its inputs.
+struct Lowering<'a> {
+    lets: &'a [Id],
+    counts: [usize; 3],
+}
+
+impl<'a> Lowering<'a> {
+    fn new(model: &Model, lets: &'a [Id]) -> Self {
+        Lowering {
+            lets,
+            counts: [model.params.len(), model.states.len(), model.algs.len()],
         }
-        RExpr::Binary(op, a, b) => {
-            let a = lower_expr(arena, lets, a);
-            let b = lower_expr(arena, lets, b);
-            match op {
-                BinOp::Add => arena.add(a, b),
-                BinOp::Sub => arena.sub(a, b),
-                BinOp::Mul => arena.mul(a, b),
-                BinOp::Div => arena.div(a, b),
-                BinOp::Pow => arena.pow(a, b),
+    }
+
+    fn in_range(&self, v: VarRef) -> bool {
+        let [params, states, algs] = self.counts;
+        match v {
+            VarRef::Param(i) => i.index() < params,
+            VarRef::State(i) => i.index() < states,
+            VarRef::Alg(i) => i.index() < algs,
+            VarRef::Time => true,
+            VarRef::Mu(_) => false,
+        }
+    }
+
+    fn expr(&mut self, arena: &mut Arena, e: &RExpr) -> Id {
+        match e {
+            RExpr::Num(v) => arena.num(*v),
+            RExpr::Var(v) if self.in_range(*v) => arena.var(*v),
+            RExpr::Var(_) => arena.num(f64::NAN),
+            RExpr::Let(l) => self
+                .lets
+                .get(l.index())
+                .copied()
+                .unwrap_or_else(|| arena.num(f64::NAN)),
+            RExpr::Neg(a) => {
+                let a = self.expr(arena, a);
+                arena.neg(a)
             }
-        }
-        RExpr::Call(f, args) => {
-            if args.len() != f.arity() {
-                return arena.num(f64::NAN);
+            RExpr::Binary(op, a, b) => {
+                let a = self.expr(arena, a);
+                let b = self.expr(arena, b);
+                match op {
+                    BinOp::Add => arena.add(a, b),
+                    BinOp::Sub => arena.sub(a, b),
+                    BinOp::Mul => arena.mul(a, b),
+                    BinOp::Div => arena.div(a, b),
+                    BinOp::Pow => arena.pow(a, b),
+                }
             }
-            let ids: Vec<Id> = args.iter().map(|a| lower_expr(arena, lets, a)).collect();
-            arena.call(*f, &ids)
+            RExpr::Call(f, args) => self.call(arena, *f, args),
         }
+    }
+
+    fn call(&mut self, arena: &mut Arena, f: Func, args: &[RExpr]) -> Id {
+        if args.len() != f.arity() {
+            return arena.num(f64::NAN);
+        }
+        let ids: Vec<Id> = args.iter().map(|a| self.expr(arena, a)).collect();
+        arena.call(f, &ids)
     }
 }

@@ -1,4 +1,4 @@
-//! Index analysis and realization (method.md sections 1-2).
+//! Index analysis and realization (docs/method.md sections 1-2).
 //!
 //! For each constraint `g_i`: differentiate `w_i = g_i` along the flow (z held constant)
 //! until an algebraic unknown appears; that derivative is `Omega_i = w_i^(r_i - 1)` and
@@ -7,9 +7,12 @@
 //! `s_i = sum_{j<r} C(r-1, j) mu^j w^(j)`,
 //! `alpha_i = mu^(r-1) beta_i + sum_{j=1}^{r-1} C(r-1, j-1) mu^(j-1) w^(j)` (corrected
 //! coefficients) and the cheap `alpha_hat_i = alpha_i - mu^(r-1) beta_i`.
-//! Finally everything is evaluated at the initial point, where non-finite values and a
-//! singular or ill-conditioned `J_Omega` are errors.
+//! The initial values are lowered into the same arena, every function is compiled into
+//! its tape ([`CompiledModel`]), and those tapes, the ones that will run, are evaluated
+//! at the initial point, where non-finite values and a singular or ill-conditioned
+//! `J_Omega` are errors.
 
+#[cfg(any(test, feature = "fixtures"))]
 pub mod fixtures;
 mod init;
 mod lower;
@@ -18,11 +21,12 @@ mod tests;
 mod text;
 
 use crate::ast::Span;
+use crate::compiled::CompiledModel;
 use crate::diag::Diagnostic;
-use crate::model::Model;
-use crate::sym::{Arena, Id, Names, dep};
+use crate::model::{ConstraintDef, Model};
+use crate::sym::{Arena, DiffContext, Id, Names, dep};
+use crate::{AlgId, ConstraintId};
 
-pub(crate) use lower::lower_expr;
 pub use lower::{Lowered, lower};
 
 /// Options of [`analyze`].
@@ -57,13 +61,20 @@ pub struct ConstraintAnalysis {
     pub span: Span,
     /// Its index `r` (1 = an algebraic unknown appears in the constraint itself).
     pub index: usize,
+    /// Names of the algebraic unknowns in `Omega` (the sparsity pattern of the row).
+    pub depends_on: Vec<String>,
+}
+
+/// The expressions of one constraint's realization, in the analysis' arena.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConstraintExprs {
     /// `w[j] = w^(j)` for `j = 0 .. r-1` (so `w[r-1]` is `Omega`).
     pub w: Vec<Id>,
     /// `Omega = w^(r-1)`, the first derivative that contains an algebraic unknown.
     pub omega: Id,
-    /// The non-zero entries `(column = algebraic index, dOmega/dz_column)` of this row of
-    /// `J_Omega`, by column.
-    pub jacobian_row: Vec<(usize, Id)>,
+    /// The non-zero entries `(column = algebraic unknown, dOmega/dz_column)` of this row
+    /// of `J_Omega`, by column.
+    pub jacobian_row: Vec<(AlgId, Id)>,
     /// `beta = dOmega/dt + (dOmega/dx) f` (may contain z).
     pub beta: Id,
     /// The realization parameter `mu` of this constraint (a leaf, printed `mu<i+1>`).
@@ -74,8 +85,28 @@ pub struct ConstraintAnalysis {
     pub alpha: Id,
     /// The cheap `alpha_hat = alpha - mu^(r-1) beta`.
     pub alpha_hat: Id,
-    /// Names of the algebraic unknowns in `Omega` (the sparsity pattern of the row).
-    pub depends_on: Vec<String>,
+}
+
+/// A model and its realization as expressions in one arena: what `daec derive` prints
+/// and what the tapes are emitted from.
+#[derive(Clone, Debug)]
+pub struct SymbolicModel {
+    /// The arena holding every expression below.
+    pub arena: Arena,
+    /// Names for printing.
+    pub names: Names,
+    /// `f[k]`: right-hand side of `der(x_k)`.
+    pub f: Vec<Id>,
+    /// Nodes of the lets.
+    pub lets: Vec<Id>,
+    /// Names of the lets (same order).
+    pub let_names: Vec<String>,
+    /// Initial value of each state (an expression over the parameters).
+    pub init_state: Vec<Id>,
+    /// Initial guess of each algebraic unknown (an expression over the parameters).
+    pub init_alg: Vec<Id>,
+    /// One entry per constraint, in declaration order.
+    pub constraints: Vec<ConstraintExprs>,
 }
 
 /// The values at the initial point (default parameters, initial states and algebraic
@@ -95,16 +126,6 @@ pub struct InitialPoint {
 pub struct Analysis {
     /// The model's name.
     pub model_name: String,
-    /// The arena holding every expression below.
-    pub arena: Arena,
-    /// Names for printing.
-    pub names: Names,
-    /// `f[k]`: right-hand side of `der(x_k)`.
-    pub f: Vec<Id>,
-    /// Nodes of the lets.
-    pub lets: Vec<Id>,
-    /// Names of the lets (same order).
-    pub let_names: Vec<String>,
     /// One entry per constraint, in declaration order.
     pub constraints: Vec<ConstraintAnalysis>,
     /// The initial point everything was checked at.
@@ -113,12 +134,21 @@ pub struct Analysis {
     pub jacobian_at_initial: Vec<f64>,
     /// Its 2-norm condition number (1 for a model without constraints).
     pub condition_number: f64,
+    pub(crate) symbolic: SymbolicModel,
+    pub(crate) compiled: CompiledModel,
 }
 
 impl Analysis {
     /// The indices `r_i`, in constraint order.
     pub fn indices(&self) -> Vec<usize> {
         self.constraints.iter().map(|c| c.index).collect()
+    }
+
+    /// The expressions the analysis built (the arena, the realization of every
+    /// constraint). Internal representation: feature `internals`.
+    #[cfg(any(test, feature = "internals"))]
+    pub fn symbolic(&self) -> &SymbolicModel {
+        &self.symbolic
     }
 }
 
@@ -137,19 +167,18 @@ pub fn analyze(model: &Model, opts: &AnalysisOptions) -> Result<Analysis, Vec<Di
         g,
         lets,
     } = lower(model, opts.simplify);
+    let mut derivatives = DiffContext::new(f.clone());
     let names = Names::from_model(model);
     let mut errors = Vec::new();
-    let mut out = Vec::with_capacity(g.len());
+    let mut summaries = Vec::with_capacity(g.len());
+    let mut exprs = Vec::with_capacity(g.len());
     for (i, (&gi, def)) in g.iter().zip(&model.constraints).enumerate() {
-        match index_of(&mut arena, gi, opts.max_differentiations) {
-            Ok(w) => out.push(realize(
-                &mut arena,
-                &names,
-                i,
-                def.name.clone(),
-                def.span,
-                w,
-            )),
+        match index_of(&mut arena, &mut derivatives, gi, opts.max_differentiations) {
+            Ok(w) => {
+                let (summary, e) = realize(&mut arena, &mut derivatives, &names, i, def, w);
+                summaries.push(summary);
+                exprs.push(e);
+            }
             Err(kind) => errors.push(no_index(&arena, &names, model, i, gi, kind, opts)),
         }
     }
@@ -169,24 +198,35 @@ pub fn analyze(model: &Model, opts: &AnalysisOptions) -> Result<Analysis, Vec<Di
     if !errors.is_empty() {
         return Err(errors);
     }
-    let mut a = Analysis {
-        model_name: model.name.clone(),
+    // Lowered last, so that the nodes above keep the ids (and the tapes the order) they
+    // have without them.
+    let (init_state, init_alg) = lower::lower_initial(&mut arena, model);
+    let symbolic = SymbolicModel {
         arena,
         names,
         f,
         lets,
         let_names: model.lets.iter().map(|l| l.name.clone()).collect(),
-        constraints: out,
-        initial: InitialPoint {
-            params: vec![],
-            states: vec![],
-            algs: vec![],
-        },
-        jacobian_at_initial: vec![],
-        condition_number: 1.0,
+        init_state,
+        init_alg,
+        constraints: exprs,
     };
-    init::check_initial_point(&mut a, model, opts)?;
-    Ok(a)
+    let params: Vec<(String, f64)> = model
+        .params
+        .iter()
+        .map(|p| (p.name.clone(), p.default))
+        .collect();
+    let compiled = crate::compile::compile(&model.name, &params, &summaries, &symbolic);
+    let at_initial = init::check_initial_point(model, &summaries, &compiled, opts)?;
+    Ok(Analysis {
+        model_name: model.name.clone(),
+        constraints: summaries,
+        initial: at_initial.point,
+        jacobian_at_initial: at_initial.jacobian,
+        condition_number: at_initial.condition_number,
+        symbolic,
+        compiled,
+    })
 }
 
 /// Why a constraint has no index.
@@ -198,7 +238,12 @@ enum NoIndex {
 }
 
 /// `w^(0..r)` up to the first that contains an algebraic unknown.
-fn index_of(arena: &mut Arena, g: Id, max: usize) -> Result<Vec<Id>, NoIndex> {
+fn index_of(
+    arena: &mut Arena,
+    derivatives: &mut DiffContext,
+    g: Id,
+    max: usize,
+) -> Result<Vec<Id>, NoIndex> {
     let mut w = vec![g];
     loop {
         let last = *w.last().expect("w starts with g");
@@ -211,31 +256,32 @@ fn index_of(arena: &mut Arena, g: Id, max: usize) -> Result<Vec<Id>, NoIndex> {
         if w.len() > max {
             return Err(NoIndex::TooMany);
         }
-        w.push(arena.dt(last));
+        w.push(derivatives.dt(arena, last));
     }
 }
 
+/// The realization of constraint `i` (`def`) from its derivatives `w`.
 fn realize(
     arena: &mut Arena,
+    derivatives: &mut DiffContext,
     names: &Names,
     i: usize,
-    name: String,
-    span: Span,
+    def: &ConstraintDef,
     w: Vec<Id>,
-) -> ConstraintAnalysis {
+) -> (ConstraintAnalysis, ConstraintExprs) {
     let r = w.len();
     let omega = w[r - 1];
     let cols = arena.algs_in(omega);
     let mut jacobian_row = Vec::with_capacity(cols.len());
     for &k in &cols {
         let z = arena.alg(k);
-        let d = arena.diff(omega, z);
+        let d = derivatives.diff(arena, omega, z);
         if arena.as_const(d) != Some(0.0) {
             jacobian_row.push((k, d));
         }
     }
-    let beta = arena.dt(omega);
-    let mu = arena.mu(i);
+    let beta = derivatives.dt(arena, omega);
+    let mu = arena.mu(ConstraintId::new(i));
     let mu_pow = |arena: &mut Arena, j: usize| arena.powf(mu, j as f64);
     // s = sum_{j=0}^{r-1} C(r-1, j) mu^j w^(j)
     let mut s_terms = Vec::with_capacity(r);
@@ -254,11 +300,13 @@ fn realize(
     let m = mu_pow(arena, r - 1);
     let mb = arena.mul(m, beta);
     let alpha = arena.add(mb, alpha_hat);
-    let depends_on = cols.iter().map(|&k| alg_name(names, k)).collect();
-    ConstraintAnalysis {
-        name,
-        span,
+    let summary = ConstraintAnalysis {
+        name: def.name.clone(),
+        span: def.span,
         index: r,
+        depends_on: cols.iter().map(|&k| alg_name(names, k)).collect(),
+    };
+    let exprs = ConstraintExprs {
         w,
         omega,
         jacobian_row,
@@ -267,16 +315,12 @@ fn realize(
         s,
         alpha,
         alpha_hat,
-        depends_on,
-    }
+    };
+    (summary, exprs)
 }
 
-fn alg_name(names: &Names, k: usize) -> String {
-    names
-        .algs
-        .get(k)
-        .cloned()
-        .unwrap_or_else(|| format!("z{k}"))
+fn alg_name(names: &Names, k: AlgId) -> String {
+    names.var(crate::VarRef::Alg(k))
 }
 
 fn no_index(

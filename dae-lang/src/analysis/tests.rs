@@ -1,5 +1,5 @@
 //! Index analysis tests on models built in code, checked against hand derivations,
-//! closed forms (method.md section 6) and finite differences of s along the realized flow.
+//! closed forms (docs/method.md section 7) and finite differences of s along the realized flow.
 
 use super::fixtures::*;
 use super::*;
@@ -41,12 +41,12 @@ impl Values {
 }
 
 fn eval(a: &Analysis, id: crate::sym::Id, v: &Values) -> f64 {
-    a.arena.eval(id, &v.point())
+    a.symbolic.arena.eval(id, &v.point())
 }
 
 /// The oracle test of the realization: along the extended flow `x' = f, z' = v, t' = 1`,
 /// a central difference of `s_i` must equal `mu_i^(r_i-1) (J_Omega v)_i + alpha_i`
-/// (method.md (T 2.6)), and `alpha_hat_i = alpha_i - mu_i^(r_i-1) beta_i`.
+/// (docs/method.md section 2, (T 2.6)), and `alpha_hat_i = alpha_i - mu_i^(r_i-1) beta_i`.
 fn check_sliding_dynamics(a: &Analysis, model: &crate::model::Model, rng: &mut Rng, spread: f64) {
     let m = a.constraints.len();
     let base = Values {
@@ -66,7 +66,7 @@ fn check_sliding_dynamics(a: &Analysis, model: &crate::model::Model, rng: &mut R
     let v: Vec<f64> = (0..model.algs.len())
         .map(|_| rng.uniform(-1.0, 1.0))
         .collect();
-    let fval: Vec<f64> = a.f.iter().map(|&f| eval(a, f, &base)).collect();
+    let fval: Vec<f64> = a.symbolic.f.iter().map(|&f| eval(a, f, &base)).collect();
     let moved = |h: f64| Values {
         params: base.params.clone(),
         states: base
@@ -81,22 +81,27 @@ fn check_sliding_dynamics(a: &Analysis, model: &crate::model::Model, rng: &mut R
     };
     let h = 1e-5;
     let (plus, minus) = (moved(h), moved(-h));
-    for (i, c) in a.constraints.iter().enumerate() {
-        let fd = (eval(a, c.s, &plus) - eval(a, c.s, &minus)) / (2.0 * h);
+    for (i, (c, e)) in a
+        .constraints
+        .iter()
+        .zip(&a.symbolic.constraints)
+        .enumerate()
+    {
+        let fd = (eval(a, e.s, &plus) - eval(a, e.s, &minus)) / (2.0 * h);
         let mur = base.mu[i].powi(c.index as i32 - 1);
-        let jv: f64 = c
+        let jv: f64 = e
             .jacobian_row
             .iter()
-            .map(|&(k, id)| eval(a, id, &base) * v[k])
+            .map(|&(k, id)| eval(a, id, &base) * v[k.index()])
             .sum();
-        let want = mur * jv + eval(a, c.alpha, &base);
+        let want = mur * jv + eval(a, e.alpha, &base);
         assert!(
             (fd - want).abs() <= 1e-5 * (1.0 + want.abs()),
             "{}: s' by differences {fd}, J_s v + alpha = {want}",
             c.name
         );
-        let hat = eval(a, c.alpha, &base) - mur * eval(a, c.beta, &base);
-        let got = eval(a, c.alpha_hat, &base);
+        let hat = eval(a, e.alpha, &base) - mur * eval(a, e.beta, &base);
+        let got = eval(a, e.alpha_hat, &base);
         assert!(
             (got - hat).abs() <= 1e-9 * (1.0 + hat.abs()),
             "{}: alpha_hat {got} vs {hat}",
@@ -132,7 +137,8 @@ fn index_one() {
     let model = b.build();
     let a = analyze(&model, &opts()).unwrap();
     let c = &a.constraints[0];
-    assert_eq!((c.index, c.w.len(), c.omega), (1, 1, c.w[0]));
+    let e = &a.symbolic.constraints[0];
+    assert_eq!((c.index, e.w.len(), e.omega), (1, 1, e.w[0]));
     assert_eq!(c.depends_on, vec!["z".to_string()]);
     // J = 1; beta = D[z - x^2] = -2 x (-x + z)
     let v = Values {
@@ -142,14 +148,14 @@ fn index_one() {
         t: 0.0,
         mu: vec![0.2],
     };
-    assert_eq!(c.jacobian_row.len(), 1);
-    assert_eq!(eval(&a, c.jacobian_row[0].1, &v), 1.0);
+    assert_eq!(e.jacobian_row.len(), 1);
+    assert_eq!(eval(&a, e.jacobian_row[0].1, &v), 1.0);
     let beta = -2.0 * 0.7 * (-0.7 - 0.3);
-    assert!((eval(&a, c.beta, &v) - beta).abs() < 1e-14);
+    assert!((eval(&a, e.beta, &v) - beta).abs() < 1e-14);
     // r = 1: s = w, alpha = beta, alpha_hat = 0.
-    assert_eq!(c.s, c.w[0]);
-    assert_eq!(c.alpha, c.beta);
-    assert_eq!(a.arena.as_const(c.alpha_hat), Some(0.0));
+    assert_eq!(e.s, e.w[0]);
+    assert_eq!(e.alpha, e.beta);
+    assert_eq!(a.symbolic.arena.as_const(e.alpha_hat), Some(0.0));
     check_sliding_dynamics(&a, &model, &mut Rng(7), 1.0);
 }
 
@@ -158,6 +164,7 @@ fn index_two_time_dependent() {
     let model = chain_of_integrators(1);
     let a = analyze(&model, &opts()).unwrap();
     let c = &a.constraints[0];
+    let e = &a.symbolic.constraints[0];
     assert_eq!(c.index, 2);
     // w' = z - cos t, beta = D[z - cos t] = sin t: depends on time only.
     let v = Values {
@@ -167,13 +174,13 @@ fn index_two_time_dependent() {
         t: 0.8,
         mu: vec![0.3],
     };
-    assert!((eval(&a, c.w[1], &v) - (1.5 - 0.8f64.cos())).abs() < 1e-15);
-    assert!((eval(&a, c.beta, &v) - 0.8f64.sin()).abs() < 1e-15);
+    assert!((eval(&a, e.w[1], &v) - (1.5 - 0.8f64.cos())).abs() < 1e-15);
+    assert!((eval(&a, e.beta, &v) - 0.8f64.sin()).abs() < 1e-15);
     // s = mu w' + w; alpha = mu beta + w'
     let s = 0.3 * (1.5 - 0.8f64.cos()) + (0.3 - 0.8f64.sin());
-    assert!((eval(&a, c.s, &v) - s).abs() < 1e-15);
+    assert!((eval(&a, e.s, &v) - s).abs() < 1e-15);
     let alpha = 0.3 * 0.8f64.sin() + (1.5 - 0.8f64.cos());
-    assert!((eval(&a, c.alpha, &v) - alpha).abs() < 1e-15);
+    assert!((eval(&a, e.alpha, &v) - alpha).abs() < 1e-15);
     check_sliding_dynamics(&a, &model, &mut Rng(11), 1.0);
 }
 
@@ -183,6 +190,7 @@ fn index_three_and_four() {
         let model = chain_of_integrators(states);
         let a = analyze(&model, &opts()).unwrap();
         let c = &a.constraints[0];
+        let e = &a.symbolic.constraints[0];
         assert_eq!(c.index, r);
         assert_eq!(a.indices(), vec![r]);
         assert_eq!(c.depends_on, vec!["z".to_string()]);
@@ -195,8 +203,8 @@ fn index_three_and_four() {
         };
         // w^(r-1) = z - d^(r-1) sin t; beta = -d^r sin t.
         let dsin = |n: usize, t: f64| [t.sin(), t.cos(), -t.sin(), -t.cos()][n % 4];
-        assert!((eval(&a, c.omega, &v) - (0.4 - dsin(r - 1, 0.5))).abs() < 1e-15);
-        assert!((eval(&a, c.beta, &v) + dsin(r, 0.5)).abs() < 1e-15);
+        assert!((eval(&a, e.omega, &v) - (0.4 - dsin(r - 1, 0.5))).abs() < 1e-15);
+        assert!((eval(&a, e.beta, &v) + dsin(r, 0.5)).abs() < 1e-15);
         // s = sum C(r-1, j) mu^j w^(j) with w^(j) = x_{j+1} - sin^(j) t below Omega.
         let w: Vec<f64> = (0..r)
             .map(|j| if j + 1 < r { v.states[j] } else { 0.4 } - dsin(j, 0.5))
@@ -204,7 +212,7 @@ fn index_three_and_four() {
         let s: f64 = (0..r)
             .map(|j| binomial(r - 1, j) * 0.25f64.powi(j as i32) * w[j])
             .sum();
-        assert!((eval(&a, c.s, &v) - s).abs() < 1e-14, "s for index {r}");
+        assert!((eval(&a, e.s, &v) - s).abs() < 1e-14, "s for index {r}");
         check_sliding_dynamics(&a, &model, &mut Rng(13 + r as u64), 1.0);
     }
 }
@@ -383,7 +391,7 @@ fn non_finite_values_at_the_initial_point_are_errors() {
     assert_eq!(errs[1].span, model.constraints[0].span);
 }
 
-/// The 3-D double pendulum's J_Omega against method.md section 6 at random configurations:
+/// The 3-D double pendulum's J_Omega against docs/method.md section 7 at random configurations:
 /// J11 = -1/m1 (link 1 pinned), J22 = -(1/m1 + 1/m2), J12 = J21 = -(rhat_10 . rhat_12)/m1.
 #[test]
 fn double_pendulum_jacobian_matches_the_closed_form() {
@@ -413,6 +421,79 @@ fn double_pendulum_jacobian_matches_the_closed_form() {
     }
 }
 
+/// The initial point is checked on the compiled tapes, the code that runs: what the
+/// analysis reports there is bit for bit what `compile` evaluates (dense `J_Omega` of the
+/// pendulum, sparse one of a 10-link chain).
+#[test]
+fn the_initial_point_is_what_the_compiled_tapes_compute() {
+    use crate::tape::{Inputs, Tape};
+    let run = |tape: &Tape, inputs: &Inputs<'_>| {
+        let mut slots = vec![0.0; tape.n_slots()];
+        let mut out = vec![0.0; tape.outputs().len()];
+        tape.eval(inputs, &mut slots, &mut out);
+        out
+    };
+    for model in [double_pendulum_3d(), planar_chain(10)] {
+        let a = analyze(&model, &opts()).unwrap();
+        let c = crate::compile(&a);
+        let m = a.constraints.len();
+        let p = &a.initial;
+        let inputs = Inputs {
+            params: &p.params,
+            states: &p.states,
+            algs: &p.algs,
+            mu: &vec![f64::NAN; m],
+            t: 0.0,
+        };
+        assert_eq!(run(&c.init_state, &inputs), p.states);
+        assert_eq!(run(&c.init_alg, &inputs), p.algs);
+        let mut dense = vec![0.0; m * m];
+        for (&(i, k), v) in c.jacobian_pattern.iter().zip(run(&c.jacobian, &inputs)) {
+            dense[i * m + k] = v;
+        }
+        assert_eq!(dense, a.jacobian_at_initial, "{}", model.name);
+    }
+}
+
+/// A hand-built model may break the checked-model contract (a variable that does not
+/// exist, a realization parameter in an equation, an initial value that reads a state):
+/// the reference lowers to NaN and is reported at the initial point, never read outside
+/// the tapes' inputs.
+#[test]
+fn references_outside_the_model_are_reported_not_read() {
+    use crate::model::RExpr;
+    use crate::{ConstraintId, ParamId, VarRef};
+    let mut b = ModelBuilder::new("Outside");
+    let x = b.state("x", 1.0);
+    let z = b.alg("z", 0.0);
+    b.der(&x, z.clone());
+    b.constraint("c", x.clone(), 1.0);
+    let good = b.build();
+    // der(x) = z + <the reference>, so that the constraint keeps its index.
+    let der_reads = |v: VarRef| {
+        let mut m = good.clone();
+        m.ders[0].expr = (z.clone() + E(RExpr::Var(v))).0;
+        m
+    };
+    let cases = [
+        ("der(x) is NaN", der_reads(VarRef::Param(ParamId::new(3)))),
+        ("der(x) is NaN", der_reads(VarRef::Mu(ConstraintId::new(0)))),
+        ("the initial value of `x`", {
+            let mut m = good.clone();
+            m.states[0].init = x.0.clone();
+            m
+        }),
+    ];
+    for (what, model) in cases {
+        let errs = analyze(&model, &opts()).unwrap_err();
+        assert!(
+            errs.iter().any(|e| e.message.starts_with(what)),
+            "{what}: {errs:?}"
+        );
+    }
+    assert!(analyze(&good, &opts()).is_ok());
+}
+
 #[test]
 fn double_pendulum_at_the_thesis_initial_state() {
     let model = double_pendulum_3d();
@@ -426,7 +507,7 @@ fn double_pendulum_at_the_thesis_initial_state() {
     // cond of [[-10, 10], [10, -20]]: eigenvalues -15 -+ 5 sqrt(5).
     let e = 5.0 * 5f64.sqrt();
     assert!((a.condition_number - (15.0 + e) / (15.0 - e)).abs() < 1e-12);
-    // s(0) = w(0) at rest: -1 and 2 (method.md section 5).
+    // s(0) = w(0) at rest: -1 and 2 (docs/method.md section 8).
     let v = Values {
         params: a.initial.params.clone(),
         states: a.initial.states.clone(),
@@ -434,8 +515,8 @@ fn double_pendulum_at_the_thesis_initial_state() {
         t: 0.0,
         mu: vec![0.065, 0.06],
     };
-    assert!((eval(&a, a.constraints[0].s, &v) + 1.0).abs() < 1e-15);
-    assert!((eval(&a, a.constraints[1].s, &v) - 2.0).abs() < 1e-15);
+    assert!((eval(&a, a.symbolic.constraints[0].s, &v) + 1.0).abs() < 1e-15);
+    assert!((eval(&a, a.symbolic.constraints[1].s, &v) - 2.0).abs() < 1e-15);
 }
 
 #[test]
@@ -444,8 +525,8 @@ fn planar_chain_jacobian_is_tridiagonal_with_the_closed_form_entries() {
     let model = planar_chain(n);
     let a = analyze(&model, &opts()).unwrap();
     assert_eq!(a.indices(), vec![3; n]);
-    for (i, c) in a.constraints.iter().enumerate() {
-        let cols: Vec<usize> = c.jacobian_row.iter().map(|(k, _)| *k).collect();
+    for (i, c) in a.symbolic.constraints.iter().enumerate() {
+        let cols: Vec<usize> = c.jacobian_row.iter().map(|(k, _)| k.index()).collect();
         let want: Vec<usize> = (i.saturating_sub(1)..(i + 2).min(n)).collect();
         assert_eq!(cols, want, "row {i}");
     }
@@ -512,20 +593,22 @@ fn simplification_reduces_the_double_pendulum_operation_counts() {
     let mut rows = Vec::new();
     for simplify in [false, true] {
         let a = analyze(&model, &AnalysisOptions { simplify, ..opts() }).unwrap();
-        let omega: Vec<_> = a.constraints.iter().map(|c| c.omega).collect();
-        let jac: Vec<_> = a
+        let sym = a.symbolic();
+        let omega: Vec<_> = sym.constraints.iter().map(|c| c.omega).collect();
+        let jac: Vec<_> = sym
             .constraints
             .iter()
             .flat_map(|c| c.jacobian_row.iter().map(|e| e.1))
             .collect();
-        let beta: Vec<_> = a.constraints.iter().map(|c| c.beta).collect();
-        let count = |ids: &[crate::sym::Id]| (a.arena.op_count(ids), a.arena.tree_op_count(ids));
+        let beta: Vec<_> = sym.constraints.iter().map(|c| c.beta).collect();
+        let count =
+            |ids: &[crate::sym::Id]| (sym.arena.op_count(ids), sym.arena.tree_op_count(ids));
         rows.push((
             simplify,
             count(&omega),
             count(&jac),
             count(&beta),
-            a.arena.len(),
+            sym.arena.len(),
         ));
         // Both builds mean the same thing at the initial point.
         assert_eq!(a.jacobian_at_initial, vec![-10.0, 10.0, 10.0, -20.0]);
@@ -580,26 +663,30 @@ fn derive_text_reads_back_to_the_same_expressions() {
         chain_of_integrators(3),
     ] {
         let a = analyze(&model, &opts()).unwrap();
-        let mut arena = a.arena.clone();
+        let sym = a.symbolic();
+        let mut arena = sym.arena.clone();
         let mut table: HashMap<String, crate::sym::Id> = HashMap::new();
         for (i, p) in model.params.iter().enumerate() {
-            table.insert(p.name.clone(), arena.param(i));
+            table.insert(p.name.clone(), arena.param(crate::ParamId::new(i)));
         }
         for (i, s) in model.states.iter().enumerate() {
-            table.insert(s.name.clone(), arena.state(i));
+            table.insert(s.name.clone(), arena.state(crate::StateId::new(i)));
         }
         for (i, z) in model.algs.iter().enumerate() {
-            table.insert(z.name.clone(), arena.alg(i));
+            table.insert(z.name.clone(), arena.alg(crate::AlgId::new(i)));
         }
-        for (name, &id) in a.let_names.iter().zip(&a.lets) {
+        for (name, &id) in sym.let_names.iter().zip(&sym.lets) {
             table.insert(name.clone(), id);
         }
         for i in 0..a.constraints.len() {
-            table.insert(format!("mu{}", i + 1), arena.mu(i));
+            table.insert(
+                format!("mu{}", i + 1),
+                arena.mu(crate::ConstraintId::new(i)),
+            );
         }
         table.insert("t".into(), arena.time());
-        let mut expected: Vec<crate::sym::Id> = a.lets.clone();
-        for c in &a.constraints {
+        let mut expected: Vec<crate::sym::Id> = sym.lets.clone();
+        for c in &sym.constraints {
             expected.extend(&c.w);
             expected.extend(c.jacobian_row.iter().map(|e| e.1));
             expected.extend([c.beta, c.s, c.alpha, c.alpha_hat]);

@@ -20,11 +20,12 @@ impl Analysis {
     /// The first `n` lets as abbreviations, skipping lets that are a bare leaf or number
     /// (writing `x` for a let `a = x` would only obscure the text).
     fn abbreviations(&self, n: usize) -> Vec<(Id, String)> {
-        self.lets
+        let sym = &self.symbolic;
+        sym.lets
             .iter()
-            .zip(&self.let_names)
+            .zip(&sym.let_names)
             .take(n)
-            .filter(|(id, _)| !self.arena.children(**id).is_empty())
+            .filter(|(id, _)| !sym.arena.children(**id).is_empty())
             .map(|(id, name)| (*id, name.clone()))
             .collect()
     }
@@ -52,16 +53,17 @@ impl Analysis {
     /// column = algebraic unknown, both from 0), followed by a comment naming the
     /// constraint and the unknown; only structurally non-zero entries appear.
     pub fn derive_text(&self) -> String {
+        let sym = &self.symbolic;
         let mut ids = Vec::new();
-        for c in &self.constraints {
+        for c in &sym.constraints {
             ids.extend(&c.w);
             ids.extend(c.jacobian_row.iter().map(|(_, id)| *id));
             ids.extend([c.beta, c.s, c.alpha, c.alpha_hat]);
         }
-        let abbrev = self.abbreviations(self.lets.len());
-        let mut printed = self
+        let abbrev = self.abbreviations(sym.lets.len());
+        let mut printed = sym
             .arena
-            .display_all_abbreviated(&ids, &self.names, &abbrev)
+            .display_all_abbreviated(&ids, &sym.names, &abbrev)
             .into_iter();
         let mut next = || printed.next().expect("one printed expression per id");
         let mut out = String::new();
@@ -75,7 +77,7 @@ impl Analysis {
             indices.join(", "),
             condition_text(self.condition_number)
         );
-        let cols: Vec<String> = self
+        let cols: Vec<String> = sym
             .names
             .algs
             .iter()
@@ -87,19 +89,19 @@ impl Analysis {
             "// J(i, k) = dOmega_i/dz_k, columns: {}",
             cols.join(", ")
         );
-        if !self.lets.is_empty() {
+        if !sym.lets.is_empty() {
             out.push_str("\n// definitions (the model's lets, in terms of earlier ones)\n");
         }
-        for (j, (&id, name)) in self.lets.iter().zip(&self.let_names).enumerate() {
+        for (j, (&id, name)) in sym.lets.iter().zip(&sym.let_names).enumerate() {
             let own: Vec<(Id, String)> = self
                 .abbreviations(j)
                 .into_iter()
                 .filter(|(a, _)| *a != id)
                 .collect();
-            let text = self.arena.display_all_abbreviated(&[id], &self.names, &own);
+            let text = sym.arena.display_all_abbreviated(&[id], &sym.names, &own);
             let _ = writeln!(out, "let {name} = {}", text[0]);
         }
-        for (i, c) in self.constraints.iter().enumerate() {
+        for (i, (c, e)) in self.constraints.iter().zip(&sym.constraints).enumerate() {
             let r = c.index;
             let omega_is = if r == 1 {
                 format!("w_{}", c.name)
@@ -124,9 +126,10 @@ impl Analysis {
             for j in 0..r {
                 let _ = writeln!(out, "{} = {}", wname(&c.name, j, r), next());
             }
-            for (k, _) in &c.jacobian_row {
-                let z = super::alg_name(&self.names, *k);
-                let _ = writeln!(out, "J({i}, {k}) = {}  // {} / {z}", next(), c.name);
+            for (k, _) in &e.jacobian_row {
+                let z = super::alg_name(&sym.names, *k);
+                let col = k.index();
+                let _ = writeln!(out, "J({i}, {col}) = {}  // {} / {z}", next(), c.name);
             }
             let _ = writeln!(out, "beta_{} = {}", c.name, next());
             let _ = writeln!(out, "s_{} = {}", c.name, next());

@@ -1,16 +1,17 @@
 //! Evaluation of constant expressions: parameter defaults and initial values, which use
 //! only numbers and parameters.
 
+use crate::VarRef;
 use crate::ast::BinOp;
-use crate::model::{RExpr, Var};
+use crate::model::RExpr;
 
 /// Evaluates `e` given the parameter values; `None` if it uses anything else or a
 /// parameter whose value is unknown (because its own default was in error).
 pub(super) fn eval(e: &RExpr, params: &[Option<f64>]) -> Option<f64> {
     Some(match e {
         RExpr::Num(v) => *v,
-        RExpr::Var(Var::Param(i)) => (*params.get(*i)?)?,
-        RExpr::Var(_) => return None,
+        RExpr::Var(VarRef::Param(i)) => (*params.get(i.index())?)?,
+        RExpr::Var(_) | RExpr::Let(_) => return None,
         RExpr::Neg(a) => -eval(a, params)?,
         RExpr::Binary(op, a, b) => {
             let (a, b) = (eval(a, params)?, eval(b, params)?);
@@ -37,7 +38,7 @@ pub(super) fn eval(e: &RExpr, params: &[Option<f64>]) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::Func;
+    use crate::{Func, ParamId, StateId};
 
     fn num(v: f64) -> RExpr {
         RExpr::Num(v)
@@ -78,7 +79,7 @@ mod tests {
         let p = [Some(3.0), None];
         let e = RExpr::Binary(
             BinOp::Pow,
-            Box::new(RExpr::Var(Var::Param(0))),
+            Box::new(RExpr::Var(VarRef::Param(ParamId::new(0)))),
             Box::new(num(2.0)),
         );
         assert_eq!(eval(&e, &p), Some(9.0));
@@ -89,8 +90,8 @@ mod tests {
         )));
         assert_eq!(eval(&neg, &p), Some(-0.25));
         // An unknown parameter value or a non-constant makes the result unknown.
-        assert_eq!(eval(&RExpr::Var(Var::Param(1)), &p), None);
-        assert_eq!(eval(&RExpr::Var(Var::State(0)), &p), None);
-        assert_eq!(eval(&RExpr::Var(Var::Time), &p), None);
+        assert_eq!(eval(&RExpr::Var(VarRef::Param(ParamId::new(1))), &p), None);
+        assert_eq!(eval(&RExpr::Var(VarRef::State(StateId::new(0))), &p), None);
+        assert_eq!(eval(&RExpr::Var(VarRef::Time), &p), None);
     }
 }

@@ -1,13 +1,13 @@
 //! Ordering of `let` definitions: each must come after the ones it uses.
 
-use crate::model::{RExpr, Var};
+use crate::model::RExpr;
 
 /// The `let`s used by `e` (indices in source order), each once, in order of appearance.
 pub(super) fn let_uses(e: &RExpr, out: &mut Vec<usize>) {
     match e {
-        RExpr::Var(Var::Let(i)) => {
-            if !out.contains(i) {
-                out.push(*i);
+        RExpr::Let(l) => {
+            if !out.contains(&l.index()) {
+                out.push(l.index());
             }
         }
         RExpr::Num(_) | RExpr::Var(_) => {}
@@ -90,9 +90,9 @@ pub(super) fn order(uses: &[Vec<usize>]) -> Order {
 /// Renumbers the `let` references of `e` with `new_index[source index]`.
 pub(super) fn renumber(e: &mut RExpr, new_index: &[usize]) {
     match e {
-        RExpr::Var(Var::Let(i)) => {
-            if let Some(&j) = new_index.get(*i) {
-                *i = j;
+        RExpr::Let(l) => {
+            if let Some(&j) = new_index.get(l.index()) {
+                *l = crate::LetId::new(j);
             }
         }
         RExpr::Num(_) | RExpr::Var(_) => {}

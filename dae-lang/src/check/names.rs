@@ -1,6 +1,6 @@
 //! Reserved words and "did you mean" suggestions.
 
-use crate::model::Func;
+use crate::Func;
 
 /// The keywords of the language (function names are reserved as well).
 pub(super) const KEYWORDS: [&str; 8] = [

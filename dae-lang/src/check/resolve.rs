@@ -5,7 +5,8 @@
 use super::names::{KEYWORDS, suggest};
 use crate::ast::{Expr, ExprKind, Span};
 use crate::diag::Diagnostic;
-use crate::model::{Func, RExpr, Var};
+use crate::model::RExpr;
+use crate::{AlgId, Func, LetId, ParamId, StateId, VarRef};
 use std::collections::{HashMap, HashSet};
 
 /// What a declared name is.
@@ -100,7 +101,7 @@ impl Scope<'_> {
 
     fn time(&self, span: Span, ctx: Ctx<'_>, diags: &mut Vec<Diagnostic>) -> Option<RExpr> {
         let (message, hint) = match ctx {
-            Ctx::Equation => return Some(RExpr::Var(Var::Time)),
+            Ctx::Equation => return Some(RExpr::Var(VarRef::Time)),
             Ctx::ParamDefault { name, .. } => (
                 format!("the default of parameter `{name}` uses time `t`"),
                 "parameters are constants: use numbers and parameters declared before it",
@@ -126,14 +127,14 @@ impl Scope<'_> {
             diags.push(self.unknown_name(n, span));
             return None;
         };
-        let var = match entry.kind {
-            Kind::Param => Var::Param(entry.index),
-            Kind::State => Var::State(entry.index),
-            Kind::Alg => Var::Alg(entry.index),
-            Kind::Let => Var::Let(entry.index),
+        let resolved = match entry.kind {
+            Kind::Param => RExpr::Var(VarRef::Param(ParamId::new(entry.index))),
+            Kind::State => RExpr::Var(VarRef::State(StateId::new(entry.index))),
+            Kind::Alg => RExpr::Var(VarRef::Alg(AlgId::new(entry.index))),
+            Kind::Let => RExpr::Let(LetId::new(entry.index)),
         };
         match ctx {
-            Ctx::Equation => Some(RExpr::Var(var)),
+            Ctx::Equation => Some(resolved),
             Ctx::ParamDefault { index, name } => {
                 if entry.kind != Kind::Param {
                     diags.push(
@@ -165,12 +166,12 @@ impl Scope<'_> {
                     diags.push(d);
                     None
                 } else {
-                    Some(RExpr::Var(var))
+                    Some(resolved)
                 }
             }
             Ctx::Init { name } => {
                 if entry.kind == Kind::Param {
-                    Some(RExpr::Var(var))
+                    Some(resolved)
                 } else {
                     diags.push(
                         Diagnostic::new(

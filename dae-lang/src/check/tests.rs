@@ -3,11 +3,12 @@
 
 use crate::ast::BinOp;
 use crate::diag::line_col;
-use crate::model::{Func, Model, RExpr, Var};
-use crate::{compile_models, parse};
+use crate::model::{Model, RExpr};
+use crate::{AlgId, Func, LetId, ParamId, StateId, VarRef};
+use crate::{check_source, parse};
 
 fn model(src: &str) -> Model {
-    match compile_models(src) {
+    match check_source(src) {
         Ok(mut ms) => ms.remove(0),
         Err(d) => panic!("check failed for {src}: {d:#?}"),
     }
@@ -15,7 +16,7 @@ fn model(src: &str) -> Model {
 
 /// Every error as (message, line, column).
 fn errors(src: &str) -> Vec<(String, (usize, usize))> {
-    match compile_models(src) {
+    match check_source(src) {
         Ok(m) => panic!("expected errors for {src}, got {m:?}"),
         Err(d) => {
             for x in &d {
@@ -40,8 +41,24 @@ fn bin(op: BinOp, a: RExpr, b: RExpr) -> RExpr {
     RExpr::Binary(op, Box::new(a), Box::new(b))
 }
 
-fn var(v: Var) -> RExpr {
-    RExpr::Var(v)
+fn param(i: usize) -> RExpr {
+    RExpr::Var(VarRef::Param(ParamId::new(i)))
+}
+
+fn state(i: usize) -> RExpr {
+    RExpr::Var(VarRef::State(StateId::new(i)))
+}
+
+fn alg(i: usize) -> RExpr {
+    RExpr::Var(VarRef::Alg(AlgId::new(i)))
+}
+
+fn let_(i: usize) -> RExpr {
+    RExpr::Let(LetId::new(i))
+}
+
+fn time() -> RExpr {
+    RExpr::Var(VarRef::Time)
 }
 
 #[test]
@@ -58,32 +75,25 @@ fn names_resolve_over_the_whole_model() {
         }",
     );
     assert_eq!(m.name, "M");
-    assert_eq!(m.ders[0].expr, var(Var::State(1)));
+    assert_eq!(m.ders[0].expr, state(1));
     let rhs = bin(
         BinOp::Add,
         bin(
             BinOp::Add,
-            bin(
-                BinOp::Mul,
-                RExpr::Neg(Box::new(var(Var::Param(0)))),
-                var(Var::State(0)),
-            ),
-            var(Var::Alg(0)),
+            bin(BinOp::Mul, RExpr::Neg(Box::new(param(0))), state(0)),
+            alg(0),
         ),
-        var(Var::Time),
+        time(),
     );
     assert_eq!(m.ders[1].expr, rhs);
     // The residual is lhs - rhs.
     let residual = bin(
         BinOp::Sub,
-        bin(BinOp::Add, var(Var::State(0)), var(Var::Let(0))),
+        bin(BinOp::Add, state(0), let_(0)),
         RExpr::Num(1.0),
     );
     assert_eq!(m.constraints[0].residual, residual);
-    assert_eq!(
-        m.lets[0].expr,
-        bin(BinOp::Mul, var(Var::State(1)), RExpr::Num(2.0))
-    );
+    assert_eq!(m.lets[0].expr, bin(BinOp::Mul, state(1), RExpr::Num(2.0)));
 }
 
 #[test]
@@ -126,13 +136,9 @@ fn initial_values_stay_expressions_over_params() {
     );
     assert_eq!(
         m.states[0].init,
-        bin(
-            BinOp::Div,
-            RExpr::Neg(Box::new(var(Var::Param(0)))),
-            RExpr::Num(2.0)
-        )
+        bin(BinOp::Div, RExpr::Neg(Box::new(param(0))), RExpr::Num(2.0))
     );
-    assert_eq!(m.algs[0].init, var(Var::Param(0)));
+    assert_eq!(m.algs[0].init, param(0));
 }
 
 #[test]
@@ -159,14 +165,8 @@ fn lets_are_ordered_so_that_each_uses_only_earlier_ones() {
         );
     }
     // References were renumbered to the new order: c = b + a.
-    assert_eq!(
-        m.lets[2].expr,
-        bin(BinOp::Add, var(Var::Let(1)), var(Var::Let(0)))
-    );
-    assert_eq!(
-        m.ders[0].expr,
-        bin(BinOp::Add, var(Var::Let(2)), var(Var::Let(3)))
-    );
+    assert_eq!(m.lets[2].expr, bin(BinOp::Add, let_(1), let_(0)));
+    assert_eq!(m.ders[0].expr, bin(BinOp::Add, let_(2), let_(3)));
 }
 
 #[test]
@@ -210,10 +210,10 @@ fn error_syntax() {
 fn error_unknown_name_with_suggestion() {
     let src = "model M {\n  state speed = 0;\n  der(speed) = -sped;\n}";
     assert_eq!(error(src), ("unknown name `sped`".into(), (3, 17)));
-    let d = compile_models(src).unwrap_err();
+    let d = check_source(src).unwrap_err();
     assert_eq!(d[0].hint.as_deref(), Some("did you mean `speed`?"));
     assert_eq!(d[0].label, "not declared in model `M`");
-    let d = compile_models("model M { state x = 0; der(x) = omega; }").unwrap_err();
+    let d = check_source("model M { state x = 0; der(x) = omega; }").unwrap_err();
     assert_eq!(
         d[0].hint.as_deref(),
         Some("declare it with `param`, `state`, `alg` or `let`")
@@ -224,7 +224,7 @@ fn error_unknown_name_with_suggestion() {
 fn error_name_declared_twice() {
     let src = "model M {\n  param g = 9.8;\n  state x = 0, g = 1;\n  der(x) = 0;\n  der(g) = 0;\n}";
     assert_eq!(error(src), ("`g` is declared twice".into(), (3, 16)));
-    let d = compile_models(src).unwrap_err();
+    let d = check_source(src).unwrap_err();
     assert_eq!(d[0].related.len(), 1);
     assert_eq!(line_col(src, d[0].related[0].0), (2, 9));
     assert_eq!(d[0].related[0].1, "first declared here, as a parameter");
@@ -246,7 +246,7 @@ fn error_state_with_two_ders() {
         error(src),
         ("state `x` has two equations `der(x) = ...`".into(), (4, 3))
     );
-    let d = compile_models(src).unwrap_err();
+    let d = check_source(src).unwrap_err();
     assert_eq!(line_col(src, d[0].related[0].0), (3, 3));
 }
 
@@ -352,7 +352,7 @@ fn error_unknown_function() {
     let src = "model M {\n  state x = 0;\n  der(x) = sine(x);\n}";
     assert_eq!(error(src), ("unknown function `sine`".into(), (3, 12)));
     assert_eq!(
-        compile_models(src).unwrap_err()[0].hint.as_deref(),
+        check_source(src).unwrap_err()[0].hint.as_deref(),
         Some("did you mean `sin`?")
     );
     assert_eq!(
@@ -428,7 +428,7 @@ fn error_param_default_uses_a_later_param() {
             ),
         ]
     );
-    let d = compile_models(src).unwrap_err();
+    let d = check_source(src).unwrap_err();
     assert_eq!(line_col(src, d[0].related[0].0), (3, 9));
 }
 
@@ -474,7 +474,7 @@ fn error_non_finite_values() {
             ),
         ]
     );
-    let d = compile_models(src).unwrap_err();
+    let d = check_source(src).unwrap_err();
     assert_eq!(d[0].label, "evaluates to inf");
     assert_eq!(d[1].label, "evaluates to -inf");
     let src = "model M {\n  param a = -1;\n  state x = sqrt(a);\n  der(x) = 0;\n}";
@@ -482,10 +482,7 @@ fn error_non_finite_values() {
         error(src),
         ("the initial value of `x` is not finite".into(), (3, 13))
     );
-    assert_eq!(
-        compile_models(src).unwrap_err()[0].label,
-        "evaluates to NaN"
-    );
+    assert_eq!(check_source(src).unwrap_err()[0].label, "evaluates to NaN");
 }
 
 #[test]

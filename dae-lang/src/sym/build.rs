@@ -13,8 +13,8 @@
 //! * numeric powers are exponents in a `Mul`, so `x^1 = x`, `x^0 = 1`, `x*x = x^2`,
 //!   `x^a * x^b = x^(a+b)`, `x/x = 1`, `--x = x` fall out of the merge.
 
-use super::{Arena, Fun1, Fun2, Id, Node, Num};
-use crate::model::Func;
+use super::{Arena, Id, Node, Num};
+use crate::{AlgId, ConstraintId, Func, ParamId, StateId, VarRef};
 
 /// `v ^ e` for constant folding.
 fn pow_num(v: f64, e: f64) -> f64 {
@@ -44,29 +44,34 @@ impl Arena {
         self.intern(Node::Const(Num::norm(v)))
     }
 
-    /// Parameter `i`.
-    pub fn param(&mut self, i: usize) -> Id {
-        self.intern(Node::Param(i as u32))
+    /// A variable.
+    pub fn var(&mut self, v: VarRef) -> Id {
+        self.intern(Node::Var(v))
     }
 
-    /// State `i`.
-    pub fn state(&mut self, i: usize) -> Id {
-        self.intern(Node::State(i as u32))
+    /// A parameter.
+    pub fn param(&mut self, p: ParamId) -> Id {
+        self.var(VarRef::Param(p))
     }
 
-    /// Algebraic unknown `i`.
-    pub fn alg(&mut self, i: usize) -> Id {
-        self.intern(Node::Alg(i as u32))
+    /// A state.
+    pub fn state(&mut self, x: StateId) -> Id {
+        self.var(VarRef::State(x))
+    }
+
+    /// An algebraic unknown.
+    pub fn alg(&mut self, z: AlgId) -> Id {
+        self.var(VarRef::Alg(z))
     }
 
     /// Time `t`.
     pub fn time(&mut self) -> Id {
-        self.intern(Node::Time)
+        self.var(VarRef::Time)
     }
 
-    /// Realization parameter `mu_{i+1}` of constraint `i`.
-    pub fn mu(&mut self, i: usize) -> Id {
-        self.intern(Node::Mu(i as u32))
+    /// The realization parameter `mu` of a constraint.
+    pub fn mu(&mut self, c: ConstraintId) -> Id {
+        self.var(VarRef::Mu(c))
     }
 
     /// `c + sum a_k * t_k`.
@@ -271,34 +276,39 @@ impl Arena {
         self.intern(Node::Pow(a, b))
     }
 
-    /// A one-argument function.
-    pub fn f1(&mut self, f: Fun1, a: Id) -> Id {
+    /// A one-argument function `f` (not `sqrt`, which is the power `^0.5`).
+    pub fn f1(&mut self, f: Func, a: Id) -> Id {
+        debug_assert!(f.arity() == 1 && f != Func::Sqrt, "{f:?} is not an F1 node");
         if self.simplify {
             if let Some(v) = self.as_const(a) {
-                let r = f.apply(v);
+                let r = f.apply1(v);
                 if r.is_finite() {
                     return self.num(r);
                 }
             }
             match (f, self.node(a)) {
-                (Fun1::Abs | Fun1::Sign, Node::F1(g, _)) if *g == f => return a,
-                (Fun1::Ln, Node::F1(Fun1::Exp, x)) => return *x,
+                (Func::Abs | Func::Sign, Node::F1(g, _)) if *g == f => return a,
+                (Func::Ln, Node::F1(Func::Exp, x)) => return *x,
                 _ => {}
             }
         }
         self.intern(Node::F1(f, a))
     }
 
-    /// A two-argument function.
-    pub fn f2(&mut self, f: Fun2, a: Id, b: Id) -> Id {
+    /// `atan2`, `min` or `max` (`pow` is [`Arena::pow`]).
+    pub fn f2(&mut self, f: Func, a: Id, b: Id) -> Id {
+        debug_assert!(
+            matches!(f, Func::Atan2 | Func::Min | Func::Max),
+            "{f:?} is not an F2 node"
+        );
         if self.simplify {
             if let (Some(x), Some(y)) = (self.as_const(a), self.as_const(b)) {
-                let r = f.apply(x, y);
+                let r = f.apply2(x, y);
                 if r.is_finite() {
                     return self.num(r);
                 }
             }
-            if a == b && matches!(f, Fun2::Min | Fun2::Max) {
+            if a == b && matches!(f, Func::Min | Func::Max) {
                 return a;
             }
         }
@@ -307,81 +317,11 @@ impl Arena {
 
     /// A call of a built-in function of the language (`args` has the function's arity).
     pub fn call(&mut self, f: Func, args: &[Id]) -> Id {
-        let a = args[0];
-        let one = match f {
-            Func::Sin => Fun1::Sin,
-            Func::Cos => Fun1::Cos,
-            Func::Tan => Fun1::Tan,
-            Func::Asin => Fun1::Asin,
-            Func::Acos => Fun1::Acos,
-            Func::Atan => Fun1::Atan,
-            Func::Sinh => Fun1::Sinh,
-            Func::Cosh => Fun1::Cosh,
-            Func::Tanh => Fun1::Tanh,
-            Func::Exp => Fun1::Exp,
-            Func::Ln => Fun1::Ln,
-            Func::Abs => Fun1::Abs,
-            Func::Sign => Fun1::Sign,
-            Func::Sqrt => return self.sqrt(a),
-            Func::Pow => return self.pow(a, args[1]),
-            Func::Atan2 => return self.f2(Fun2::Atan2, a, args[1]),
-            Func::Min => return self.f2(Fun2::Min, a, args[1]),
-            Func::Max => return self.f2(Fun2::Max, a, args[1]),
-        };
-        self.f1(one, a)
-    }
-}
-
-impl Fun1 {
-    /// The function's value ([`Func::apply1`]).
-    pub fn apply(self, x: f64) -> f64 {
-        Func::from(self).apply1(x)
-    }
-
-    /// The name in the language.
-    pub fn name(self) -> &'static str {
-        Func::from(self).name()
-    }
-}
-
-impl Fun2 {
-    /// The function's value ([`Func::apply2`]).
-    pub fn apply(self, a: f64, b: f64) -> f64 {
-        Func::from(self).apply2(a, b)
-    }
-
-    /// The name in the language.
-    pub fn name(self) -> &'static str {
-        Func::from(self).name()
-    }
-}
-
-impl From<Fun1> for Func {
-    fn from(f: Fun1) -> Func {
         match f {
-            Fun1::Sin => Func::Sin,
-            Fun1::Cos => Func::Cos,
-            Fun1::Tan => Func::Tan,
-            Fun1::Asin => Func::Asin,
-            Fun1::Acos => Func::Acos,
-            Fun1::Atan => Func::Atan,
-            Fun1::Sinh => Func::Sinh,
-            Fun1::Cosh => Func::Cosh,
-            Fun1::Tanh => Func::Tanh,
-            Fun1::Exp => Func::Exp,
-            Fun1::Ln => Func::Ln,
-            Fun1::Abs => Func::Abs,
-            Fun1::Sign => Func::Sign,
-        }
-    }
-}
-
-impl From<Fun2> for Func {
-    fn from(f: Fun2) -> Func {
-        match f {
-            Fun2::Atan2 => Func::Atan2,
-            Fun2::Min => Func::Min,
-            Fun2::Max => Func::Max,
+            Func::Sqrt => self.sqrt(args[0]),
+            Func::Pow => self.pow(args[0], args[1]),
+            Func::Atan2 | Func::Min | Func::Max => self.f2(f, args[0], args[1]),
+            _ => self.f1(f, args[0]),
         }
     }
 }

@@ -3,7 +3,7 @@
 //! Both are one structural chain-rule walk that differs only in the derivative of the
 //! leaves: `d/dv` has `dv/dv = 1` and 0 for every other leaf; the total time derivative
 //! `D[e] = de/dt + sum_k (de/dx_k) f_k` has `D[t] = 1`, `D[x_k] = f_k` and 0 for
-//! parameters, algebraic unknowns (z is held constant, method.md section 1) and the
+//! parameters, algebraic unknowns (z is held constant, docs/method.md section 1) and the
 //! realization parameters. Walking once with these leaf rules gives the same expression as
 //! summing partials, without building `n` partial derivatives first. A per-node bit set of
 //! the leaf kinds below it answers "is this a constant for this variable?" in O(1).
@@ -13,7 +13,10 @@
 //! `d max(a, b) = (a' + b')/2 + sign(a - b) (a' - b')/2`: the derivative of the active
 //! branch away from ties, the mean of both at a tie (a subgradient there).
 
-use super::{Arena, Fun1, Fun2, Id, Node, dep};
+use std::collections::HashMap;
+
+use super::{Arena, Id, Node, dep};
+use crate::{Func, VarRef};
 
 #[derive(Clone, Copy)]
 enum Seed {
@@ -21,81 +24,112 @@ enum Seed {
     Time,
 }
 
-impl Arena {
-    /// The partial derivative `d e / d v`, where `v` is a leaf (parameter, state, algebraic,
-    /// time or realization parameter). For a non-leaf `v` the result is 0.
-    pub fn diff(&mut self, e: Id, v: Id) -> Id {
-        self.d(e, Seed::Partial(v))
+/// What differentiation remembers between calls: the flow of the total time derivative
+/// and the memos of both derivatives. It lives beside the [`Arena`], not in it: the arena
+/// is only the expressions (what printing, evaluation and the tapes read), and a memo is
+/// only valid for one flow, so a new flow is a new context.
+#[derive(Clone, Debug, Default)]
+pub struct DiffContext {
+    /// The flow `f` used by the total time derivative, one expression per state.
+    flow: Vec<Id>,
+    /// Partial derivatives: (node, variable node) -> derivative.
+    partial: HashMap<(Id, Id), Id>,
+    /// Total time derivatives along `flow`.
+    total: HashMap<Id, Id>,
+}
+
+impl DiffContext {
+    /// A context whose total time derivative follows the flow `f` (one expression per
+    /// state, in the arena the derivatives are taken in).
+    pub fn new(flow: Vec<Id>) -> DiffContext {
+        DiffContext {
+            flow,
+            ..DiffContext::default()
+        }
     }
 
-    /// Set the flow `f` (one expression per state) used by [`Arena::dt`]; clears its memo.
-    pub fn set_flow(&mut self, f: Vec<Id>) {
-        self.flow = f;
-        self.tmemo.clear();
-    }
-
-    /// The flow set by [`Arena::set_flow`].
+    /// The flow given to [`DiffContext::new`].
     pub fn flow(&self) -> &[Id] {
         &self.flow
     }
 
-    /// The total time derivative `D[e] = de/dt + sum_k (de/dx_k) f_k` with the algebraic
-    /// unknowns held constant. A state with no flow entry has derivative NaN.
-    pub fn dt(&mut self, e: Id) -> Id {
-        self.d(e, Seed::Time)
+    /// The partial derivative `d e / d v` in `arena`, where `v` is a leaf (parameter,
+    /// state, algebraic, time or realization parameter). For a non-leaf `v` the result
+    /// is 0.
+    pub fn diff(&mut self, arena: &mut Arena, e: Id, v: Id) -> Id {
+        Walk {
+            a: arena,
+            ctx: self,
+        }
+        .d(e, Seed::Partial(v))
     }
 
+    /// The total time derivative `D[e] = de/dt + sum_k (de/dx_k) f_k` in `arena`, with
+    /// the algebraic unknowns held constant. A state with no flow entry has derivative
+    /// NaN.
+    pub fn dt(&mut self, arena: &mut Arena, e: Id) -> Id {
+        Walk {
+            a: arena,
+            ctx: self,
+        }
+        .d(e, Seed::Time)
+    }
+}
+
+/// One derivative being taken: the arena it builds in and the context it remembers in.
+struct Walk<'a> {
+    a: &'a mut Arena,
+    ctx: &'a mut DiffContext,
+}
+
+impl Walk<'_> {
     fn d(&mut self, e: Id, seed: Seed) -> Id {
         let relevant = match seed {
-            Seed::Partial(v) => self.deps(v) & self.deps(e) != 0,
-            Seed::Time => self.deps(e) & (dep::STATE | dep::TIME) != 0,
+            Seed::Partial(v) => self.a.deps(v) & self.a.deps(e) != 0,
+            Seed::Time => self.a.deps(e) & (dep::STATE | dep::TIME) != 0,
         };
         if !relevant {
-            return self.num(0.0);
+            return self.a.num(0.0);
         }
         let hit = match seed {
-            Seed::Partial(v) => self.dmemo.get(&(e, v)),
-            Seed::Time => self.tmemo.get(&e),
+            Seed::Partial(v) => self.ctx.partial.get(&(e, v)),
+            Seed::Time => self.ctx.total.get(&e),
         };
         if let Some(&r) = hit {
             return r;
         }
         let r = self.d_node(e, seed);
         match seed {
-            Seed::Partial(v) => self.dmemo.insert((e, v), r),
-            Seed::Time => self.tmemo.insert(e, r),
+            Seed::Partial(v) => self.ctx.partial.insert((e, v), r),
+            Seed::Time => self.ctx.total.insert(e, r),
         };
         r
     }
 
     fn is_zero(&self, id: Id) -> bool {
-        self.simplify && self.as_const(id) == Some(0.0)
+        self.a.simplifies() && self.a.as_const(id) == Some(0.0)
     }
 
     fn d_node(&mut self, e: Id, seed: Seed) -> Id {
-        match self.node(e).clone() {
-            Node::Const(_)
-            | Node::Param(_)
-            | Node::Alg(_)
-            | Node::Mu(_)
-            | Node::Time
-            | Node::State(_) => {
+        match self.a.node(e).clone() {
+            Node::Const(_) | Node::Var(_) => {
                 let one = match seed {
                     Seed::Partial(v) => e == v,
-                    Seed::Time => matches!(self.node(e), Node::Time),
+                    Seed::Time => matches!(self.a.node(e), Node::Var(VarRef::Time)),
                 };
                 if one {
-                    return self.num(1.0);
+                    return self.a.num(1.0);
                 }
-                match (seed, self.node(e)) {
-                    (Seed::Time, Node::State(k)) => {
-                        let k = *k as usize;
-                        self.flow
+                match (seed, self.a.node(e)) {
+                    (Seed::Time, Node::Var(VarRef::State(k))) => {
+                        let k = k.index();
+                        self.ctx
+                            .flow
                             .get(k)
                             .copied()
-                            .unwrap_or_else(|| self.num(f64::NAN))
+                            .unwrap_or_else(|| self.a.num(f64::NAN))
                     }
-                    _ => self.num(0.0),
+                    _ => self.a.num(0.0),
                 }
             }
             Node::Add(_, ts) => {
@@ -106,7 +140,7 @@ impl Arena {
                         terms.push((dt, a.0));
                     }
                 }
-                self.lin(0.0, &terms)
+                self.a.lin(0.0, &terms)
             }
             Node::Mul(c, fs) => {
                 let mut terms = Vec::with_capacity(fs.len());
@@ -124,25 +158,25 @@ impl Arena {
                     let mut f: Vec<(Id, f64)> = fs.iter().map(|(b, e)| (*b, e.0)).collect();
                     f[k].1 = ek - 1.0;
                     f.push((db, 1.0));
-                    let t = self.product(c.0 * ek, &f);
+                    let t = self.a.product(c.0 * ek, &f);
                     terms.push((t, 1.0));
                 }
-                self.lin(0.0, &terms)
+                self.a.lin(0.0, &terms)
             }
             Node::Pow(a, b) => {
                 // d a^b = a^b (ln(a) b' + b a'/a)
                 let (da, db) = (self.d(a, seed), self.d(b, seed));
                 let mut terms = Vec::new();
                 if !self.is_zero(db) {
-                    let ln = self.f1(Fun1::Ln, a);
-                    terms.push((self.product(1.0, &[(e, 1.0), (ln, 1.0), (db, 1.0)]), 1.0));
+                    let ln = self.a.f1(Func::Ln, a);
+                    terms.push((self.a.product(1.0, &[(e, 1.0), (ln, 1.0), (db, 1.0)]), 1.0));
                 }
                 if !self.is_zero(da) {
-                    let bm1 = self.lin(-1.0, &[(b, 1.0)]);
-                    let p = self.pow(a, bm1);
-                    terms.push((self.product(1.0, &[(b, 1.0), (p, 1.0), (da, 1.0)]), 1.0));
+                    let bm1 = self.a.lin(-1.0, &[(b, 1.0)]);
+                    let p = self.a.pow(a, bm1);
+                    terms.push((self.a.product(1.0, &[(b, 1.0), (p, 1.0), (da, 1.0)]), 1.0));
                 }
-                self.lin(0.0, &terms)
+                self.a.lin(0.0, &terms)
             }
             Node::F1(f, u) => {
                 let du = self.d(u, seed);
@@ -150,67 +184,72 @@ impl Arena {
                     return du;
                 }
                 let outer = self.d_f1(f, u, e);
-                self.mul(outer, du)
+                self.a.mul(outer, du)
             }
             Node::F2(f, a, b) => {
                 let (da, db) = (self.d(a, seed), self.d(b, seed));
                 match f {
-                    Fun2::Atan2 => {
+                    Func::Atan2 => {
                         // d atan2(a, b) = (b a' - a b') / (a^2 + b^2)
-                        let num1 = self.mul(b, da);
-                        let num2 = self.mul(a, db);
-                        let num = self.sub(num1, num2);
-                        let (a2, b2) = (self.powf(a, 2.0), self.powf(b, 2.0));
-                        let den = self.add(a2, b2);
-                        self.div(num, den)
+                        let num1 = self.a.mul(b, da);
+                        let num2 = self.a.mul(a, db);
+                        let num = self.a.sub(num1, num2);
+                        let (a2, b2) = (self.a.powf(a, 2.0), self.a.powf(b, 2.0));
+                        let den = self.a.add(a2, b2);
+                        self.a.div(num, den)
                     }
-                    Fun2::Min | Fun2::Max => {
-                        let mean = self.lin(0.0, &[(da, 0.5), (db, 0.5)]);
-                        let half = self.lin(0.0, &[(da, 0.5), (db, -0.5)]);
-                        let diff = self.sub(a, b);
-                        let sg = self.f1(Fun1::Sign, diff);
-                        let jump = self.mul(sg, half);
-                        let s = if f == Fun2::Min { -1.0 } else { 1.0 };
-                        self.lin(0.0, &[(mean, 1.0), (jump, s)])
+                    Func::Min | Func::Max => {
+                        let mean = self.a.lin(0.0, &[(da, 0.5), (db, 0.5)]);
+                        let half = self.a.lin(0.0, &[(da, 0.5), (db, -0.5)]);
+                        let diff = self.a.sub(a, b);
+                        let sg = self.a.f1(Func::Sign, diff);
+                        let jump = self.a.mul(sg, half);
+                        let s = if f == Func::Min { -1.0 } else { 1.0 };
+                        self.a.lin(0.0, &[(mean, 1.0), (jump, s)])
                     }
+                    // Not an F2 node (see `Arena::f2`).
+                    _ => self.a.num(f64::NAN),
                 }
             }
         }
     }
 
     /// The derivative of the outer function `f` at `u`; `e = f(u)` for reuse.
-    fn d_f1(&mut self, f: Fun1, u: Id, e: Id) -> Id {
+    fn d_f1(&mut self, f: Func, u: Id, e: Id) -> Id {
         match f {
-            Fun1::Sin => self.f1(Fun1::Cos, u),
-            Fun1::Cos => {
-                let s = self.f1(Fun1::Sin, u);
-                self.neg(s)
+            Func::Sin => self.a.f1(Func::Cos, u),
+            Func::Cos => {
+                let s = self.a.f1(Func::Sin, u);
+                self.a.neg(s)
             }
-            Fun1::Tan => {
-                let t2 = self.powf(e, 2.0);
-                self.lin(1.0, &[(t2, 1.0)])
+            Func::Tan => {
+                let t2 = self.a.powf(e, 2.0);
+                self.a.lin(1.0, &[(t2, 1.0)])
             }
-            Fun1::Asin | Fun1::Acos => {
-                let u2 = self.powf(u, 2.0);
-                let one_m = self.lin(1.0, &[(u2, -1.0)]);
-                let c = if f == Fun1::Asin { 1.0 } else { -1.0 };
-                self.product(c, &[(one_m, -0.5)])
+            Func::Asin | Func::Acos => {
+                let u2 = self.a.powf(u, 2.0);
+                let one_m = self.a.lin(1.0, &[(u2, -1.0)]);
+                let c = if f == Func::Asin { 1.0 } else { -1.0 };
+                self.a.product(c, &[(one_m, -0.5)])
             }
-            Fun1::Atan => {
-                let u2 = self.powf(u, 2.0);
-                let one_p = self.lin(1.0, &[(u2, 1.0)]);
-                self.powf(one_p, -1.0)
+            Func::Atan => {
+                let u2 = self.a.powf(u, 2.0);
+                let one_p = self.a.lin(1.0, &[(u2, 1.0)]);
+                self.a.powf(one_p, -1.0)
             }
-            Fun1::Sinh => self.f1(Fun1::Cosh, u),
-            Fun1::Cosh => self.f1(Fun1::Sinh, u),
-            Fun1::Tanh => {
-                let t2 = self.powf(e, 2.0);
-                self.lin(1.0, &[(t2, -1.0)])
+            Func::Sinh => self.a.f1(Func::Cosh, u),
+            Func::Cosh => self.a.f1(Func::Sinh, u),
+            Func::Tanh => {
+                let t2 = self.a.powf(e, 2.0);
+                self.a.lin(1.0, &[(t2, -1.0)])
             }
-            Fun1::Exp => e,
-            Fun1::Ln => self.powf(u, -1.0),
-            Fun1::Abs => self.f1(Fun1::Sign, u),
-            Fun1::Sign => self.num(0.0),
+            Func::Exp => e,
+            Func::Ln => self.a.powf(u, -1.0),
+            Func::Abs => self.a.f1(Func::Sign, u),
+            Func::Sign => self.a.num(0.0),
+            Func::Sqrt => self.a.product(0.5, &[(u, -0.5)]),
+            // Not an F1 node (see `Arena::f1`).
+            Func::Atan2 | Func::Pow | Func::Min | Func::Max => self.a.num(f64::NAN),
         }
     }
 }

@@ -1,6 +1,7 @@
 //! Numerical evaluation of arena nodes at a point.
 
 use super::{Arena, Id, Node};
+use crate::VarRef;
 
 /// Values for every kind of leaf. A leaf whose index is out of range evaluates to NaN
 /// (e.g. an `s_i` evaluated without realization parameters), never a panic.
@@ -38,8 +39,21 @@ pub(crate) fn powe(v: f64, e: f64) -> f64 {
     }
 }
 
-fn get(xs: &[f64], i: u32) -> f64 {
-    xs.get(i as usize).copied().unwrap_or(f64::NAN)
+fn get(xs: &[f64], i: usize) -> f64 {
+    xs.get(i).copied().unwrap_or(f64::NAN)
+}
+
+impl Point<'_> {
+    /// The value of a variable (NaN if its index is out of range).
+    pub fn var(&self, v: VarRef) -> f64 {
+        match v {
+            VarRef::Param(i) => get(self.params, i.index()),
+            VarRef::State(i) => get(self.states, i.index()),
+            VarRef::Alg(i) => get(self.algs, i.index()),
+            VarRef::Time => self.t,
+            VarRef::Mu(i) => get(self.mu, i.index()),
+        }
+    }
 }
 
 impl Arena {
@@ -53,11 +67,7 @@ impl Arena {
         for node in &self.nodes[..n] {
             let v = match node {
                 Node::Const(c) => c.0,
-                Node::Param(i) => get(p.params, *i),
-                Node::State(i) => get(p.states, *i),
-                Node::Alg(i) => get(p.algs, *i),
-                Node::Time => p.t,
-                Node::Mu(i) => get(p.mu, *i),
+                Node::Var(v) => p.var(*v),
                 Node::Add(c, ts) => ts.iter().fold(c.0, |s, (t, a)| {
                     let x = buf[t.index()];
                     if a.0 == 1.0 {
@@ -83,8 +93,8 @@ impl Arena {
                     if c.0 == 1.0 { q } else { c.0 * q }
                 }
                 Node::Pow(a, b) => buf[a.index()].powf(buf[b.index()]),
-                Node::F1(f, a) => f.apply(buf[a.index()]),
-                Node::F2(f, a, b) => f.apply(buf[a.index()], buf[b.index()]),
+                Node::F1(f, a) => f.apply1(buf[a.index()]),
+                Node::F2(f, a, b) => f.apply2(buf[a.index()], buf[b.index()]),
             };
             buf.push(v);
         }

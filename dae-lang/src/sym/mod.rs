@@ -30,6 +30,8 @@
 
 mod build;
 mod diff;
+// The compiler evaluates tapes, never the arena: this evaluator serves the tests.
+#[cfg(any(test, feature = "internals"))]
 mod eval;
 #[cfg(test)]
 mod parse_back;
@@ -42,6 +44,10 @@ mod tests;
 use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
 
+use crate::{AlgId, Func, VarRef};
+
+pub use diff::DiffContext;
+#[cfg(any(test, feature = "internals"))]
 pub use eval::Point;
 pub use print::Names;
 
@@ -78,82 +84,45 @@ impl Hash for Num {
     }
 }
 
-/// One-argument functions of the language (`sqrt` is the power `^0.5`, see the module docs).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Fun1 {
-    /// `sin`
-    Sin,
-    /// `cos`
-    Cos,
-    /// `tan`
-    Tan,
-    /// `asin`
-    Asin,
-    /// `acos`
-    Acos,
-    /// `atan`
-    Atan,
-    /// `sinh`
-    Sinh,
-    /// `cosh`
-    Cosh,
-    /// `tanh`
-    Tanh,
-    /// `exp`
-    Exp,
-    /// `ln`
-    Ln,
-    /// `abs`
-    Abs,
-    /// `sign`
-    Sign,
-}
-
-/// Two-argument functions other than the power.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Fun2 {
-    /// `atan2(y, x)`
-    Atan2,
-    /// `min(a, b)`
-    Min,
-    /// `max(a, b)`
-    Max,
-}
-
 /// A node of the arena.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum Node {
     /// A number.
     Const(Num),
-    /// Parameter `i` of the model.
-    Param(u32),
-    /// Differential state `i`.
-    State(u32),
-    /// Algebraic unknown `i`.
-    Alg(u32),
-    /// Time `t`.
-    Time,
-    /// Realization parameter `mu_{i+1}` of constraint `i` (printed `mu1`, `mu2`, ...).
-    Mu(u32),
+    /// A variable: parameter, state, algebraic unknown, time or realization parameter.
+    Var(VarRef),
     /// `c + sum a_k * t_k`, terms sorted by id.
     Add(Num, Box<[(Id, Num)]>),
     /// `c * prod b_k ^ e_k`, factors sorted by id.
     Mul(Num, Box<[(Id, Num)]>),
     /// `a ^ b` with a non-numeric exponent.
     Pow(Id, Id),
-    /// A one-argument function.
-    F1(Fun1, Id),
-    /// A two-argument function.
-    F2(Fun2, Id, Id),
+    /// A one-argument function other than `sqrt` (a power, see the module docs).
+    F1(Func, Id),
+    /// `atan2`, `min` or `max` (`pow` is [`Node::Pow`] or a numeric exponent).
+    F2(Func, Id, Id),
 }
 
 /// Which kinds of leaves a node depends on (bit set), kept per node for O(1) pruning.
 pub(crate) mod dep {
+    use crate::VarRef;
+
     pub const PARAM: u8 = 1;
     pub const STATE: u8 = 2;
     pub const ALG: u8 = 4;
     pub const TIME: u8 = 8;
     pub const MU: u8 = 16;
+
+    /// The bit of a leaf.
+    pub fn of(v: VarRef) -> u8 {
+        match v {
+            VarRef::Param(_) => PARAM,
+            VarRef::State(_) => STATE,
+            VarRef::Alg(_) => ALG,
+            VarRef::Time => TIME,
+            VarRef::Mu(_) => MU,
+        }
+    }
 }
 
 /// The hash-consed expression arena. See the module documentation.
@@ -163,12 +132,6 @@ pub struct Arena {
     deps: Vec<u8>,
     memo: HashMap<Node, Id>,
     simplify: bool,
-    /// Memo of partial derivatives: (node, variable node) -> derivative.
-    dmemo: HashMap<(Id, Id), Id>,
-    /// The flow `f` used by the total time derivative, one id per state.
-    flow: Vec<Id>,
-    /// Memo of total time derivatives for the current flow.
-    tmemo: HashMap<Id, Id>,
 }
 
 impl Default for Arena {
@@ -185,9 +148,6 @@ impl Arena {
             deps: Vec::new(),
             memo: HashMap::new(),
             simplify: true,
-            dmemo: HashMap::new(),
-            flow: Vec::new(),
-            tmemo: HashMap::new(),
         }
     }
 
@@ -248,11 +208,7 @@ impl Arena {
         }
         let d = match &node {
             Node::Const(_) => 0,
-            Node::Param(_) => dep::PARAM,
-            Node::State(_) => dep::STATE,
-            Node::Alg(_) => dep::ALG,
-            Node::Time => dep::TIME,
-            Node::Mu(_) => dep::MU,
+            Node::Var(v) => dep::of(*v),
             Node::Add(_, ts) | Node::Mul(_, ts) => ts.iter().fold(0, |d, (t, _)| d | self.deps(*t)),
             Node::Pow(a, b) | Node::F2(_, a, b) => self.deps(*a) | self.deps(*b),
             Node::F1(_, a) => self.deps(*a),
@@ -304,14 +260,14 @@ impl Arena {
             .collect()
     }
 
-    /// The algebraic unknowns (indices) an expression contains, sorted.
-    pub fn algs_in(&self, id: Id) -> Vec<usize> {
+    /// The algebraic unknowns an expression contains, sorted.
+    pub fn algs_in(&self, id: Id) -> Vec<AlgId> {
         // Sorted by index, not by node id: leaves are interned in order of first use.
-        let mut out: Vec<usize> = self
+        let mut out: Vec<AlgId> = self
             .leaves_in(id, dep::ALG)
             .into_iter()
             .filter_map(|l| match self.node(l) {
-                Node::Alg(i) => Some(*i as usize),
+                Node::Var(VarRef::Alg(k)) => Some(*k),
                 _ => None,
             })
             .collect();
@@ -329,9 +285,7 @@ impl Arena {
                 continue;
             }
             match self.node(n) {
-                Node::Param(_) | Node::State(_) | Node::Alg(_) | Node::Time | Node::Mu(_) => {
-                    out.push(n)
-                }
+                Node::Var(_) => out.push(n),
                 _ => self.for_each_child(n, |c| stack.push(c)),
             }
         }

@@ -7,6 +7,7 @@ use proptest::prelude::*;
 use super::tests::{T, build, build_with, has_kept_constant_power, names, tree};
 use super::{Arena, Id};
 use crate::analysis::lower;
+use crate::{AlgId, ParamId, StateId};
 
 /// The expression as `let e = <text>;` in a model declaring every name the printer may
 /// use: `x`, `y` (states), `z` (algebraic), `p` and `mu1` (parameters; the realization
@@ -35,12 +36,12 @@ fn parse_back(text: &str) -> (Arena, Id, [Id; 6]) {
     let mut low = lower(&model, true);
     let a = &mut low.arena;
     let leaves = [
-        a.state(0),
-        a.state(1),
-        a.alg(0),
-        a.param(0),
+        a.state(StateId::new(0)),
+        a.state(StateId::new(1)),
+        a.alg(AlgId::new(0)),
+        a.param(ParamId::new(0)),
         a.time(),
-        a.param(1),
+        a.param(ParamId::new(1)),
     ];
     (low.arena, low.lets[0], leaves)
 }
@@ -71,7 +72,7 @@ fn hand_picked_texts_read_back_through_the_parser() {
         Bin(4, x(), Box::new(Neg(Box::new(Leaf(4))))),
         PowN(Box::new(Bin(1, y(), x())), -1.5),
         Bin(2, mu(), Box::new(Num(1e-7))),
-        F2(super::Fun2::Atan2, y(), Box::new(Num(-2.5))),
+        F2(crate::Func::Atan2, y(), Box::new(Num(-2.5))),
     ] {
         round_trip(&t).unwrap();
     }

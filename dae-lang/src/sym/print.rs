@@ -13,6 +13,7 @@
 use std::collections::HashMap;
 
 use super::{Arena, Id, Node, Num};
+use crate::VarRef;
 use crate::model::Model;
 
 /// Names of the leaves for printing. Missing names fall back to `p<i>`, `x<i>`, `z<i>`.
@@ -33,6 +34,23 @@ impl Names {
             params: m.params.iter().map(|p| p.name.clone()).collect(),
             states: m.states.iter().map(|s| s.name.clone()).collect(),
             algs: m.algs.iter().map(|a| a.name.clone()).collect(),
+        }
+    }
+
+    /// The printed name of a variable: its declared name, `p<i>`, `x<i>` or `z<i>` when
+    /// there is none, `t`, and `mu<i+1>` for the realization parameter of constraint `i`.
+    pub fn var(&self, v: VarRef) -> String {
+        let named = |list: &[String], prefix: &str, i: usize| {
+            list.get(i)
+                .cloned()
+                .unwrap_or_else(|| format!("{prefix}{i}"))
+        };
+        match v {
+            VarRef::Param(i) => named(&self.params, "p", i.index()),
+            VarRef::State(i) => named(&self.states, "x", i.index()),
+            VarRef::Alg(i) => named(&self.algs, "z", i.index()),
+            VarRef::Time => "t".into(),
+            VarRef::Mu(i) => format!("mu{}", i.index() + 1),
         }
     }
 }
@@ -93,23 +111,13 @@ struct Printer<'a> {
 }
 
 impl Printer<'_> {
-    fn name(list: &[String], prefix: &str, i: u32) -> String {
-        list.get(i as usize)
-            .cloned()
-            .unwrap_or_else(|| format!("{prefix}{i}"))
-    }
-
     fn pr(&mut self, id: Id) -> Piece {
         if let Some(p) = self.memo.get(&id) {
             return p.clone();
         }
         let p = match self.arena.node(id) {
             Node::Const(v) => number(v.0),
-            Node::Param(i) => (Self::name(&self.names.params, "p", *i), Kind::Atom),
-            Node::State(i) => (Self::name(&self.names.states, "x", *i), Kind::Atom),
-            Node::Alg(i) => (Self::name(&self.names.algs, "z", *i), Kind::Atom),
-            Node::Time => ("t".into(), Kind::Atom),
-            Node::Mu(i) => (format!("mu{}", i + 1), Kind::Atom),
+            Node::Var(v) => (self.names.var(*v), Kind::Atom),
             Node::Add(c, ts) => self.sum(c.0, ts),
             Node::Mul(c, fs) => self.product(c.0, fs),
             Node::Pow(a, b) => {

@@ -1,6 +1,6 @@
 //! A test-only reader of the printed syntax, to check that printed text reads back.
 //!
-//! A recursive-descent reader with the precedence of language.md, strict where the grammar
+//! A recursive-descent reader with the precedence of docs/language.md, strict where the grammar
 //! might be: an exponent is an atom or a power (never a bare unary minus), and a unary
 //! minus only starts a sum or a product's first operand. Panics on anything else.
 
@@ -108,8 +108,7 @@ impl Reader<'_, '_> {
                 args.push(self.sum(a));
             }
             assert!(self.eat(b')'));
-            let f =
-                crate::model::Func::from_name(name).unwrap_or_else(|| panic!("no function {name}"));
+            let f = crate::Func::from_name(name).unwrap_or_else(|| panic!("no function {name}"));
             assert_eq!(args.len(), f.arity());
             return a.call(f, &args);
         }

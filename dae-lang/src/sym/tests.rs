@@ -4,6 +4,7 @@
 use proptest::prelude::*;
 
 use super::*;
+use crate::{AlgId, ConstraintId, ParamId, StateId};
 
 pub(super) fn names() -> Names {
     Names {
@@ -16,12 +17,12 @@ pub(super) fn names() -> Names {
 /// Leaves: x, y (states), z (alg), p (param), t, mu1.
 pub(super) fn leaves(a: &mut Arena) -> [Id; 6] {
     [
-        a.state(0),
-        a.state(1),
-        a.alg(0),
-        a.param(0),
+        a.state(StateId::new(0)),
+        a.state(StateId::new(1)),
+        a.alg(AlgId::new(0)),
+        a.param(ParamId::new(0)),
         a.time(),
-        a.mu(0),
+        a.mu(ConstraintId::new(0)),
     ]
 }
 
@@ -65,24 +66,24 @@ fn hash_consing_returns_the_same_id_for_the_same_expression() {
     let [x, y, ..] = leaves(&mut a);
     let e1 = {
         let s = a.add(x, y);
-        let si = a.f1(Fun1::Sin, s);
+        let si = a.f1(Func::Sin, s);
         a.mul(si, x)
     };
     let n = a.len();
     let e2 = {
         let s = a.add(y, x);
-        let si = a.f1(Fun1::Sin, s);
+        let si = a.f1(Func::Sin, s);
         a.mul(x, si)
     };
     assert_eq!(e1, e2);
     assert_eq!(a.len(), n, "rebuilding must not add nodes");
-    assert_eq!(a.state(0), x);
+    assert_eq!(a.state(StateId::new(0)), x);
     let (two1, two2) = (a.num(2.0), a.num(2.0));
     assert_eq!(two1, two2);
     assert_eq!(a.num(-0.0), a.num(0.0));
     // Also without simplification: identical constructions share.
     let mut r = Arena::unsimplified();
-    let (x, y) = (r.state(0), r.state(1));
+    let (x, y) = (r.state(StateId::new(0)), r.state(StateId::new(1)));
     let s1 = r.add(x, y);
     let s2 = r.add(x, y);
     assert_eq!(s1, s2);
@@ -118,9 +119,9 @@ fn simplifier_identities() {
     assert_eq!(a.sub(x_plus, tx), x2, "(3x + x^2) - 3x");
     assert_eq!(a.add(tx, x), a.scale(4.0, x), "3x + x");
     let z = a.num(0.0);
-    assert_eq!(a.f1(Fun1::Sin, z), zero, "sin 0 folds");
+    assert_eq!(a.f1(Func::Sin, z), zero, "sin 0 folds");
     let m1 = a.num(-1.0);
-    let ln = a.f1(Fun1::Ln, m1);
+    let ln = a.f1(Func::Ln, m1);
     assert!(a.as_const(ln).is_none(), "ln(-1) is not folded into NaN");
     // (x^2)^0.5 is |x|, not x: must not be merged.
     let r = a.powf(x2, 0.5);
@@ -134,7 +135,7 @@ fn simplifier_identities() {
 #[test]
 fn unsimplified_arena_keeps_the_structure() {
     let mut a = Arena::unsimplified();
-    let x = a.state(0);
+    let x = a.state(StateId::new(0));
     let zero = a.num(0.0);
     assert_ne!(a.add(x, zero), x);
     assert_ne!(a.sub(x, x), zero);
@@ -147,8 +148,8 @@ fn op_counts_shared_and_tree() {
     let mut a = Arena::new();
     let [x, y, ..] = leaves(&mut a);
     let s = a.add(x, y); // 1
-    let si = a.f1(Fun1::Sin, s); // 1
-    let co = a.f1(Fun1::Cos, s); // 1
+    let si = a.f1(Func::Sin, s); // 1
+    let co = a.f1(Func::Cos, s); // 1
     let e = a.mul(si, co); // 1
     assert_eq!(a.op_count(&[e]), 4);
     assert_eq!(a.tree_op_count(&[e]), 5, "x + y written twice");
@@ -195,7 +196,7 @@ fn printing_uses_the_language_precedence() {
     let mt = a.neg(t);
     let xmt = a.pow(x, mt);
     assert_eq!(show(&a, xmt), "x^(-t)");
-    let a2 = a.f2(Fun2::Atan2, y, x);
+    let a2 = a.f2(Func::Atan2, y, x);
     assert_eq!(show(&a, a2), "atan2(y, x)");
     let sub_sum = a.sub(p, s);
     assert_eq!(show(&a, sub_sum), "-x");
@@ -216,7 +217,7 @@ fn printing_uses_the_language_precedence() {
     assert_eq!(show(&a, inf), "(1/0)");
     // Negative operands in the unsimplified arena get parentheses.
     let mut r = Arena::unsimplified();
-    let x = r.state(0);
+    let x = r.state(StateId::new(0));
     let m2 = r.num(-2.0);
     let e = r.mul(x, m2);
     assert_eq!(r.display(e, &nm), "x*(-2)");
@@ -235,9 +236,9 @@ fn printed_text_reads_back_to_the_same_node() {
     let mut a = Arena::new();
     let [x, y, z, p, t, mu] = leaves(&mut a);
     let s = a.lin(-2.0, &[(x, 3.0), (y, -1.0)]);
-    let c = a.f1(Fun1::Cos, s);
+    let c = a.f1(Func::Cos, s);
     let e1 = a.product(-0.25, &[(c, 1.5), (z, -2.0), (p, 1.0)]);
-    let e2 = a.f2(Fun2::Max, e1, t);
+    let e2 = a.f2(Func::Max, e1, t);
     let e3 = a.pow(s, mu);
     let e4 = a.lin(0.1, &[(e2, -1.0), (e3, 7.0)]);
     // A scaled product whose first factor is a sum: `-(x + y)/x` would read back as
@@ -250,7 +251,7 @@ fn printed_text_reads_back_to_the_same_node() {
     // The same at the start of a sum (all terms negative, else a positive one comes
     // first): `-((x + y)/z) - cosh(...)`.
     let q = a.div(xy, z);
-    let later = a.f1(Fun1::Cosh, e6);
+    let later = a.f1(Func::Cosh, e6);
     let e7 = a.lin(0.0, &[(q, -1.0), (later, -1.0)]);
     assert!(a.display(e7, &names()).starts_with("-((x + y)/z) - "));
     // A positive term is written first: `b - a`, not `-a + b`.
@@ -271,25 +272,26 @@ pub(super) enum T {
     Num(f64),
     Neg(Box<T>),
     Bin(u8, Box<T>, Box<T>),
-    F1(Fun1, Box<T>),
-    F2(Fun2, Box<T>, Box<T>),
+    F1(Func, Box<T>),
+    F2(Func, Box<T>, Box<T>),
     PowN(Box<T>, f64),
 }
 
-const FUN1: [Fun1; 13] = [
-    Fun1::Sin,
-    Fun1::Cos,
-    Fun1::Tan,
-    Fun1::Asin,
-    Fun1::Acos,
-    Fun1::Atan,
-    Fun1::Sinh,
-    Fun1::Cosh,
-    Fun1::Tanh,
-    Fun1::Exp,
-    Fun1::Ln,
-    Fun1::Abs,
-    Fun1::Sign,
+/// The functions of `F1` nodes (all one-argument ones but `sqrt`, a power).
+const FUN1: [Func; 13] = [
+    Func::Sin,
+    Func::Cos,
+    Func::Tan,
+    Func::Asin,
+    Func::Acos,
+    Func::Atan,
+    Func::Sinh,
+    Func::Cosh,
+    Func::Tanh,
+    Func::Exp,
+    Func::Ln,
+    Func::Abs,
+    Func::Sign,
 ];
 
 pub(super) fn tree() -> impl Strategy<Value = T> {
@@ -316,7 +318,7 @@ pub(super) fn tree() -> impl Strategy<Value = T> {
             (0usize..13, inner.clone()).prop_map(|(f, a)| T::F1(FUN1[f], Box::new(a))),
             (0usize..3, inner.clone(), inner.clone()).prop_map(|(f, a, b)| {
                 T::F2(
-                    [Fun2::Atan2, Fun2::Min, Fun2::Max][f],
+                    [Func::Atan2, Func::Min, Func::Max][f],
                     Box::new(a),
                     Box::new(b),
                 )
@@ -408,12 +410,12 @@ fn central(a: &Arena, e: Id, v: &[f64; 6], dir: &[f64; 6]) -> Option<f64> {
         a.reachable(&[e])
             .into_iter()
             .filter_map(|n| match a.node(n) {
-                Node::F2(Fun2::Min | Fun2::Max, p, q) => {
+                Node::F2(Func::Min | Func::Max, p, q) => {
                     Some(eval_at(a, *p, at) - eval_at(a, *q, at))
                 }
-                Node::F1(Fun1::Abs | Fun1::Sign, u) => Some(eval_at(a, *u, at)),
+                Node::F1(Func::Abs | Func::Sign, u) => Some(eval_at(a, *u, at)),
                 // atan2 jumps where y crosses 0 with x < 0 (1 stands for "not on the cut").
-                Node::F2(Fun2::Atan2, y, x) => Some(if eval_at(a, *x, at) < 0.0 {
+                Node::F2(Func::Atan2, y, x) => Some(if eval_at(a, *x, at) < 0.0 {
                     eval_at(a, *y, at)
                 } else {
                     1.0
@@ -437,7 +439,7 @@ fn central(a: &Arena, e: Id, v: &[f64; 6], dir: &[f64; 6]) -> Option<f64> {
 
 fn on_atan2_cut(a: &Arena, e: Id, v: &[f64; 6]) -> bool {
     a.reachable(&[e]).into_iter().any(|n| match a.node(n) {
-        Node::F2(Fun2::Atan2, y, x) => {
+        Node::F2(Func::Atan2, y, x) => {
             eval_at(a, *y, v) == 0.0 && eval_at(a, *x, v).is_sign_negative()
         }
         _ => false,
@@ -477,7 +479,7 @@ proptest! {
         let mut a = Arena::new();
         let e = build(&mut a, &t);
         let var = leaves(&mut a)[k];
-        let d = a.diff(e, var);
+        let d = DiffContext::default().diff(&mut a, e, var);
         let mut dir = [0.0; 6];
         dir[k] = 1.0;
         let got = eval_at(&a, d, &v);
@@ -495,8 +497,7 @@ proptest! {
         let mut a = Arena::new();
         let e = build(&mut a, &t);
         let (fx, fy) = (build(&mut a, &fx), build(&mut a, &fy));
-        a.set_flow(vec![fx, fy]);
-        let d = a.dt(e);
+        let d = DiffContext::new(vec![fx, fy]).dt(&mut a, e);
         let got = eval_at(&a, d, &v);
         // Direction of motion: x' = f_x, y' = f_y, t' = 1, z, p, mu fixed.
         let dir = [eval_at(&a, fx, &v), eval_at(&a, fy, &v), 0.0, 0.0, 1.0, 0.0];
@@ -540,12 +541,33 @@ proptest! {
     }
 }
 
+/// The flow and the memos live in a context beside the arena: two contexts with
+/// different flows take their time derivatives in one arena without mixing them up.
+#[test]
+fn time_derivatives_along_two_flows_share_one_arena() {
+    let mut a = Arena::new();
+    let [x, y, _, p, t, _] = leaves(&mut a);
+    let e = a.mul(x, y);
+    let (ex, ey) = (a.mul(p, x), a.f1(Func::Sin, t));
+    let mut along_first = DiffContext::new(vec![ex, ey]);
+    let mut along_second = DiffContext::new(vec![y, x]);
+    let d1 = along_first.dt(&mut a, e);
+    let d2 = along_second.dt(&mut a, e);
+    // D1[x y] = p x y + x sin t, D2[x y] = y^2 + x^2.
+    let v = at(&[2.0], &[0.5, 3.0], &[], 0.7, &[]);
+    let want1 = 2.0 * 0.5 * 3.0 + 0.5 * 0.7f64.sin();
+    assert!((a.eval(d1, &v) - want1).abs() < 1e-15);
+    assert_eq!(a.eval(d2, &v), 9.0 + 0.25);
+    assert_eq!(along_first.dt(&mut a, e), d1, "memoised per context");
+    assert_eq!(along_first.flow(), &[ex, ey]);
+}
+
 #[test]
 fn evaluation_reuses_the_buffer() {
     let mut a = Arena::new();
     let [x, y, ..] = leaves(&mut a);
     let s = a.add(x, y);
-    let e = a.f1(Fun1::Exp, s);
+    let e = a.f1(Func::Exp, s);
     let mut buf = Vec::new();
     a.eval_all(&at(&[], &[1.0, 2.0], &[], 0.0, &[]), &mut buf);
     let (ptr, cap) = (buf.as_ptr(), buf.capacity());

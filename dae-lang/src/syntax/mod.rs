@@ -3,15 +3,17 @@
 
 mod build;
 mod errors;
+// Generated from `dae.pest` and checked in (see its header), so that dae-lang needs no
+// proc-macro toolchain; a test in dae-tests fails when it is stale.
+#[rustfmt::skip]
+#[allow(clippy::all, dead_code, missing_docs)]
+mod parser;
 
 use crate::ast::{File, Span};
 use crate::diag::Diagnostic;
+use parser::DaeParser;
+pub(crate) use parser::Rule;
 use pest::Parser as _;
-use pest_derive::Parser;
-
-#[derive(Parser)]
-#[grammar = "syntax/dae.pest"]
-struct DaeParser;
 
 /// Deepest nesting of parentheses, calls and `^` chains accepted (see [`too_deep`]).
 /// The parser and the tree builder recurse through several frames per level; 64 levels

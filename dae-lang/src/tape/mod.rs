@@ -8,30 +8,15 @@
 //! (one `let` per slot) and the interpreter ([`Tape::eval`]), so the interpreter is an
 //! oracle for the generated code that shares no evaluation code with it.
 
-use crate::model::Func;
-
-/// Something a function reads from its caller.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Input {
-    /// Model parameter `i`.
-    Param(u32),
-    /// Differential state `i`.
-    State(u32),
-    /// Algebraic unknown `i`.
-    Alg(u32),
-    /// Realization parameter `mu_i` of constraint `i`.
-    Mu(u32),
-    /// Time.
-    Time,
-}
+use crate::{Func, VarRef};
 
 /// An operand of an instruction.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Operand {
     /// A literal.
     Const(f64),
-    /// A value read from the caller.
-    Input(Input),
+    /// A variable read from the caller's [`Inputs`].
+    Input(VarRef),
     /// The result of an earlier instruction.
     Slot(u32),
 }
@@ -58,14 +43,9 @@ pub enum BinaryOp {
     Mul,
     /// `a / b`
     Div,
-    /// `a^b` with a non-integer or symbolic exponent (evaluated with `powf`).
-    Pow,
-    /// `atan2(a, b)`
-    Atan2,
-    /// `min(a, b)`
-    Min,
-    /// `max(a, b)`
-    Max,
+    /// A two-argument built-in function: `pow` (a non-integer or symbolic exponent,
+    /// evaluated with `powf`), `atan2`, `min` or `max`.
+    Call(Func),
 }
 
 /// One instruction; its result goes to the slot with its own position.
@@ -97,6 +77,22 @@ pub struct Inputs<'a> {
     pub mu: &'a [f64],
     /// Time.
     pub t: f64,
+}
+
+impl Inputs<'_> {
+    /// The value of a variable.
+    ///
+    /// # Panics
+    /// If its index is out of range for these inputs.
+    pub fn var(&self, v: VarRef) -> f64 {
+        match v {
+            VarRef::Param(i) => self.params[i.index()],
+            VarRef::State(i) => self.states[i.index()],
+            VarRef::Alg(i) => self.algs[i.index()],
+            VarRef::Mu(i) => self.mu[i.index()],
+            VarRef::Time => self.t,
+        }
+    }
 }
 
 impl Tape {
@@ -178,11 +174,7 @@ fn read(o: Operand, inputs: &Inputs<'_>, slots: &[f64]) -> f64 {
     match o {
         Operand::Const(c) => c,
         Operand::Slot(k) => slots[k as usize],
-        Operand::Input(Input::Param(i)) => inputs.params[i as usize],
-        Operand::Input(Input::State(i)) => inputs.states[i as usize],
-        Operand::Input(Input::Alg(i)) => inputs.algs[i as usize],
-        Operand::Input(Input::Mu(i)) => inputs.mu[i as usize],
-        Operand::Input(Input::Time) => inputs.t,
+        Operand::Input(v) => inputs.var(v),
     }
 }
 
@@ -200,10 +192,7 @@ fn binary(op: BinaryOp, a: f64, b: f64) -> f64 {
         BinaryOp::Sub => a - b,
         BinaryOp::Mul => a * b,
         BinaryOp::Div => a / b,
-        BinaryOp::Pow => Func::Pow.apply2(a, b),
-        BinaryOp::Atan2 => Func::Atan2.apply2(a, b),
-        BinaryOp::Min => Func::Min.apply2(a, b),
-        BinaryOp::Max => Func::Max.apply2(a, b),
+        BinaryOp::Call(f) => f.apply2(a, b),
     }
 }
 
@@ -215,15 +204,15 @@ mod tests {
     fn eval_shares_slots_between_outputs() {
         // y0 = (x0 + p0)^2, y1 = sin(x0 + p0) * t
         let mut tape = Tape::new();
-        let x = Operand::Input(Input::State(0));
-        let p = Operand::Input(Input::Param(0));
+        let x = Operand::Input(VarRef::State(crate::StateId::new(0)));
+        let p = Operand::Input(VarRef::Param(crate::ParamId::new(0)));
         let sum = tape.push(Instr::Binary(BinaryOp::Add, x, p));
         let sq = tape.push(Instr::Unary(UnaryOp::Powi(2), sum));
         let sn = tape.push(Instr::Unary(UnaryOp::Call(Func::Sin), sum));
         let y1 = tape.push(Instr::Binary(
             BinaryOp::Mul,
             sn,
-            Operand::Input(Input::Time),
+            Operand::Input(VarRef::Time),
         ));
         tape.push_output(sq);
         tape.push_output(y1);
@@ -250,8 +239,8 @@ mod tests {
         assert_eq!(sign(3.0), 1.0);
         assert_eq!(sign(-2.0), -1.0);
         assert!(sign(f64::NAN).is_nan());
-        assert!(binary(BinaryOp::Min, f64::NAN, 1.0).is_nan());
-        assert!(binary(BinaryOp::Max, 1.0, f64::NAN).is_nan());
-        assert_eq!(binary(BinaryOp::Min, -1.0, 1.0), -1.0);
+        assert!(binary(BinaryOp::Call(Func::Min), f64::NAN, 1.0).is_nan());
+        assert!(binary(BinaryOp::Call(Func::Max), 1.0, f64::NAN).is_nan());
+        assert_eq!(binary(BinaryOp::Call(Func::Min), -1.0, 1.0), -1.0);
     }
 }

@@ -6,7 +6,8 @@
 //!   layer `|s_i| <= eps_i` drawn as dashed lines;
 //! * [`plot_periods`]: control update periods against update time, with the guaranteed
 //!   `T_min` of the design as a horizontal line;
-//! * [`plot_errors`]: constraint errors `|w_i|(t)`, linear or logarithmic axis.
+//! * [`plot_errors`]: constraint errors `|w_i|(t)`, linear or logarithmic axis;
+//! * [`plot_run`]: all three for one run, from its [`Trace`](crate::Trace).
 //!
 //! Input is validated before anything is drawn: empty data, mismatched lengths, NaN or
 //! infinite values and decreasing times are [`ChartError`]s. Long traces are thinned per
@@ -14,8 +15,11 @@
 //! envelope exact while the file stays small.
 
 mod draw;
+mod run;
 
 use std::path::Path;
+
+pub use run::{RunCharts, plot_run};
 
 /// One constraint's sliding variable for [`plot_sliding`].
 #[derive(Debug, Clone, Copy)]
@@ -172,6 +176,13 @@ pub fn plot_errors(
         check_series(s.name, s.w, t.len())?;
     }
     write(path.as_ref(), draw::errors(title, t, series, scale)?)
+}
+
+fn write_dir(dir: &Path) -> Result<(), ChartError> {
+    std::fs::create_dir_all(dir).map_err(|source| ChartError::Io {
+        path: dir.display().to_string(),
+        source,
+    })
 }
 
 fn write(path: &Path, svg: String) -> Result<(), ChartError> {

@@ -259,3 +259,72 @@ fn thinning_keeps_the_envelope_and_order() {
     // Short series are untouched.
     assert_eq!(thin(&t[..10], y, 100).len(), 10);
 }
+
+/// A trace of two constraints fed by hand through the `Sink` calls the simulator makes,
+/// with `updates` control updates.
+fn run_trace(updates: usize) -> crate::Trace {
+    use crate::{Layout, Sample, Sink};
+    let mut out = crate::Trace::new();
+    let layout = Layout {
+        states: vec!["x".into()],
+        algs: vec!["z1".into(), "z2".into()],
+        constraints: vec!["link_one".into(), "link_two".into()],
+    };
+    out.begin(&layout).unwrap();
+    let (t, s1, s2) = trace(501);
+    // Updates at equal spacing from the start.
+    let every = t.len() / updates;
+    for (k, &tk) in t.iter().enumerate() {
+        if k % every == 0 && k / every < updates {
+            out.update(tk).unwrap();
+        }
+        let s = [s1[k], s2[k]];
+        out.record(&Sample {
+            step: k as u64,
+            t: tk,
+            x: &[0.0],
+            z: &[0.0, 0.0],
+            z_eq: &[0.0, 0.0],
+            z_star: &[0.0, 0.0],
+            s: &s,
+            w: &[0.5 * s[0], 0.5 * s[1]],
+            last: k + 1 == t.len(),
+        })
+        .unwrap();
+    }
+    out
+}
+
+#[test]
+fn run_charts_are_written_from_a_trace() {
+    let dir = tmp("run");
+    let charts = plot_run(&dir, "pendulum", &run_trace(8), &[0.2, 0.3], Some(0.05)).unwrap();
+    assert_eq!(charts.sliding, dir.join("sliding.svg"));
+    assert_eq!(charts.errors, dir.join("errors.svg"));
+    assert_eq!(charts.periods, Some(dir.join("periods.svg")));
+    assert_svg(
+        &read(&charts.sliding),
+        &["pendulum: sliding variables", "link_one", "link_two"],
+    );
+    assert_svg(&read(&charts.errors), &["pendulum: constraint errors"]);
+    let periods = read(charts.periods.as_ref().unwrap());
+    assert_svg(
+        &periods,
+        &["pendulum: update periods (line: guaranteed T_min)"],
+    );
+
+    // One update: no period, no periods chart.
+    let one = tmp("run-one-update");
+    let charts = plot_run(&one, "p", &run_trace(1), &[0.2, 0.3], None).unwrap();
+    assert_eq!(charts.periods, None);
+    assert!(!one.join("periods.svg").exists());
+
+    // One eps per constraint, checked before anything is written.
+    let bad = tmp("run-bad");
+    let err = plot_run(&bad, "p", &run_trace(8), &[0.2], None).unwrap_err();
+    assert!(
+        matches!(err, ChartError::LengthMismatch { ref series, got: 1, expected: 2 } if series == "eps"),
+        "{err}"
+    );
+    assert!(!bad.exists());
+}

@@ -1,5 +1,5 @@
 //! Gains: the sufficient crossing gain (T 4.4, corrected), the robust gain (T 3.17,
-//! 3.21) and the two design choices of method.md section 5.
+//! 3.21) and the design choices of docs/method.md section 5.
 
 use super::{ConstraintSpec, DesignError, check_index, mu_pow, non_negative, positive};
 
@@ -52,12 +52,12 @@ pub fn robust_gain(k_c: f64, r: usize, mu: f64, beta_abs: f64) -> Result<f64, De
 pub enum GainChoice {
     /// `k = k* + mu^(r-1) |beta|`: [`sufficient_gain`] made robust for the cheap
     /// `alpha_hat` with [`robust_gain`]. For `r = 3`:
-    /// `k = mu^3 M / 2 + 4 eps / mu + mu^2 |beta|` (method.md section 5).
+    /// `k = mu^3 M / 2 + 4 eps / mu + mu^2 |beta|` (docs/method.md section 5).
     #[default]
     Sufficient,
     /// `k = mu^(r-1) |beta|`: only the part of `alpha` the cheap `alpha_hat` neglects.
     /// Not covered by the crossing guarantee; enough in the thesis example (T section
-    /// 4.3, method.md section 5).
+    /// 4.3, docs/method.md sections 5 and 8).
     Relaxed,
     /// The same given gain `k >= 0` for every `mu`.
     Fixed(f64),

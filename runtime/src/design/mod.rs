@@ -1,5 +1,5 @@
-//! Design toolkit: guaranteed update periods, gains and the choice of `mu` (method.md
-//! sections 3-5; formula numbers "(T x.y)" refer to F. Rum's 2004 thesis).
+//! Design toolkit: guaranteed update periods, gains and the choice of `mu` (docs/method.md
+//! section 5; formula numbers "(T x.y)" refer to F. Rum's 2004 thesis).
 //!
 //! Everything here is a pure function of a few bounds that describe one constraint
 //! ([`ConstraintSpec`]: index `r`, layer half-width `eps`, drift bound `M`, `|beta|`):
@@ -7,9 +7,10 @@
 //! * [`t_min`] (T 3.14, with the (T 4.6) and (T 4.7) variants selected by
 //!   [`LayerBound`]) and its converse [`reachable_bound`] (T 3.13);
 //! * gains: [`sufficient_gain`] (T 4.4, corrected), [`robust_gain`] (T 3.17, 3.21) and
-//!   the two design choices of method.md section 5 in [`GainChoice`];
+//!   the design choices of docs/method.md section 5 in [`GainChoice`];
 //! * [`optimise_mu`] / [`design`]: maximise `T_i^min(mu_i)` with the gain substituted
 //!   (T corollary 4.1, section 4.3), and take the smallest over the constraints (T 3.15);
+//!   [`design_at`]: the same at given `mu_i`;
 //! * approximate inverses (T 3.22): [`approximate_inverse_gain`] (from a row's
 //!   dominance margin), [`approximate_inverse_gains`] (the least gains for a coupling
 //!   `E = J_s J_hat^{-1}`, solved with the solver seam) and [`jacobi_coupling`];
@@ -30,11 +31,11 @@ mod pilot_run;
 pub use approx::{approximate_inverse_gain, approximate_inverse_gains, jacobi_coupling};
 pub use bounds::{LayerBound, c_r, reachable_bound, t_min};
 pub use gains::{GainChoice, robust_gain, sufficient_gain};
-pub use optimise::{ConstraintDesign, Design, MuSearch, design, optimise_mu};
+pub use optimise::{ConstraintDesign, Design, MuSearch, design, design_at, optimise_mu};
 pub use pilot::{PilotError, PilotEstimate, PilotEstimator};
 pub use pilot_run::{
-    AutoDesign, AutoDesignOptions, DesignPass, PilotRun, PilotRunError, auto_design, pilot_run,
-    pilot_specs,
+    AutoDesign, AutoDesignOptions, DesignPass, MuChoice, PilotRun, PilotRunError, auto_design,
+    pilot_run, pilot_specs,
 };
 
 /// The largest constraint index the formulas accept; `mu^(r-1)` and `2^r` are computed
@@ -144,6 +145,16 @@ pub enum DesignError {
     /// [`design`] was given no constraints.
     #[error("no constraints to design for")]
     NoConstraints,
+    /// A per-constraint list has the wrong length.
+    #[error("{what} has {got} entries, expected {expected} (one per constraint)")]
+    CountMismatch {
+        /// The list (`mu`).
+        what: &'static str,
+        /// Its length.
+        got: usize,
+        /// The number of constraints.
+        expected: usize,
+    },
     /// An error about one constraint of a [`design`].
     #[error("constraint {index}: {source}")]
     Constraint {

@@ -149,7 +149,7 @@ pub fn optimise_mu(
 /// Optimises every constraint with [`optimise_mu`] and takes `T_min = min_i T_i^min`
 /// (T 3.15). Errors name the constraint ([`DesignError::Constraint`]).
 ///
-/// The double pendulum of the thesis (method.md section 5), relaxed gains with (T 4.6):
+/// The double pendulum of the thesis (docs/method.md section 8), relaxed gains with (T 4.6):
 ///
 /// ```
 /// use dae_runtime::{ConstraintSpec, GainChoice, LayerBound, MuSearch, design};
@@ -171,6 +171,41 @@ pub fn design(
     gain: GainChoice,
     search: &MuSearch,
 ) -> Result<Design, DesignError> {
+    per_constraint(specs, |_, spec| optimise_mu(spec, gain, search))
+}
+
+/// The design at given surface parameters: `k_i = gain.gain(spec_i, mu_i)` and
+/// `T_i^min` (T 3.14 or a variant) at that `mu_i` and gain, without searching; `T_min`
+/// is the smallest (T 3.15). For a model whose `mu` are fixed beforehand (e.g. the
+/// published ones of an example). `mu` has one entry per spec.
+pub fn design_at(
+    specs: &[ConstraintSpec],
+    mu: &[f64],
+    gain: GainChoice,
+) -> Result<Design, DesignError> {
+    if mu.len() != specs.len() {
+        return Err(DesignError::CountMismatch {
+            what: "mu",
+            got: mu.len(),
+            expected: specs.len(),
+        });
+    }
+    per_constraint(specs, |i, spec| {
+        let k = gain.gain(spec, mu[i])?;
+        Ok(ConstraintDesign {
+            mu: mu[i],
+            k,
+            t_min: t_min(spec, mu[i], k)?,
+        })
+    })
+}
+
+/// Designs every constraint with `one` (errors name the constraint) and takes
+/// `T_min = min_i T_i^min` (T 3.15).
+fn per_constraint(
+    specs: &[ConstraintSpec],
+    one: impl Fn(usize, &ConstraintSpec) -> Result<ConstraintDesign, DesignError>,
+) -> Result<Design, DesignError> {
     if specs.is_empty() {
         return Err(DesignError::NoConstraints);
     }
@@ -178,7 +213,7 @@ pub fn design(
         .iter()
         .enumerate()
         .map(|(index, spec)| {
-            optimise_mu(spec, gain, search).map_err(|e| DesignError::Constraint {
+            one(index, spec).map_err(|e| DesignError::Constraint {
                 index,
                 source: Box::new(e),
             })

@@ -1,5 +1,5 @@
-//! Estimating `|beta_i|` and `M_i` from a pilot simulation (method.md section 4, design
-//! procedure). Independent of the simulator: it only sees numbers.
+//! Estimating `|beta_i|` and `M_i` from a pilot simulation (docs/method.md section 5,
+//! pilot estimation). Independent of the simulator: it only sees numbers.
 
 /// Collects samples of a pilot run and estimates the design bounds `|beta_i|` and `M_i`
 /// (T 3.5) of every constraint.

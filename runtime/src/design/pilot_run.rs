@@ -1,4 +1,4 @@
-//! The pilot simulation and the automatic design procedure (method.md section 4, T
+//! The pilot simulation and the automatic design procedure (docs/method.md section 5, T
 //! corollary 4.1): run the simulator once, estimate `|beta_i|` and `M_i` from what it
 //! did with a [`PilotEstimator`], and choose `mu_i`, `k_i` from those bounds.
 //!
@@ -13,7 +13,7 @@ use std::io;
 
 use super::{
     ConstraintSpec, Design, DesignError, GainChoice, LayerBound, MuSearch, PilotError,
-    PilotEstimate, PilotEstimator, design,
+    PilotEstimate, PilotEstimator, design, design_at,
 };
 use crate::{AlphaChoice, Layout, Model, Sample, Settings, SimError, Simulator, Sink, Summary};
 
@@ -190,6 +190,10 @@ impl<M: Model + ?Sized> Sink for PilotSink<'_, M> {
     fn begin(&mut self, _: &Layout) -> io::Result<()> {
         Ok(())
     }
+    fn algebraic_outputs(&self) -> bool {
+        // The estimator reads x, z and s only: no z_eq or z* per step.
+        false
+    }
     fn record(&mut self, s: &Sample<'_>) -> io::Result<()> {
         if self.error.is_none() {
             if let Err(e) = self.feed(s) {
@@ -232,6 +236,23 @@ pub fn pilot_specs(
         .collect())
 }
 
+/// Where the design's `mu_i` come from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MuChoice {
+    /// Maximise each `T_i^min(mu_i)` ([`design`]).
+    Search(MuSearch),
+    /// Given, one per constraint: only the gains and `T_min` are designed
+    /// ([`design_at`]), and every pilot runs at these `mu_i`.
+    Given(Vec<f64>),
+}
+
+impl Default for MuChoice {
+    /// The default search.
+    fn default() -> Self {
+        MuChoice::Search(MuSearch::default())
+    }
+}
+
 /// How [`auto_design`] runs its pilots and designs.
 #[derive(Debug, Clone)]
 pub struct AutoDesignOptions {
@@ -243,19 +264,20 @@ pub struct AutoDesignOptions {
     pub passes: usize,
     /// Factor (>= 1) applied to the pilot bounds before designing.
     pub safety: f64,
-    /// The `mu` search.
-    pub search: MuSearch,
+    /// Searched or given `mu_i`.
+    pub mu: MuChoice,
 }
 
 impl Default for AutoDesignOptions {
-    /// Relaxed gains with the general (T 3.14) bound, two passes, no safety factor.
+    /// Relaxed gains with the general (T 3.14) bound, two passes, no safety factor, `mu`
+    /// searched.
     fn default() -> Self {
         AutoDesignOptions {
             gain: GainChoice::Relaxed,
             layer: LayerBound::General,
             passes: 2,
             safety: 1.0,
-            search: MuSearch::default(),
+            mu: MuChoice::default(),
         }
     }
 }
@@ -285,7 +307,7 @@ pub struct AutoDesign {
     pub passes: Vec<DesignPass>,
 }
 
-/// The design procedure of method.md section 4 (T corollary 4.1), automated: estimate
+/// The design procedure of docs/method.md section 5 (T corollary 4.1), automated: estimate
 /// `|beta_i|` and `M_i` from a pilot run, maximise `T_i^min(mu_i)` with the gain choice
 /// substituted, and repeat the pilot with the new design.
 ///
@@ -301,8 +323,9 @@ pub struct AutoDesign {
 /// from the largest bounds seen in all passes so far (they are bounds on the motion, and
 /// a chaotic model visits different states under different designs), so the sequence of
 /// designs does not oscillate between optimistic and pessimistic estimates. `eps` replaces
-/// `pilot.eps`; everything else of `pilot` (step, integrator, policy, reaching rule,
-/// duration, settle time) is used as given.
+/// `pilot.eps`, and [`MuChoice::Given`] `mu` replaces `pilot.mu`; everything else of
+/// `pilot` (step, integrator, policy, reaching rule, duration, settle time) is used as
+/// given.
 pub fn auto_design<M: Model + ?Sized>(
     model: &M,
     eps: &[f64],
@@ -317,11 +340,20 @@ pub fn auto_design<M: Model + ?Sized>(
     if !(options.safety.is_finite() && options.safety >= 1.0) {
         return Err(PilotError::BadSafety(options.safety).into());
     }
+    let m = model.n_constraints();
     let mut settings = pilot.clone();
     settings.eps = eps.to_vec();
     settings.alpha = AlphaChoice::Exact;
+    if let MuChoice::Given(mu) = &options.mu {
+        if mu.len() != m {
+            return Err(PilotRunError::Mismatch(format!(
+                "{m} constraints but {} given mu values",
+                mu.len()
+            )));
+        }
+        settings.mu = mu.clone();
+    }
     let mut passes: Vec<DesignPass> = Vec::with_capacity(options.passes);
-    let m = model.n_constraints();
     let (mut beta_max, mut m_max) = (vec![0.0f64; m], vec![0.0f64; m]);
     for _ in 0..options.passes {
         let run = pilot_run(model, &settings)?;
@@ -335,7 +367,10 @@ pub fn auto_design<M: Model + ?Sized>(
             ..run.estimate.clone()
         };
         let specs = pilot_specs(model.indices(), eps, &scaled, options.layer)?;
-        let d = design(&specs, options.gain, &options.search)?;
+        let d = match &options.mu {
+            MuChoice::Search(search) => design(&specs, options.gain, search)?,
+            MuChoice::Given(mu) => design_at(&specs, mu, options.gain)?,
+        };
         passes.push(DesignPass {
             mu: settings.mu.clone(),
             gains: settings.gains.clone(),

@@ -1,4 +1,4 @@
-//! The 3-D double pendulum of method.md section 5, written by hand.
+//! The 3-D double pendulum of docs/method.md section 8, written by hand.
 //!
 //! States `x = [R1, R2, V1, V2]` (12), algebraic unknowns `z = [z1, z2]` (link
 //! tensions), constraints `w1 = |R1| - L1`, `w2 = |R2 - R1| - L2`, both of index 3.

@@ -11,7 +11,7 @@ fn pendulum_link(beta_abs: f64, m: f64, layer: LayerBound) -> ConstraintSpec {
     }
 }
 
-/// method.md section 5 / thesis chapter 5: sufficient gains with (T 3.14).
+/// docs/method.md section 8 / thesis chapter 5: sufficient gains with (T 3.14).
 #[test]
 fn thesis_example_sufficient_gains_give_mu_0065_and_0060() {
     let links = [
@@ -26,7 +26,7 @@ fn thesis_example_sufficient_gains_give_mu_0065_and_0060() {
     assert_eq!(d.limiting, 1);
 }
 
-/// method.md section 5 / thesis chapter 5: relaxed gains with (T 4.6).
+/// docs/method.md section 8 / thesis chapter 5: relaxed gains with (T 4.6).
 #[test]
 fn thesis_example_relaxed_gains_give_mu_0076_0066_and_periods_00062_00053() {
     let links = [
@@ -43,6 +43,39 @@ fn thesis_example_relaxed_gains_give_mu_0076_0066_and_periods_00062_00053() {
     assert_eq!(d.t_min, c2.t_min);
     // The gain reported is the relaxed one at the chosen mu.
     assert!((c1.k - c1.mu * c1.mu * 1.3e3).abs() < 1e-9);
+}
+
+/// At the published mu (0.076, 0.066), relaxed gains with (T 4.6) give the published
+/// periods 0.0062 / 0.0053 (docs/method.md section 8), and each entry is `t_min` at its mu and
+/// gain; a wrong number of mu is an error, not a panic.
+#[test]
+fn design_at_the_thesis_mu_gives_the_published_periods() {
+    let links = [
+        pendulum_link(1.3e3, 9e4, LayerBound::TightIndex3),
+        pendulum_link(2.3e3, 11e4, LayerBound::TightIndex3),
+    ];
+    let mu = [0.076, 0.066];
+    let d = design_at(&links, &mu, GainChoice::Relaxed).unwrap();
+    for (i, c) in d.constraints.iter().enumerate() {
+        assert_eq!(c.mu, mu[i]);
+        assert_eq!(c.k, mu[i] * mu[i] * links[i].beta_abs);
+        assert_eq!(c.t_min, t_min(&links[i], mu[i], c.k).unwrap());
+    }
+    assert!((d.constraints[0].t_min / 0.0062 - 1.0).abs() <= 0.03);
+    assert!((d.constraints[1].t_min / 0.0053 - 1.0).abs() <= 0.03);
+    assert_eq!((d.limiting, d.t_min), (1, d.constraints[1].t_min));
+    assert!(matches!(
+        design_at(&links, &[0.07], GainChoice::Relaxed),
+        Err(DesignError::CountMismatch {
+            what: "mu",
+            got: 1,
+            expected: 2
+        })
+    ));
+    assert!(matches!(
+        design_at(&links, &[0.07, -1.0], GainChoice::Relaxed),
+        Err(DesignError::Constraint { index: 1, .. })
+    ));
 }
 
 /// Oracle: with M = 0, T = eps / b and b = mu^(r-1) |beta| + c_r eps / mu is minimal at

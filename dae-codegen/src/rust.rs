@@ -13,9 +13,9 @@
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 
-use crate::compiled::CompiledModel;
-use crate::model::Func;
-use crate::tape::{BinaryOp, Input, Instr, Operand, Tape, UnaryOp};
+use dae_lang::CompiledModel;
+use dae_lang::tape::{BinaryOp, Instr, Operand, Tape, UnaryOp};
+use dae_lang::{Func, VarRef};
 
 /// Rust keywords that cannot name a field as they are; such parameters get a trailing
 /// underscore (`type` -> `type_`).
@@ -192,15 +192,17 @@ pub fn generate(model: &CompiledModel) -> TokenStream {
     }
 }
 
-/// The generated code as formatted Rust source.
+/// The generated code as Rust source: formatted with feature `pretty`, the tokens' text
+/// (one line, the same code) without it.
 pub fn emit_rust(model: &CompiledModel) -> String {
     let tokens = generate(model);
-    match syn::parse2::<syn::File>(tokens.clone()) {
-        Ok(file) => prettyplease::unparse(&file),
-        // The generator always produces valid Rust; if it ever does not, show the raw
-        // tokens rather than lose them.
-        Err(_) => tokens.to_string(),
+    #[cfg(feature = "pretty")]
+    if let Ok(file) = syn::parse2::<syn::File>(tokens.clone()) {
+        return prettyplease::unparse(&file);
     }
+    // Without `pretty`, or if the generator ever produced something `syn` rejects (it
+    // always produces valid Rust): the raw tokens rather than nothing.
+    tokens.to_string()
 }
 
 /// `1 state`, `2 states`.
@@ -243,23 +245,23 @@ fn operand(o: Operand, fields: &[Ident]) -> TokenStream {
             let v = slot(k);
             quote!(#v)
         }
-        Operand::Input(Input::Param(i)) => {
-            let f = &fields[i as usize];
+        Operand::Input(VarRef::Param(i)) => {
+            let f = &fields[i.index()];
             quote!(self.#f)
         }
-        Operand::Input(Input::State(i)) => {
-            let i = usize_lit(i as usize);
+        Operand::Input(VarRef::State(i)) => {
+            let i = usize_lit(i.index());
             quote!(x[#i])
         }
-        Operand::Input(Input::Alg(i)) => {
-            let i = usize_lit(i as usize);
+        Operand::Input(VarRef::Alg(i)) => {
+            let i = usize_lit(i.index());
             quote!(z[#i])
         }
-        Operand::Input(Input::Mu(i)) => {
-            let i = usize_lit(i as usize);
+        Operand::Input(VarRef::Mu(i)) => {
+            let i = usize_lit(i.index());
             quote!(mu[#i])
         }
-        Operand::Input(Input::Time) => quote!(t),
+        Operand::Input(VarRef::Time) => quote!(t),
     }
 }
 
@@ -292,18 +294,27 @@ fn instr(i: &Instr, fields: &[Ident]) -> TokenStream {
                 BinaryOp::Sub => quote!(#a - #b),
                 BinaryOp::Mul => quote!(#a * #b),
                 BinaryOp::Div => quote!(#a / #b),
-                BinaryOp::Pow => quote!(f64::powf(#a, #b)),
-                BinaryOp::Atan2 => quote!(f64::atan2(#a, #b)),
-                // NaN propagates, as in `Func::apply2` (f64::min would drop it).
-                BinaryOp::Min => quote!({
-                    let (a, b): (f64, f64) = (#a, #b);
-                    if a.is_nan() || b.is_nan() { f64::NAN } else { f64::min(a, b) }
-                }),
-                BinaryOp::Max => quote!({
-                    let (a, b): (f64, f64) = (#a, #b);
-                    if a.is_nan() || b.is_nan() { f64::NAN } else { f64::max(a, b) }
-                }),
+                BinaryOp::Call(f) => call2(f, a, b),
             }
+        }
+    }
+}
+
+/// A two-argument built-in, with the value [`Func::apply2`] defines.
+fn call2(f: Func, a: TokenStream, b: TokenStream) -> TokenStream {
+    match f {
+        Func::Pow => quote!(f64::powf(#a, #b)),
+        // NaN propagates, as in `Func::apply2` (f64::min would drop it).
+        Func::Min | Func::Max => {
+            let name = call_name(f);
+            quote!({
+                let (a, b): (f64, f64) = (#a, #b);
+                if a.is_nan() || b.is_nan() { f64::NAN } else { f64::#name(a, b) }
+            })
+        }
+        _ => {
+            let name = call_name(f);
+            quote!(f64::#name(#a, #b))
         }
     }
 }

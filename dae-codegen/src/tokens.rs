@@ -8,7 +8,7 @@
 
 use proc_macro2::{Delimiter, Span, TokenStream, TokenTree};
 
-use crate::ast;
+use dae_lang::ast;
 
 /// Model text rebuilt from tokens, with the way back from byte offsets to token spans.
 #[derive(Debug)]

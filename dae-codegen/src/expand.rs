@@ -1,7 +1,7 @@
 //! Support for the `dae!` and `dae_file!` macros and for build scripts.
 //!
 //! The proc-macro crate `dae-macros` is a thin shim over these functions, so that all
-//! the logic (and its tests) lives here. Errors become `compile_error!`s: for `dae!`
+//! the logic lives here. Errors become `compile_error!`s: for `dae!`
 //! at the span of the offending token, for `dae_file!` at the path literal, with the
 //! rendered diagnostic (file:line:col, source line, hint) as the message.
 
@@ -10,14 +10,16 @@ use std::path::{Path, PathBuf};
 use proc_macro2::{Delimiter, Group, Literal, Span, TokenStream, TokenTree};
 use quote::{quote, quote_spanned};
 
-use crate::diag::Diagnostic;
+use dae_lang::Diagnostic;
+
+use crate::rust::{emit_rust, generate};
 use crate::tokens::TokenSource;
 
 /// Expand `dae! { model ... }`: the generated types, or compile errors at the tokens.
 pub fn expand_dae(input: TokenStream) -> TokenStream {
     let src = TokenSource::new(input);
-    match crate::compile_source(src.text()) {
-        Ok(models) => models.iter().map(crate::codegen::generate).collect(),
+    match dae_lang::compile_source(src.text()) {
+        Ok(models) => models.iter().map(generate).collect(),
         Err(diags) => diags
             .iter()
             .map(|d| {
@@ -46,9 +48,9 @@ pub fn expand_dae_file(input: TokenStream, manifest_dir: &Path) -> TokenStream {
         }
     };
     let abs = path.to_string_lossy().into_owned();
-    match crate::compile_source(&source) {
+    match dae_lang::compile_source(&source) {
         Ok(models) => {
-            let types: TokenStream = models.iter().map(crate::codegen::generate).collect();
+            let types: TokenStream = models.iter().map(generate).collect();
             quote! {
                 const _: &str = ::core::include_str!(#abs);
                 #types
@@ -78,16 +80,12 @@ pub fn compile_file_to_out_dir(path: impl AsRef<Path>) -> Result<PathBuf, String
     let source = std::fs::read_to_string(path)
         .map_err(|e| format!("cannot read `{}`: {e}", path.display()))?;
     let name = path.display().to_string();
-    let models = crate::compile_source(&source).map_err(|ds| {
+    let models = dae_lang::compile_source(&source).map_err(|ds| {
         ds.iter()
             .map(|d| d.render(&name, &source, false))
             .collect::<String>()
     })?;
-    let code: String = models
-        .iter()
-        .map(crate::codegen::emit_rust)
-        .collect::<Vec<_>>()
-        .join("\n");
+    let code: String = models.iter().map(emit_rust).collect::<Vec<_>>().join("\n");
     let stem = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
