@@ -112,13 +112,11 @@ fn z_star_is_the_tension_of_the_constrained_motion_at_every_sample() {
     for k in (0..trace.len()).step_by(50) {
         let (on_manifold, _) =
             chapter5::tension_oracle(&model, trace.times()[k], trace.x(k), THESIS_MU);
-        for i in 0..2 {
-            let zs = trace.z_star(k)[i];
+        for (zs, tension) in trace.z_star(k).iter().zip(on_manifold) {
             assert!(
-                (zs - on_manifold[i]).abs() <= 1e-9 * (1.0 + on_manifold[i].abs()),
-                "t = {}: z* {zs} vs l'' = 0 tension {}",
+                (zs - tension).abs() <= 1e-9 * (1.0 + tension.abs()),
+                "t = {}: z* {zs} vs l'' = 0 tension {tension}",
                 trace.times()[k],
-                on_manifold[i]
             );
         }
     }

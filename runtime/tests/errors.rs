@@ -68,6 +68,12 @@ fn singular_jacobian_names_the_constraint_and_time() {
         .unwrap()
         .run(&mut Trace::new())
         .unwrap_err();
+    // Named as written, not as a debug list (`["track"]`).
+    let text = err.to_string();
+    assert!(
+        text.contains("constraints `track` have") && !text.contains('['),
+        "{text}"
+    );
     match err {
         SimError::SingularJacobian {
             t,

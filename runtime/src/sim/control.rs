@@ -135,11 +135,23 @@ impl Controller {
         })?;
         let zsolver = Solver::new(m, &pattern, SolverChoice::Auto).map_err(bad_pattern)?;
         let offs = w_offsets(r);
-        let mu_pow = r
+        let mu_pow: Vec<f64> = r
             .iter()
             .zip(mu)
             .map(|(&ri, &mi)| mi.powi(ri as i32 - 1))
             .collect();
+        if let Some(i) = (0..m).find(|&i| !(mu_pow[i].is_finite() && mu_pow[i] > 0.0)) {
+            return Err(SimError::Settings {
+                field: "mu",
+                reason: format!(
+                    "{:e} for constraint `{}` of index {}: mu^(r-1) = {:e} is not a usable scale (overflow or underflow)",
+                    mu[i],
+                    model.constraint_name(i),
+                    r[i],
+                    mu_pow[i]
+                ),
+            });
+        }
         let vm = || vec![0.0; m];
         Ok(Self {
             w: vec![0.0; offs[m]],

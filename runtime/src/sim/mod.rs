@@ -540,9 +540,9 @@ impl<M: Model> Simulator<M> {
             }
         }
         let st = &mut self.stats;
-        for i in 0..s.len() {
+        for (i, si) in s.iter().enumerate() {
             let w = self.ctl.residual(i).abs();
-            st.seen_s[i] = st.seen_s[i].max(s[i].abs()).max(self.measure.max_s[i]);
+            st.seen_s[i] = st.seen_s[i].max(si.abs()).max(self.measure.max_s[i]);
             st.seen_w[i] = st.seen_w[i].max(w);
         }
         if was_reached && st.steps > 0 {

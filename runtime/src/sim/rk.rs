@@ -393,8 +393,8 @@ mod tests {
             rk.dense(0.0, &mut out);
             assert_eq!(out, exact(0.1));
             rk.dense(1.0, &mut out);
-            for i in 0..2 {
-                assert!((out[i] - rk.y1[i]).abs() < 1e-15);
+            for (o, y) in out.iter().zip(&rk.y1) {
+                assert!((o - y).abs() < 1e-15);
             }
         }
     }

@@ -86,7 +86,9 @@ impl Loss {
         let mut outside = false;
         for (i, (&s, &e)) in measure.max_s.iter().zip(eps).enumerate() {
             let ratio = s / e;
-            if !(ratio <= 1.0 + tol) {
+            // A NaN ratio counts as outside.
+            let within = ratio <= 1.0 + tol;
+            if !within {
                 outside = true;
                 if self.first.is_none() {
                     // The step's start plus the time inside before leaving.

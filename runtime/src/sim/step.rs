@@ -132,7 +132,9 @@ impl<M: Model> Simulator<M> {
         for i in 0..self.s0.len() {
             let a = self.ctl.s[i].abs();
             self.measure.max_s[i] = a;
-            let beyond = !(a <= (1.0 + self.set.bound_tol) * self.set.eps[i]);
+            // A NaN counts as beyond.
+            let within = a <= (1.0 + self.set.bound_tol) * self.set.eps[i];
+            let beyond = !within;
             self.measure.time_beyond[i] = if beyond { h } else { 0.0 };
         }
     }
@@ -158,8 +160,8 @@ impl<M: Model> Simulator<M> {
         let rk = &mut self.rk;
         match self.set.integrator {
             Integrator::Euler => {
-                for i in 0..x.len() {
-                    rk.y1[i] = x[i] + h * rk.k[0][i];
+                for ((y, x), k) in rk.y1.iter_mut().zip(x).zip(&rk.k[0]) {
+                    *y = x + h * k;
                 }
             }
             _ => {
@@ -239,19 +241,33 @@ impl<M: Model> Simulator<M> {
         };
         let mut rejected_before = false;
         let mut nonfinite = 0;
+        let mut last_nonfinite = None;
         let outcome = loop {
             h = h.min(h_max);
             // No sliver of a step before the end of the piece.
             if remaining - h <= 0.01 * h {
                 h = remaining;
             }
-            if !(h > 16.0 * f64::EPSILON * t0.abs().max(1.0)) {
-                break Err(SimError::StepUnderflow { t: t0, h });
+            let resolvable = h > 16.0 * f64::EPSILON * t0.abs().max(1.0);
+            if !resolvable {
+                // A step shrunk to nothing by non-finite trials is a value that left its
+                // domain (or overflowed): say which.
+                break Err(match last_nonfinite {
+                    Some((i, value)) => SimError::NonFinite {
+                        kind: Quantity::State,
+                        index: i,
+                        name: model.state_name(i).to_string(),
+                        value,
+                        t: t0,
+                    },
+                    None => SimError::StepUnderflow { t: t0, h },
+                });
             }
             let err = self.rk.embedded(pair, &self.x0, h, tol, &mut rhs);
             self.stats.rhs_evals += pair.stages() as u64 - 1;
             if let Some(i) = self.rk.y1.iter().position(|y| !y.is_finite()) {
                 nonfinite += 1;
+                last_nonfinite = Some((i, self.rk.y1[i]));
                 if nonfinite > MAX_NONFINITE_RETRIES {
                     break Err(SimError::NonFinite {
                         kind: Quantity::State,
@@ -354,6 +370,7 @@ impl<M: Model> Simulator<M> {
     fn locate(&mut self, t0: f64) {
         let tol = self.crossing_tol();
         if self.set.policy == Policy::Monitor {
+            let mut cut = false;
             for _ in 0..MAX_CUTS {
                 let h = self.t - t0;
                 let Some(ev) = self.first_event(h) else {
@@ -370,6 +387,7 @@ impl<M: Model> Simulator<M> {
                 }
                 let theta = self.refine(t0, h, &ev, &c, tol * scale);
                 self.cut(t0, t0 + theta * h);
+                cut = true;
                 // An outward motion that starts at an extremum (outside the layer, or on
                 // its boundary where the rate's sign is lost in rounding) asks for an
                 // update at the cut whatever the end-of-step test says; so does a cut
@@ -377,6 +395,9 @@ impl<M: Model> Simulator<M> {
                 if ev.target.is_none() || theta * h <= 1e-9 * h.max(f64::MIN_POSITIVE) {
                     self.run.force_update = true;
                 }
+            }
+            if cut {
+                self.stats.cuts += 1;
             }
         }
         let h = self.t - t0;
@@ -464,7 +485,6 @@ impl<M: Model> Simulator<M> {
     /// Shorten the current step from `t0` to `t_cut`: the dense output (embedded
     /// pairs) or a new step (fixed-step integrators), then the end point evaluated.
     fn cut(&mut self, t0: f64, t_cut: f64) {
-        self.stats.cuts += 1;
         if self.set.integrator.is_adaptive() {
             let th = (t_cut - t0) / self.rk.step_length();
             self.rk.dense(th, &mut self.x);
