@@ -86,3 +86,39 @@ fn z_star_follows_the_true_tension_to_first_order_in_eps() {
         assert!(row[2] < row[0] && row[2] < row[1], "{row:?}");
     }
 }
+
+/// Issue 12's target on the work-precision scene: the designed DBSMC at eps = 1e-3
+/// spends at most 8 f evaluations per control update (the step rule of before, about
+/// 34), holds its layer to 1 %, and its position error is no worse than before.
+#[test]
+fn designed_dbsmc_needs_at_most_eight_f_evaluations_per_update() {
+    use dae_bench::{DbsmcStep, designed_bounds, run_method};
+    let chain = PlanarChain::double_pendulum();
+    let model = DoublePendulum::default();
+    let scene = chain_scene("dp", &model, &chain, &[-FRAC_PI_2, -FRAC_PI_2], 2.0).unwrap();
+    let bounds = designed_bounds(&scene, 1e-3, 1e-3).unwrap();
+    let eps = 1e-3;
+    let now = run_method(
+        &scene,
+        &bounds.dbsmc(eps, Some(DbsmcStep::Adaptive), 1e-3).unwrap(),
+        1,
+    );
+    let before = run_method(&scene, &bounds.dbsmc(eps, None, 1e-3).unwrap(), 1);
+    let per_update = |r: &dae_bench::Record| r.f_evals as f64 / r.updates as f64;
+    eprintln!(
+        "now: {} f / {} updates = {:.2}, pos err {:.3e}, max |s| / eps {:.4}; before: {:.2}, pos err {:.3e}, max |s| / eps {:.4}",
+        now.f_evals,
+        now.updates,
+        per_update(&now),
+        now.pos_err,
+        now.max_s / eps,
+        per_update(&before),
+        before.pos_err,
+        before.max_s / eps
+    );
+    assert!(now.ok && before.ok);
+    assert!(per_update(&now) <= 8.0, "{now:?}");
+    assert!(per_update(&before) > 25.0, "{before:?}");
+    assert!(now.max_s <= 1.01 * eps, "{now:?}");
+    assert!(now.pos_err <= before.pos_err, "{now:?} vs {before:?}");
+}

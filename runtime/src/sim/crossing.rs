@@ -12,6 +12,9 @@
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Cubic {
     a: [f64; 4],
+    /// `0`, the extrema inside `(0, 1)`, `1` (computed once), and how many.
+    breaks: [f64; 4],
+    n_breaks: usize,
 }
 
 /// What ends a step for one sliding variable.
@@ -29,13 +32,17 @@ impl Cubic {
     /// (`ds` are rates in time, `h` the step length).
     pub(crate) fn hermite(s0: f64, ds0: f64, s1: f64, ds1: f64, h: f64) -> Self {
         let (d0, d1) = (h * ds0, h * ds1);
+        let a = [
+            s0,
+            d0,
+            3.0 * (s1 - s0) - 2.0 * d0 - d1,
+            2.0 * (s0 - s1) + d0 + d1,
+        ];
+        let (breaks, n_breaks) = extrema(&a);
         Cubic {
-            a: [
-                s0,
-                d0,
-                3.0 * (s1 - s0) - 2.0 * d0 - d1,
-                2.0 * (s0 - s1) + d0 + d1,
-            ],
+            a,
+            breaks,
+            n_breaks,
         }
     }
 
@@ -51,59 +58,37 @@ impl Cubic {
 
     /// `0`, the extrema inside `(0, 1)` in increasing order, `1`; and how many.
     pub(crate) fn breaks(&self) -> ([f64; 4], usize) {
-        let mut out = [0.0, 1.0, 1.0, 1.0];
-        let mut n = 1;
-        // p' = 3 a3 t^2 + 2 a2 t + a1.
-        let (qa, qb, qc) = (3.0 * self.a[3], 2.0 * self.a[2], self.a[1]);
-        let mut roots = [f64::NAN; 2];
-        let scale = qa.abs().max(qb.abs()).max(qc.abs());
-        if scale > 0.0 {
-            if qa.abs() <= 1e-14 * scale {
-                if qb != 0.0 {
-                    roots[0] = -qc / qb;
-                }
-            } else {
-                let disc = qb * qb - 4.0 * qa * qc;
-                if disc >= 0.0 {
-                    // The numerically stable pair of roots.
-                    let sign = if qb >= 0.0 { 1.0 } else { -1.0 };
-                    let q = -0.5 * (qb + sign * disc.sqrt());
-                    roots[0] = q / qa;
-                    if q != 0.0 {
-                        roots[1] = qc / q;
-                    }
-                }
-            }
-        }
-        if roots[0] > roots[1] {
-            roots.swap(0, 1);
-        }
-        for r in roots {
-            if r > 0.0 && r < 1.0 && r > out[n - 1] {
-                out[n] = r;
-                n += 1;
-            }
-        }
-        out[n] = 1.0;
-        (out, n + 1)
+        (self.breaks, self.n_breaks)
     }
 
     /// The root of `p = level` in `[lo, hi]` where `p - level` changes sign from `lo` to
-    /// `hi` (a monotone piece), by bisection to the last bits.
+    /// `hi` (a monotone piece): Newton steps, bisection whenever a step would leave the
+    /// bracket, to the last bits.
     fn root(&self, level: f64, mut lo: f64, mut hi: f64) -> f64 {
         let below_lo = self.eval(lo) < level;
+        let mut t = 0.5 * (lo + hi);
         for _ in 0..64 {
-            let mid = 0.5 * (lo + hi);
-            if mid <= lo || mid >= hi {
-                break;
+            let r = self.eval(t) - level;
+            if r == 0.0 {
+                return t;
             }
-            if (self.eval(mid) < level) == below_lo {
-                lo = mid;
+            if (r < 0.0) == below_lo {
+                lo = t;
             } else {
-                hi = mid;
+                hi = t;
             }
+            let newton = t - r / self.slope(t);
+            let next = if newton > lo && newton < hi {
+                newton
+            } else {
+                0.5 * (lo + hi)
+            };
+            if (next - t).abs() <= 4.0 * f64::EPSILON * t.abs().max(1e-300) || hi <= lo {
+                return next;
+            }
+            t = next;
         }
-        hi
+        t
     }
 
     /// The first `theta` in `(0, 1]` at which this variable asks for an update: an
@@ -184,6 +169,46 @@ impl Cubic {
     pub(crate) fn rate(&self, t: f64) -> f64 {
         self.slope(t)
     }
+}
+
+/// `0`, the extrema of the cubic with coefficients `a` inside `(0, 1)` in increasing
+/// order, `1`; and how many.
+fn extrema(a: &[f64; 4]) -> ([f64; 4], usize) {
+    let mut out = [0.0, 1.0, 1.0, 1.0];
+    let mut n = 1;
+    // p' = 3 a3 t^2 + 2 a2 t + a1.
+    let (qa, qb, qc) = (3.0 * a[3], 2.0 * a[2], a[1]);
+    let mut roots = [f64::NAN; 2];
+    let scale = qa.abs().max(qb.abs()).max(qc.abs());
+    if scale > 0.0 {
+        if qa.abs() <= 1e-14 * scale {
+            if qb != 0.0 {
+                roots[0] = -qc / qb;
+            }
+        } else {
+            let disc = qb * qb - 4.0 * qa * qc;
+            if disc >= 0.0 {
+                // The numerically stable pair of roots.
+                let sign = if qb >= 0.0 { 1.0 } else { -1.0 };
+                let q = -0.5 * (qb + sign * disc.sqrt());
+                roots[0] = q / qa;
+                if q != 0.0 {
+                    roots[1] = qc / q;
+                }
+            }
+        }
+    }
+    if roots[0] > roots[1] {
+        roots.swap(0, 1);
+    }
+    for r in roots {
+        if r > 0.0 && r < 1.0 && r > out[n - 1] {
+            out[n] = r;
+            n += 1;
+        }
+    }
+    out[n] = 1.0;
+    (out, n + 1)
 }
 
 #[cfg(test)]

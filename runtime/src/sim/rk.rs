@@ -157,36 +157,26 @@ impl Rk {
     ) -> f64 {
         let stages = pair.c.len();
         for s in 1..stages {
-            let a = pair.a[s];
-            for (i, y) in self.ys.iter_mut().enumerate() {
-                let mut acc = 0.0;
-                for (j, aj) in a.iter().enumerate() {
-                    acc += aj * self.k[j][i];
-                }
-                *y = y0[i] + h * acc;
+            self.ys.copy_from_slice(y0);
+            for (j, &aj) in pair.a[s].iter().enumerate() {
+                axpy(&mut self.ys, h * aj, &self.k[j]);
             }
             f(pair.c[s] * h, &self.ys, &mut self.k[s]);
         }
         // FSAL: the last stage's argument is the new solution.
         self.y1.copy_from_slice(&self.ys);
-        for (i, e) in self.err.iter_mut().enumerate() {
-            let mut acc = 0.0;
-            for (j, ej) in pair.e.iter().enumerate() {
-                acc += ej * self.k[j][i];
-            }
-            *e = h * acc;
+        self.err.fill(0.0);
+        for (j, &ej) in pair.e.iter().enumerate() {
+            axpy(&mut self.err, h * ej, &self.k[j]);
         }
         self.y0.copy_from_slice(y0);
         self.h = h;
         self.kind = pair.dense;
         match pair.dense {
             DenseKind::DormandPrince => {
-                for (i, r) in self.r5.iter_mut().enumerate() {
-                    let mut acc = 0.0;
-                    for (j, d) in DP_DENSE.iter().enumerate() {
-                        acc += d * self.k[j][i];
-                    }
-                    *r = h * acc;
+                self.r5.fill(0.0);
+                for (j, &d) in DP_DENSE.iter().enumerate() {
+                    axpy(&mut self.r5, h * d, &self.k[j]);
                 }
             }
             DenseKind::Hermite => {
@@ -240,6 +230,15 @@ impl Rk {
                                 + theta * h * f1[i]);
                 }
             }
+        }
+    }
+}
+
+/// `y += a x` (skipped for `a = 0`: the zero coefficients of the tableaus).
+fn axpy(y: &mut [f64], a: f64, x: &[f64]) {
+    if a != 0.0 {
+        for (y, x) in y.iter_mut().zip(x) {
+            *y += a * x;
         }
     }
 }
