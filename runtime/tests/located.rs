@@ -26,6 +26,8 @@ fn assert_bound<M: Model>(label: &str, model: &M, settings: Settings, sub: usize
     let from = s.reaching_time.expect("reached");
     let max = s.max_abs_s.clone().expect("window entered");
     let fine = independent_max_s(model, &mu, &trace, from, sub);
+    let worst = (0..eps.len()).fold(0.0f64, |w, i| w.max(max[i] / eps[i]).max(fine[i] / eps[i]));
+    eprintln!("{label}: max |s| / eps after reaching {worst:.5} (summary and fine)");
     for i in 0..eps.len() {
         assert!(
             max[i] <= 1.01 * eps[i] && fine[i] <= 1.01 * eps[i],

@@ -12,9 +12,11 @@
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Cubic {
     a: [f64; 4],
-    /// `0`, the extrema inside `(0, 1)`, `1` (computed once), and how many.
+    /// `0`, the extrema inside `(0, 1)`, `1` (computed once), and how many; the values
+    /// there.
     breaks: [f64; 4],
     n_breaks: usize,
+    vals: [f64; 4],
 }
 
 /// What ends a step for one sliding variable.
@@ -39,11 +41,16 @@ impl Cubic {
             2.0 * (s0 - s1) + d0 + d1,
         ];
         let (breaks, n_breaks) = extrema(&a);
-        Cubic {
+        let mut c = Cubic {
             a,
             breaks,
             n_breaks,
+            vals: [0.0; 4],
+        };
+        for k in 0..n_breaks {
+            c.vals[k] = c.eval(breaks[k]);
         }
+        c
     }
 
     pub(crate) fn eval(&self, t: f64) -> f64 {
@@ -100,9 +107,14 @@ impl Cubic {
     pub(crate) fn first_event(&self, watch: Watch) -> Option<f64> {
         let (b, n) = self.breaks();
         let l = watch.level;
+        let v = &self.vals;
+        if watch.surface_from.is_none() && v[..n].iter().all(|p| p.abs() < l) {
+            // Inside the layer all along (the extrema and the ends bound the cubic).
+            return None;
+        }
         for k in 0..n - 1 {
             let (ta, tb) = (b[k], b[k + 1]);
-            let (pa, pb) = (self.eval(ta), self.eval(tb));
+            let (pa, pb) = (v[k], v[k + 1]);
             let mut hit = None;
             if pb > pa {
                 if pa >= l {
@@ -139,21 +151,23 @@ impl Cubic {
 
     /// Largest `|p|` on `[0, 1]`.
     pub(crate) fn max_abs(&self) -> f64 {
-        let (b, n) = self.breaks();
-        b[..n]
+        self.vals[..self.n_breaks]
             .iter()
-            .fold(0.0f64, |m, &t| m.max(self.eval(t).abs()))
+            .fold(0.0f64, |m, p| m.max(p.abs()))
     }
 
     /// Measure of `{theta in [0, 1] : |p(theta)| > level}`.
     pub(crate) fn time_beyond(&self, level: f64) -> f64 {
         let (b, n) = self.breaks();
+        if self.max_abs() <= level {
+            return 0.0;
+        }
         let mut total = 0.0;
         for k in 0..n - 1 {
             let (ta, tb) = (b[k], b[k + 1]);
             for sign in [1.0, -1.0] {
                 // On a monotone piece, {sign p > level} is an interval at one end.
-                let (qa, qb) = (sign * self.eval(ta), sign * self.eval(tb));
+                let (qa, qb) = (sign * self.vals[k], sign * self.vals[k + 1]);
                 total += match (qa > level, qb > level) {
                     (true, true) => tb - ta,
                     (false, false) => 0.0,

@@ -109,6 +109,8 @@ pub struct Simulator<M: Model> {
     sgn_k: Vec<f64>,
     outside_k: Vec<bool>,
     measure: StepMeasure,
+    /// The cubic of each `s_i` over the current step (located crossings).
+    cubics: Vec<crossing::Cubic>,
     stats: Stats,
     run: RunState,
 }
@@ -198,6 +200,7 @@ impl<M: Model> Simulator<M> {
             sgn_k: vm(),
             outside_k: vec![false; m],
             measure: StepMeasure::new(m),
+            cubics: vec![crossing::Cubic::hermite(0.0, 0.0, 0.0, 0.0, 1.0); m],
             stats: Stats::new(m),
             run: RunState {
                 phase: Phase::Idle,

@@ -360,23 +360,27 @@ impl<M: Model> Simulator<M> {
         w
     }
 
-    /// The cubic of `s_i` over the current step `[t0, t0 + h]`.
-    fn cubic(&self, i: usize, h: f64) -> Cubic {
-        Cubic::hermite(self.s0[i], self.ds0[i], self.ctl.s[i], self.ds[i], h)
+    /// The cubics of every `s_i` over the current step `[t0, t0 + h]`, from `s` and `s'`
+    /// at both ends, into `self.cubics`.
+    fn build_cubics(&mut self, h: f64) {
+        for (i, c) in self.cubics.iter_mut().enumerate() {
+            *c = Cubic::hermite(self.s0[i], self.ds0[i], self.ctl.s[i], self.ds[i], h);
+        }
     }
 
     /// Cut the step just taken from `t0` at the first event inside it (monitoring
     /// only), and measure the accepted step on the cubic of each `s_i`.
     fn locate(&mut self, t0: f64) {
         let tol = self.crossing_tol();
+        self.build_cubics(self.t - t0);
         if self.set.policy == Policy::Monitor {
             let mut cut = false;
             for _ in 0..MAX_CUTS {
                 let h = self.t - t0;
-                let Some(ev) = self.first_event(h) else {
+                let Some(ev) = self.first_event() else {
                     break;
                 };
-                let c = self.cubic(ev.i, h);
+                let c = self.cubics[ev.i];
                 // The tolerance is relative to the layer (to eps for the surface).
                 let scale = match ev.target {
                     Some(0.0) => self.set.eps[ev.i],
@@ -388,6 +392,7 @@ impl<M: Model> Simulator<M> {
                 let theta = self.refine(t0, h, &ev, &c, tol * scale);
                 self.cut(t0, t0 + theta * h);
                 cut = true;
+                self.build_cubics(self.t - t0);
                 // An outward motion that starts at an extremum (outside the layer, or on
                 // its boundary where the rate's sign is lost in rounding) asks for an
                 // update at the cut whatever the end-of-step test says; so does a cut
@@ -402,18 +407,16 @@ impl<M: Model> Simulator<M> {
         }
         let h = self.t - t0;
         let bound = 1.0 + self.set.bound_tol;
-        for i in 0..self.s0.len() {
-            let c = self.cubic(i, h);
+        for (i, c) in self.cubics.iter().enumerate() {
             self.measure.max_s[i] = c.max_abs();
             self.measure.time_beyond[i] = c.time_beyond(bound * self.set.eps[i]) * h;
         }
     }
 
-    /// The earliest event of all sliding variables on the step `[t0, t0 + h]`.
-    fn first_event(&self, h: f64) -> Option<Event> {
+    /// The earliest event of all sliding variables on the current step.
+    fn first_event(&self) -> Option<Event> {
         let mut best: Option<Event> = None;
-        for i in 0..self.s0.len() {
-            let c = self.cubic(i, h);
+        for (i, c) in self.cubics.iter().enumerate() {
             let watch = self.watch(i);
             let Some(theta) = c.first_event(watch) else {
                 continue;
