@@ -47,15 +47,14 @@ impl Cubic {
             n_breaks,
             vals: [0.0; 4],
         };
-        for k in 0..n_breaks {
-            c.vals[k] = c.eval(breaks[k]);
+        for (v, &t) in c.vals.iter_mut().zip(&breaks).take(n_breaks) {
+            *v = eval(&a, t);
         }
         c
     }
 
     pub(crate) fn eval(&self, t: f64) -> f64 {
-        let a = &self.a;
-        a[0] + t * (a[1] + t * (a[2] + t * a[3]))
+        eval(&self.a, t)
     }
 
     fn slope(&self, t: f64) -> f64 {
@@ -183,6 +182,11 @@ impl Cubic {
     pub(crate) fn rate(&self, t: f64) -> f64 {
         self.slope(t)
     }
+}
+
+/// The cubic with coefficients `a` at `t` (Horner).
+fn eval(a: &[f64; 4], t: f64) -> f64 {
+    a[0] + t * (a[1] + t * (a[2] + t * a[3]))
 }
 
 /// `0`, the extrema of the cubic with coefficients `a` inside `(0, 1)` in increasing
