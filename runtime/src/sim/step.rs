@@ -52,9 +52,12 @@ impl<M: Model> Simulator<M> {
     /// `J_Omega`, `beta` and `s'`) evaluated at the new point and the step's measures in
     /// `self.measure`.
     pub(super) fn step(&mut self, target: f64) -> Result<(), SimError> {
-        self.s_prev.copy_from_slice(&self.ctl.s);
-        self.s0.copy_from_slice(&self.ctl.s);
-        self.ds0.copy_from_slice(&self.ds);
+        if self.located() {
+            self.s0.copy_from_slice(&self.ctl.s);
+            self.ds0.copy_from_slice(&self.ds);
+        } else {
+            self.s_prev.copy_from_slice(&self.ctl.s);
+        }
         self.x0.copy_from_slice(&self.x);
         self.z0.copy_from_slice(&self.z);
         let t0 = self.t;
@@ -68,8 +71,13 @@ impl<M: Model> Simulator<M> {
             self.adaptive_step(target)?;
         } else {
             let mut t_new = self.grid_time();
-            let aim = t0 + AIM_PAST_CROSSING * self.predicted_crossing();
-            let off_grid = self.located() && self.set.policy == Policy::Monitor && aim < t_new;
+            let aims = self.located() && self.set.policy == Policy::Monitor;
+            let aim = if aims {
+                t0 + AIM_PAST_CROSSING * self.predicted_crossing()
+            } else {
+                f64::INFINITY
+            };
+            let off_grid = aim < t_new;
             if off_grid {
                 // The user's step is the longest: a step aimed past the predicted
                 // crossing is not wasted on motion after it, and its trial end stays
