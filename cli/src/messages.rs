@@ -85,6 +85,10 @@ pub(crate) fn design_error(e: &DesignError, name: Option<&str>) -> String {
             ),
         },
         DesignError::Constraint { source, .. } => design_error(source, name),
+        DesignError::NoInteriorMaximum { .. } => format!(
+            "{e}\n  hint: the guaranteed period has no best mu for these pilot bounds (little or \
+             no drift was measured); give --mu and let the gains be designed"
+        ),
         other => other.to_string(),
     }
 }
