@@ -70,6 +70,7 @@
 mod baseline;
 mod generated;
 mod harness;
+mod particle_methods;
 mod particles;
 mod scenes;
 mod stability;
@@ -82,6 +83,7 @@ pub use harness::{
     BDF_MISSING, CostAxis, DesignedBounds, ErrorAxis, Method, Record, Scene, chart,
     designed_bounds, pilot_beta_bound, run_method, write_csv,
 };
+pub use particle_methods::{IndexOneParticles, Xpbd};
 pub use particles::{Lcg, Particles};
 pub use scenes::{SceneError, TRUTH_TOL, chain_scene, embedded_chain_scene, vertical_plane_map};
 pub use stability::{

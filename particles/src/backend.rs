@@ -48,6 +48,8 @@ pub trait Backend {
     fn advance_to(&mut self, t: f64) -> Result<(), BackendError>;
     /// Current positions of all particles into `out` (`out.len()` particles).
     fn positions(&self, out: &mut [[f64; 3]]);
+    /// Current velocities of all particles into `out`.
+    fn velocities(&self, out: &mut [[f64; 3]]);
     /// Position, velocity and acceleration of particle `k` now (jerk 0 if unknown),
     /// so that a grab can continue the particle's motion.
     fn particle(&self, k: usize) -> Kinematics;

@@ -4,6 +4,7 @@
 
 mod backend;
 mod builders;
+mod dbsmc;
 mod model;
 mod motion;
 mod scene;
@@ -13,6 +14,7 @@ pub use backend::{Backend, BackendError, Counters};
 pub use builders::{
     GridPins, HEAD_RADIUS, STRAND_LENGTH, STRAND_PARTICLE_MASS, chain, grid, grid_index, strands,
 };
+pub use dbsmc::Dbsmc;
 pub use model::{ModelError, ParticleDae, ParticleModel};
 pub use motion::{GrabPath, Kinematics, Motion, Pin, Sway, smoothstep7};
 pub use scene::{FRAME, Frame, Scene, SceneError, WorstStrain};

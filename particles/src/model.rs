@@ -74,6 +74,8 @@ pub trait ParticleDae: Model {
     /// The constraint of the system's link `l`, `None` if the model has none (a link
     /// between two particles pinned when the model was built).
     fn constraint_of_link(&self, l: usize) -> Option<usize>;
+    /// Rest length of constraint `i`'s link (m).
+    fn rest_length(&self, i: usize) -> f64;
     /// Pin particle `k` to `pin` from now on (`None`: release it). The pin takes over
     /// from the particle's current state: its motion should start there.
     fn set_pin(&mut self, k: usize, pin: Option<Pin>) -> Result<(), ModelError>;
@@ -442,6 +444,9 @@ impl ParticleDae for ParticleModel {
     }
     fn constraint_of_link(&self, l: usize) -> Option<usize> {
         self.constraint.get(l).copied().flatten()
+    }
+    fn rest_length(&self, i: usize) -> f64 {
+        self.rest[i]
     }
     fn set_pin(&mut self, k: usize, pin: Option<Pin>) -> Result<(), ModelError> {
         let n = self.mass.len();

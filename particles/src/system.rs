@@ -379,6 +379,20 @@ impl System {
             .sum()
     }
 
+    /// Kinetic plus gravitational potential energy `sum m (v.v / 2 - g.x)` of the
+    /// particles this system leaves free, at the given positions and velocities.
+    pub fn energy(&self, positions: &[[f64; 3]], velocities: &[[f64; 3]]) -> f64 {
+        let g = self.gravity;
+        let mut e = 0.0;
+        for k in 0..self.masses.len() {
+            if self.pins[k].is_none() {
+                let (x, v) = (positions[k], velocities[k]);
+                e += self.masses[k] * (0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) - (g[0] * x[0] + g[1] * x[1] + g[2] * x[2]));
+            }
+        }
+        e
+    }
+
     /// The largest relative strain `|L - L0| / L0` over the links at `positions`, and
     /// the link where it occurs (see [`worst_strain`]).
     pub fn worst_strain(&self, positions: &[[f64; 3]]) -> (f64, usize) {
