@@ -70,6 +70,7 @@
 mod baseline;
 mod generated;
 mod harness;
+mod particle_bench;
 mod particle_methods;
 mod particles;
 mod scenes;
@@ -83,7 +84,11 @@ pub use harness::{
     BDF_MISSING, CostAxis, DesignedBounds, ErrorAxis, Method, Record, Scene, chart,
     designed_bounds, pilot_beta_bound, run_method, write_csv,
 };
-pub use particle_methods::{IndexOneParticles, Xpbd};
+pub use particle_bench::{
+    FrameObserver, Grab, MethodSpec, PILOT_SAFETY, ParticleRecord, ParticleScene, c1, c2, c3, c4,
+    dbsmc_settings, drive_scene, index_one, particle_pilot, run_particle_method,
+};
+pub use particle_methods::{IndexOneParticles, PilotBounds, Xpbd};
 pub use particles::{Lcg, Particles};
 pub use scenes::{SceneError, TRUTH_TOL, chain_scene, embedded_chain_scene, vertical_plane_map};
 pub use stability::{

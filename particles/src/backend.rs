@@ -59,3 +59,35 @@ pub trait Backend {
     /// Work done so far.
     fn counters(&self) -> Counters;
 }
+
+/// A backend borrowed mutably is a backend: a caller can run a [`Scene`](crate::Scene)
+/// on it and keep it afterwards.
+impl<B: Backend + ?Sized> Backend for &mut B {
+    fn name(&self) -> String {
+        (**self).name()
+    }
+    fn n_particles(&self) -> usize {
+        (**self).n_particles()
+    }
+    fn time(&self) -> f64 {
+        (**self).time()
+    }
+    fn advance_to(&mut self, t: f64) -> Result<(), BackendError> {
+        (**self).advance_to(t)
+    }
+    fn positions(&self, out: &mut [[f64; 3]]) {
+        (**self).positions(out)
+    }
+    fn velocities(&self, out: &mut [[f64; 3]]) {
+        (**self).velocities(out)
+    }
+    fn particle(&self, k: usize) -> Kinematics {
+        (**self).particle(k)
+    }
+    fn set_pin(&mut self, k: usize, pin: Option<Pin>) -> Result<(), BackendError> {
+        (**self).set_pin(k, pin)
+    }
+    fn counters(&self) -> Counters {
+        (**self).counters()
+    }
+}

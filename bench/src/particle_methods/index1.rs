@@ -35,9 +35,58 @@ pub struct IndexOneParticles<M: ParticleDae> {
     s: Vec<f64>,
     ah: Vec<f64>,
     counters: Counters,
+    bounds: Option<PilotBounds>,
+}
+
+/// What a pilot run of the index-1 method saw of every constraint, for a DBSMC design:
+/// the largest `|beta_i|` and the largest rate of change `|d beta_i / dt|` (an
+/// estimate of the drift bound `M_i` of the third derivative of `w_i` within a control
+/// interval, T 3.5), both at the step starts, where `z` solves `s = 0`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PilotBounds {
+    /// Largest `|beta_i|`.
+    pub beta: Vec<f64>,
+    /// Largest `|beta_i(t + h) - beta_i(t)| / h`.
+    pub drift: Vec<f64>,
+    prev: Vec<f64>,
+    now: Vec<f64>,
+    prev_t: Option<f64>,
+}
+
+impl PilotBounds {
+    fn new(m: usize) -> Self {
+        Self {
+            beta: vec![0.0; m],
+            drift: vec![0.0; m],
+            prev: vec![0.0; m],
+            now: vec![0.0; m],
+            prev_t: None,
+        }
+    }
+    fn observe<M: ParticleDae>(&mut self, model: &M, t: f64, x: &[f64], z: &[f64]) {
+        model.beta(t, x, z, &mut self.now);
+        for i in 0..self.now.len() {
+            self.beta[i] = self.beta[i].max(self.now[i].abs());
+            if let Some(t0) = self.prev_t {
+                let rate = (self.now[i] - self.prev[i]).abs() / (t - t0);
+                self.drift[i] = self.drift[i].max(rate);
+            }
+        }
+        std::mem::swap(&mut self.prev, &mut self.now);
+        self.prev_t = Some(t);
+    }
 }
 
 impl<M: ParticleDae> IndexOneParticles<M> {
+    /// Track [`PilotBounds`] from now on (one extra `beta` evaluation per step).
+    pub fn track_bounds(mut self) -> Self {
+        self.bounds = Some(PilotBounds::new(self.z.len()));
+        self
+    }
+    /// The bounds tracked so far, if tracking.
+    pub fn bounds(&self) -> Option<&PilotBounds> {
+        self.bounds.as_ref()
+    }
     /// The method on `model` with `steps_per_frame` RK4 steps per frame of 1/60 s and `solver` for
     /// `J_s` (an exact one: `Auto`, `Tree`, `Sparse`, `Dense`).
     pub fn new(model: M, steps_per_frame: u32, solver: SolverChoice) -> Result<Self, String> {
@@ -67,6 +116,7 @@ impl<M: ParticleDae> IndexOneParticles<M> {
             z,
             model,
             counters: Counters::default(),
+            bounds: None,
         })
     }
 
@@ -109,6 +159,9 @@ impl<M: ParticleDae> IndexOneParticles<M> {
     fn step(&mut self, h: f64) -> Result<(), BackendError> {
         let t = self.t;
         self.stage(0, t, false)?;
+        if let Some(b) = self.bounds.as_mut() {
+            b.observe(&self.model, t, &self.x, &self.z);
+        }
         for (stage, c) in [(1, 0.5), (2, 0.5), (3, 1.0)] {
             for i in 0..self.x.len() {
                 self.xs[i] = self.x[i] + c * h * self.k[stage - 1][i];

@@ -5,5 +5,5 @@
 mod index1;
 mod xpbd;
 
-pub use index1::IndexOneParticles;
+pub use index1::{IndexOneParticles, PilotBounds};
 pub use xpbd::Xpbd;

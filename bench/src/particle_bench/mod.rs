@@ -1,0 +1,11 @@
+//! The particle benchmark of docs/particles.md: scenes C1-C4, every method through the
+//! [`dae_particles::Backend`] seam, the metrics, the CSV, the charts and the pictures.
+
+mod run;
+mod scenes;
+
+pub use run::{
+    FrameObserver, MethodSpec, PILOT_SAFETY, ParticleRecord, dbsmc_settings, drive_scene,
+    index_one, particle_pilot, run_particle_method,
+};
+pub use scenes::{Grab, ParticleScene, c1, c2, c3, c4};
