@@ -102,11 +102,26 @@ pub fn grid_index(w: usize, ix: usize, iy: usize) -> usize {
     iy * w + ix
 }
 
+/// Slack of the far edge between two pinned corners ([`GridPins::Corners`] and
+/// [`GridPins::CornersHeavy`]): its arc is this much longer than the 1 m between the
+/// corners.
+///
+/// Without it the edge is a straight run of rigid links between two fixed points: its
+/// `w - 1` links have `w - 2` free particles between them, so their rows of `J_Omega`
+/// are dependent (the tension along a taut straight line is undetermined) and no
+/// transverse load can be carried without infinite tension. Every method that solves
+/// for the tensions (DBSMC, the index-1 method) rejects that configuration; with this
+/// slack the edge starts as a circular arc sagging `sqrt(3 slack / 8)` (1.9 cm) below
+/// the plane.
+pub const FAR_EDGE_SLACK: f64 = 1e-3;
+
 /// C3: a `w x w` cloth on `[0, 1]^2` at `z = 0`, total mass 0.5 kg, structural links
 /// between neighbours along `x` and along `y` (`2 w (w - 1)` links), with `shear` the
 /// two diagonals of every cell as well (`2 (w - 1)^2` more, listed after the structural
 /// ones), held as `pins` says. Particle [`grid_index`]`(w, ix, iy)` starts at
-/// `(ix, iy) / (w - 1)`.
+/// `(ix, iy) / (w - 1)`, except that with two pinned corners the far edge (`iy = w - 1`)
+/// sags on an arc [`FAR_EDGE_SLACK`] longer than the distance between them (the rest
+/// lengths are the initial distances, so the start is on the constraint manifold).
 pub fn grid(w: usize, pins: GridPins, shear: bool) -> Result<System, SystemError> {
     need("w", w as f64, w >= 2, ">= 2")?;
     let h = 1.0 / (w - 1) as f64;
@@ -114,6 +129,24 @@ pub fn grid(w: usize, pins: GridPins, shear: bool) -> Result<System, SystemError
     for iy in 0..w {
         for ix in 0..w {
             positions.push([ix as f64 * h, iy as f64 * h, 0.0]);
+        }
+    }
+    if pins != GridPins::Edge {
+        // Half-angle phi of the arc: phi / sin(phi) = 1 + slack, by Newton from the
+        // small-angle value.
+        let target = 1.0 + FAR_EDGE_SLACK;
+        let mut phi = (6.0 * FAR_EDGE_SLACK).sqrt();
+        for _ in 0..20 {
+            let f = phi / phi.sin() - target;
+            let df = (phi.sin() - phi * phi.cos()) / (phi.sin() * phi.sin());
+            phi -= f / df;
+        }
+        let radius = 0.5 / phi.sin();
+        for ix in 0..w {
+            let theta = -phi + 2.0 * phi * ix as f64 / (w - 1) as f64;
+            let p = &mut positions[grid_index(w, ix, w - 1)];
+            p[0] = 0.5 + radius * theta.sin();
+            p[2] = -radius * (theta.cos() - phi.cos());
         }
     }
     let at = |ix, iy| grid_index(w, ix, iy);
@@ -206,6 +239,20 @@ mod tests {
     }
 
     #[test]
+    fn the_far_edge_between_pinned_corners_has_its_slack() {
+        let w = 16;
+        let s = grid(w, GridPins::Corners, false).unwrap();
+        let edge: f64 = (0..w - 1)
+            .map(|ix| distance(s.positions()[grid_index(w, ix, w - 1)], s.positions()[grid_index(w, ix + 1, w - 1)]))
+            .sum();
+        // The chords of the arc are a little shorter than the arc itself.
+        assert!((edge - 1.0 - FAR_EDGE_SLACK).abs() < 1e-5, "{edge}");
+        let mid = s.positions()[grid_index(w, w / 2, w - 1)];
+        assert!((mid[2] + (3.0 * FAR_EDGE_SLACK / 8.0).sqrt()).abs() < 1e-3, "{mid:?}");
+        assert_eq!(s.positions()[grid_index(w, w - 1, w - 1)], [1.0, 1.0, 0.0]);
+    }
+
+    #[test]
     fn grids_have_the_stated_links_mass_and_pins() {
         let s = grid(64, GridPins::Corners, false).unwrap();
         assert_eq!(s.links().len(), 8064);
@@ -213,7 +260,8 @@ mod tests {
         assert!((total - 0.5).abs() < 1e-12);
         let pinned: Vec<usize> = (0..s.n_particles()).filter(|&k| s.pins()[k].is_some()).collect();
         assert_eq!(pinned, vec![grid_index(64, 0, 63), grid_index(64, 63, 63)]);
-        assert_eq!(s.positions()[grid_index(64, 63, 63)], [1.0, 1.0, 0.0]);
+        let corner = s.positions()[grid_index(64, 63, 63)];
+        assert!(distance(corner, [1.0, 1.0, 0.0]) < 1e-12, "{corner:?}");
         rest_lengths_hold(&s);
 
         let e = grid(32, GridPins::Edge, false).unwrap();

@@ -12,7 +12,7 @@ mod system;
 
 pub use backend::{Backend, BackendError, Counters};
 pub use builders::{
-    GridPins, HEAD_RADIUS, STRAND_LENGTH, STRAND_PARTICLE_MASS, chain, grid, grid_index, strands,
+    FAR_EDGE_SLACK, GridPins, HEAD_RADIUS, STRAND_LENGTH, STRAND_PARTICLE_MASS, chain, grid, grid_index, strands,
 };
 pub use dbsmc::Dbsmc;
 pub use model::{ModelError, ParticleDae, ParticleModel};

@@ -36,7 +36,7 @@ pub enum ModelError {
     NoConstraint,
     /// `J_Omega` is singular at the start (dependent links, e.g. a closed loop of
     /// collinear links), so no consistent tensions exist.
-    #[error("J_Omega is singular at the start ({0}): remove redundant links")]
+    #[error("J_Omega is singular at the start ({0}): remove redundant links; a straight run of links between two pinned particles at its full length (a taut edge between pinned corners) is dependent too: give it slack")]
     Singular(String),
     /// A particle index is out of range.
     #[error("particle {particle} does not exist ({particles} particles)")]

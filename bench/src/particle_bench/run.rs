@@ -196,13 +196,14 @@ pub fn index_one(scene: &ParticleScene, steps_per_frame: u32) -> Result<IndexOne
     IndexOneParticles::new(model, steps_per_frame, SolverChoice::Auto)
 }
 
-/// Pilot bounds of every constraint from an index-1 run of the whole scene at
-/// `steps_per_frame`, and that run's record.
-pub fn particle_pilot(scene: &ParticleScene, steps_per_frame: u32) -> Result<(PilotBounds, ParticleRecord), String> {
+/// Pilot bounds of every constraint from an index-1 run of the scene at
+/// `steps_per_frame` (the whole scene, or as much as `budget` allows: the record says
+/// how many frames), and that run's record.
+pub fn particle_pilot(scene: &ParticleScene, steps_per_frame: u32, budget: Duration) -> Result<(PilotBounds, ParticleRecord), String> {
     let spec = MethodSpec::IndexOne(steps_per_frame);
     let mut backend = index_one(scene, steps_per_frame)?.track_bounds();
-    let rec = drive_scene(scene, &spec, &mut backend, Duration::from_secs(3600), None, None);
-    if !rec.complete() {
+    let rec = drive_scene(scene, &spec, &mut backend, budget, None, None);
+    if !(rec.complete() || rec.status == "budget") {
         return Err(format!("pilot {}: {}", spec.knob(), rec.status));
     }
     let bounds = backend.bounds().cloned().ok_or("pilot produced no bounds")?;
