@@ -63,7 +63,7 @@ where
         let (a, b) = (ps[l.a], ps[l.b]);
         let strain = (distance(a, b) - l.rest).abs() / l.rest;
         let c = strain_colour(strain, scale);
-        area.draw(&PathElement::new(vec![px(a), px(b)], c.stroke_width(1))).map_err(|e| e.to_string())?;
+        area.draw(&PathElement::new(vec![px(a), px(b)], c.stroke_width(2))).map_err(|e| e.to_string())?;
     }
     Ok(())
 }

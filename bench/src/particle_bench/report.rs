@@ -208,7 +208,7 @@ mod tests {
     #[test]
     fn csv_has_the_required_columns_first_and_one_row_per_run() {
         let records = vec![
-            rec("dbsmc-auto", "eps=1e-3", Some(1e-3), 9e-4, 0.5, "ok"),
+            rec("dbsmc", "eps=1e-3", Some(1e-3), 9e-4, 0.5, "ok"),
             rec("xpbd-substeps", "k=16", None, 6e-3, 0.01, "failed: x, \"y\""),
         ];
         let mut out = Vec::new();
@@ -219,7 +219,7 @@ mod tests {
         assert!(lines[0].starts_with("scene,size,method,knob,eps,worst_strain,ms_per_frame_mean,ms_per_frame_max,"));
         let head: Vec<&str> = lines[0].split(',').collect();
         assert_eq!(head.len(), CSV_COLUMNS.len());
-        assert!(lines[1].starts_with("C1,10,dbsmc-auto,eps=1e-3,1e-3,9e-4,5e-1,1e0,"));
+        assert!(lines[1].starts_with("C1,10,dbsmc,eps=1e-3,1e-3,9e-4,5e-1,1e0,"));
         assert!(lines[1].contains(",ok,true,"));
         // Methods without a bound leave eps and bound_held empty; quoting keeps commas.
         assert!(lines[2].starts_with("C1,10,xpbd-substeps,k=16,,6e-3,"));

@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 
 use dae_particles::{Backend, Counters, Dbsmc, FRAME, ParticleModel, Scene};
 use dae_runtime::{
-    AlphaChoice, ConstraintSpec, GainChoice, LayerBound, Model, MuSearch, Settings, SolverChoice, design,
+    AlphaChoice, ConstraintSpec, Integrator, GainChoice, LayerBound, Model, MuSearch, Settings, SolverChoice, design,
 };
 
 use super::scenes::ParticleScene;
@@ -21,6 +21,8 @@ pub enum MethodSpec {
         eps: f64,
         /// The `J_s` solver.
         solver: SolverChoice,
+        /// The integrator of the states between updates.
+        integrator: Integrator,
     },
     /// XPBD small steps: `k` substeps of one iteration per frame.
     XpbdSubsteps(u32),
@@ -34,7 +36,16 @@ impl MethodSpec {
     /// The method's name in reports.
     pub fn method(&self) -> String {
         match self {
-            MethodSpec::Dbsmc { solver, .. } => format!("dbsmc-{solver}"),
+            MethodSpec::Dbsmc { solver, integrator, .. } => {
+                let mut name = String::from("dbsmc");
+                if *integrator == Integrator::Euler {
+                    name += "-euler";
+                }
+                if *solver != SolverChoice::Auto {
+                    name += &format!("-{solver}");
+                }
+                name
+            }
             MethodSpec::XpbdSubsteps(_) => "xpbd-substeps".into(),
             MethodSpec::XpbdIterations(_) => "xpbd-iterations".into(),
             MethodSpec::IndexOne(_) => "index1-rk4".into(),
@@ -285,7 +296,7 @@ pub fn run_particle_method(
             Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
             Err(e) => failed(e),
         },
-        MethodSpec::Dbsmc { eps, solver } => {
+        MethodSpec::Dbsmc { eps, solver, integrator } => {
             let Some(bounds) = bounds else {
                 return failed("no pilot bounds for the design".into());
             };
@@ -294,7 +305,7 @@ pub fn run_particle_method(
                 Err(e) => return failed(e.to_string()),
             };
             let (settings, t_min) = match dbsmc_settings(&model, bounds, eps, solver) {
-                Ok(s) => s,
+                Ok((s, t)) => (s.integrator(integrator), t),
                 Err(e) => return failed(e),
             };
             let step = settings.step;
