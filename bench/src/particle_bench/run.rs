@@ -113,8 +113,10 @@ impl ParticleRecord {
 /// What [`drive_scene`] observes at each frame: the frame number and positions.
 pub type FrameObserver<'a> = &'a mut dyn FnMut(u64, &[[f64; 3]]);
 
-/// Run `backend` on `scene` for its duration or until `budget` is spent, calling
-/// `observe` after every frame (outside the timed part).
+/// Run `backend` on `scene` for its duration, calling `observe` after every frame
+/// (outside the timed part). A run stops early (status `budget`, with the frames it
+/// ran measured) once it has spent `budget`, or a tenth of it while the projected time
+/// of the whole scene exceeds `budget`.
 pub fn drive_scene<B: Backend>(
     scene: &ParticleScene,
     spec: &MethodSpec,
@@ -181,7 +183,11 @@ pub fn drive_scene<B: Backend>(
                 rec.pos_err = Some(dae_particles::distance(sc.positions()[scene.tracked], *r));
             }
         }
-        if clock.elapsed() > budget && f < frames_total {
+        // After a probe of a tenth of the budget, stop a run whose projected total
+        // would exceed the budget: it is measured, not completed.
+        let spent = clock.elapsed();
+        let projected = spent.as_secs_f64() * frames_total as f64 / f as f64;
+        if f < frames_total && (spent > budget || (spent > budget / 10 && projected > budget.as_secs_f64())) {
             rec.status = "budget".into();
             break;
         }
