@@ -17,9 +17,9 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use dae_bench::{
-    Capture, MethodSpec, bound_held, ParticleRecord, ParticleScene, c1, c2, c3, c4, cheapest, cheapest_table,
-    drive_scene, index_one, particle_pilot, ratio_chart, run_particle_method, size_line,
-    stability_table, strain_chart, write_particles_csv, write_pictures,
+    Capture, MethodSpec, ParticleRecord, ParticleScene, bound_held, c1, c2, c3, c4, cheapest,
+    cheapest_table, drive_scene, index_one, particle_pilot, ratio_chart, run_particle_method,
+    size_line, stability_table, strain_chart, write_particles_csv, write_pictures,
 };
 use dae_particles::GridPins;
 use dae_runtime::{Integrator, SolverChoice};
@@ -44,7 +44,9 @@ fn options() -> Result<Options, String> {
             "--large" => o.large = true,
             "--budget" => {
                 let v = args.next().ok_or("--budget needs a number of seconds")?;
-                let s: f64 = v.parse().map_err(|_| format!("--budget {v}: not a number"))?;
+                let s: f64 = v
+                    .parse()
+                    .map_err(|_| format!("--budget {v}: not a number"))?;
                 o.budget = Duration::from_secs_f64(s);
             }
             "--only" => o.only = Some(args.next().ok_or("--only needs a text")?),
@@ -58,7 +60,11 @@ fn options() -> Result<Options, String> {
 fn scenes(large: bool) -> Result<Vec<ParticleScene>, String> {
     let e = |x: dae_particles::SystemError| x.to_string();
     let mut v = Vec::new();
-    let chains: &[usize] = if large { &[10, 100, 1000, 10000] } else { &[10, 100] };
+    let chains: &[usize] = if large {
+        &[10, 100, 1000, 10000]
+    } else {
+        &[10, 100]
+    };
     for &n in chains {
         for r in [1.0, 1e2, 1e4] {
             v.push(c1(n, r).map_err(e)?);
@@ -88,7 +94,9 @@ fn scenes(large: bool) -> Result<Vec<ParticleScene>, String> {
 /// The settings swept per method, cheapest first.
 fn sweeps() -> Vec<Vec<MethodSpec>> {
     vec![
-        [1, 4, 16, 64, 256, 1024].map(MethodSpec::XpbdSubsteps).to_vec(),
+        [1, 4, 16, 64, 256, 1024]
+            .map(MethodSpec::XpbdSubsteps)
+            .to_vec(),
         [4, 16, 64, 256].map(MethodSpec::XpbdIterations).to_vec(),
         [4, 16, 64, 256].map(MethodSpec::IndexOne).to_vec(),
         [1e-2, 1e-3, 1e-4]
@@ -120,7 +128,14 @@ fn position_at_1s(scene: &ParticleScene, steps_per_frame: u32) -> Option<[f64; 3
             at = Some(p[scene.tracked]);
         }
     };
-    let r = drive_scene(&short, &MethodSpec::IndexOne(steps_per_frame), backend, Duration::from_secs(600), None, Some(&mut obs));
+    let r = drive_scene(
+        &short,
+        &MethodSpec::IndexOne(steps_per_frame),
+        backend,
+        Duration::from_secs(600),
+        None,
+        Some(&mut obs),
+    );
     if r.complete() { at } else { None }
 }
 
@@ -161,7 +176,11 @@ fn main() {
             std::process::exit(1);
         }
     };
-    for scene in all.iter().filter(|s| o.only.as_ref().is_none_or(|t| s.title().contains(t.as_str()))) {
+    for scene in all.iter().filter(|s| {
+        o.only
+            .as_ref()
+            .is_none_or(|t| s.title().contains(t.as_str()))
+    }) {
         println!("{} ({} links)", scene.title(), scene.size());
         // The reference (N <= 100) and its own error: the index-1 method at two steps.
         let mut reference = None;
@@ -179,7 +198,10 @@ fn main() {
         for spf in [64, 256, 1024] {
             match particle_pilot(scene, spf, o.budget * 3) {
                 Ok((b, r)) => {
-                    pilot_note = format!("pilot index-1 {} steps/frame over {}/{} frames", spf, r.frames, r.frames_total);
+                    pilot_note = format!(
+                        "pilot index-1 {} steps/frame over {}/{} frames",
+                        spf, r.frames, r.frames_total
+                    );
                     bounds = Some(b);
                     break;
                 }
@@ -190,7 +212,14 @@ fn main() {
         println!("  {pilot_note}");
         for sweep in sweeps() {
             for spec in sweep {
-                let mut r = run_particle_method(scene, &spec, bounds.as_ref(), o.budget, reference.as_ref(), None);
+                let mut r = run_particle_method(
+                    scene,
+                    &spec,
+                    bounds.as_ref(),
+                    o.budget,
+                    reference.as_ref(),
+                    None,
+                );
                 if matches!(spec, MethodSpec::Dbsmc { .. }) && bounds.is_none() {
                     r.status = format!("failed: {pilot_note}");
                 }
@@ -203,7 +232,12 @@ fn main() {
         let title = scene.title();
         let dbsmc = records
             .iter()
-            .filter(|r| format!("{} {}", r.scene, r.variant) == title && r.method == "dbsmc" && r.complete() && bound_held(r) == Some(true))
+            .filter(|r| {
+                format!("{} {}", r.scene, r.variant) == title
+                    && r.method == "dbsmc"
+                    && r.complete()
+                    && bound_held(r) == Some(true)
+            })
             .map(|r| r.eps.unwrap_or(1e-2))
             .fold(None, |a: Option<f64>, e| Some(a.map_or(e, |a| a.max(e))));
         let mut shots: Vec<(MethodSpec, f64)> = Vec::new();
@@ -217,7 +251,11 @@ fn main() {
                 eps,
             ));
         } else if let Some(r) = cheapest(&records, &title, "index1-rk4", 1e-2) {
-            let spf: u32 = r.knob.trim_start_matches("steps/frame=").parse().unwrap_or(64);
+            let spf: u32 = r
+                .knob
+                .trim_start_matches("steps/frame=")
+                .parse()
+                .unwrap_or(64);
             shots.push((MethodSpec::IndexOne(spf), 1e-2));
         }
         shots.push((MethodSpec::XpbdSubsteps(16), 1e-2));
@@ -228,21 +266,48 @@ fn main() {
                     capture.push((f, p.to_vec()));
                 }
             };
-            let r = run_particle_method(scene, &spec, bounds.as_ref(), Duration::from_secs(600), reference.as_ref(), Some(&mut obs));
+            let r = run_particle_method(
+                scene,
+                &spec,
+                bounds.as_ref(),
+                Duration::from_secs(600),
+                reference.as_ref(),
+                Some(&mut obs),
+            );
             let stem = format!("{}_{}", scene.stem(), spec.method());
-            match write_pictures(&pictures, &stem, scene.system.links(), &capture, &[0, 60, 150, 300], 83, scale) {
+            match write_pictures(
+                &pictures,
+                &stem,
+                scene.system.links(),
+                &capture,
+                &[0, 60, 150, 300],
+                83,
+                scale,
+            ) {
                 Ok(files) => println!("  pictures {} ({}): {}", stem, r.status, files.join(", ")),
                 Err(e) => println!("  pictures {stem}: {e}"),
             }
         }
     }
-    let methods: Vec<String> = ["dbsmc", "dbsmc-euler", "index1-rk4", "xpbd-substeps", "xpbd-iterations"].map(String::from).to_vec();
+    let methods: Vec<String> = [
+        "dbsmc",
+        "dbsmc-euler",
+        "index1-rk4",
+        "xpbd-substeps",
+        "xpbd-iterations",
+    ]
+    .map(String::from)
+    .to_vec();
     let csv = o.dir.join("particles.csv");
-    if let Err(e) = std::fs::File::create(&csv).and_then(|f| write_particles_csv(&records, std::io::BufWriter::new(f))) {
+    if let Err(e) = std::fs::File::create(&csv)
+        .and_then(|f| write_particles_csv(&records, std::io::BufWriter::new(f)))
+    {
         eprintln!("particles: {}: {e}", csv.display());
         std::process::exit(1);
     }
-    let mut md = String::from("# Particle benchmark: tables\n\nGenerated by `cargo run --release -p dae-bench --example particles`.\n\n## Cheapest setting holding a worst strain (complete runs)\n\n");
+    let mut md = String::from(
+        "# Particle benchmark: tables\n\nGenerated by `cargo run --release -p dae-bench --example particles`.\n\n## Cheapest setting holding a worst strain (complete runs)\n\n",
+    );
     md += &cheapest_table(&records, &methods);
     md += "\n## Stability\n\n";
     md += &stability_table(&records);
@@ -255,33 +320,71 @@ fn main() {
         }
     }
     for t in &titles {
-        let stem = records.iter().find(|r| &format!("{} {}", r.scene, r.variant) == t).map(|r| {
-            let mut s = format!("{}_{}", r.scene, r.variant).to_lowercase();
-            s.retain(|c| c.is_ascii_alphanumeric() || c == '_' || c == ' ');
-            s.replace(' ', "_")
-        });
+        let stem = records
+            .iter()
+            .find(|r| &format!("{} {}", r.scene, r.variant) == t)
+            .map(|r| {
+                let mut s = format!("{}_{}", r.scene, r.variant).to_lowercase();
+                s.retain(|c| c.is_ascii_alphanumeric() || c == '_' || c == ' ');
+                s.replace(' ', "_")
+            });
         if let Some(stem) = stem {
-            if let Err(e) = strain_chart(&records, t, &methods, &pictures.join(format!("{stem}_strain.svg"))) {
+            if let Err(e) = strain_chart(
+                &records,
+                t,
+                &methods,
+                &pictures.join(format!("{stem}_strain.svg")),
+            ) {
                 println!("chart {t}: {e}");
             }
         }
     }
     md += "\n## Cost against size (fitted exponents of mean cost per frame against links)\n\n| family | method | setting | exponent |\n|---|---|---|---|\n";
-    let chains: Vec<String> = titles.iter().filter(|t| t.starts_with("C1") && t.ends_with("r=1")).cloned().collect();
-    let cloth: Vec<String> = titles.iter().filter(|t| t.starts_with("C3") && t.ends_with("(a)")).cloned().collect();
+    let chains: Vec<String> = titles
+        .iter()
+        .filter(|t| t.starts_with("C1") && t.ends_with("r=1"))
+        .cloned()
+        .collect();
+    let cloth: Vec<String> = titles
+        .iter()
+        .filter(|t| t.starts_with("C3") && t.ends_with("(a)"))
+        .cloned()
+        .collect();
     let mut lines = Vec::new();
     for (family, ts) in [("chains C1 r=1", &chains), ("cloth C3 (a)", &cloth)] {
-        for (m, k) in [("dbsmc", "eps=1e-2"), ("dbsmc", "eps=1e-3"), ("dbsmc-euler", "eps=1e-2"), ("index1-rk4", "steps/frame=64"), ("xpbd-substeps", "k=64"), ("xpbd-iterations", "n=64")] {
+        for (m, k) in [
+            ("dbsmc", "eps=1e-2"),
+            ("dbsmc", "eps=1e-3"),
+            ("dbsmc-euler", "eps=1e-2"),
+            ("index1-rk4", "steps/frame=64"),
+            ("xpbd-substeps", "k=64"),
+            ("xpbd-iterations", "n=64"),
+        ] {
             let (line, exp) = size_line(&records, ts, m, k, &format!("{family} {m} {k}"));
-            md += &format!("| {family} | {m} | {k} | {} |\n", exp.map_or("-".into(), |p| format!("{p:.2}")));
+            md += &format!(
+                "| {family} | {m} | {k} | {} |\n",
+                exp.map_or("-".into(), |p| format!("{p:.2}"))
+            );
             lines.push(line);
         }
     }
-    if let Err(e) = dae_bench::loglog(&pictures.join("cost_vs_size.svg"), "mean cost per frame against links (fixed settings)", "links", "ms per frame", &lines) {
+    if let Err(e) = dae_bench::loglog(
+        &pictures.join("cost_vs_size.svg"),
+        "mean cost per frame against links (fixed settings)",
+        "links",
+        "ms per frame",
+        &lines,
+    ) {
         println!("chart cost vs size: {e}");
     }
     for n in [10, 100, 1000] {
-        if let Err(e) = ratio_chart(&records, n, 1e-3, &methods, &pictures.join(format!("c1_n{n}_hold_1e-3_vs_ratio.svg"))) {
+        if let Err(e) = ratio_chart(
+            &records,
+            n,
+            1e-3,
+            &methods,
+            &pictures.join(format!("c1_n{n}_hold_1e-3_vs_ratio.svg")),
+        ) {
             println!("chart ratio N={n}: {e}");
         }
     }
@@ -293,5 +396,11 @@ fn main() {
         eprintln!("particles: tables: {e}");
         std::process::exit(1);
     }
-    println!("{} runs in {:.0} s; wrote {} and {}", records.len(), clock.elapsed().as_secs_f64(), csv.display(), o.dir.join("particles_tables.md").display());
+    println!(
+        "{} runs in {:.0} s; wrote {} and {}",
+        records.len(),
+        clock.elapsed().as_secs_f64(),
+        csv.display(),
+        o.dir.join("particles_tables.md").display()
+    );
 }

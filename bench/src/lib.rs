@@ -88,8 +88,8 @@ pub use particle_bench::{
     CSV_COLUMNS, Capture, FrameObserver, Grab, Line, MethodSpec, PILOT_SAFETY, ParticleRecord,
     ParticleScene, bound_held, c1, c2, c3, c4, cheapest, cheapest_table, dbsmc_settings,
     drive_scene, fitted_exponent, index_one, loglog, particle_pilot, ratio_chart,
-    run_particle_method, size_line, stability_table, strain_chart, strain_colour, write_pictures,
-    write_particles_csv,
+    run_particle_method, size_line, stability_table, strain_chart, strain_colour,
+    write_particles_csv, write_pictures,
 };
 pub use particle_methods::{IndexOneParticles, PilotBounds, Xpbd};
 pub use particles::{Lcg, Particles};

@@ -71,14 +71,21 @@ fn particle_model_matches_the_generated_planar_chain_at_random_points() {
         ours.beta(0.2, &xo, &z, &mut bo);
         let close = |what: &str, a: &[f64], b: &[f64]| {
             for (i, (p, q)) in a.iter().zip(b).enumerate() {
-                assert!((p - q).abs() <= 1e-10 * (1.0 + q.abs()), "{what}[{i}]: particles {p} vs generated {q}");
+                assert!(
+                    (p - q).abs() <= 1e-10 * (1.0 + q.abs()),
+                    "{what}[{i}]: particles {p} vs generated {q}"
+                );
             }
         };
         for k in 0..5 {
             let p = k + 1;
             let mapped = [fo[6 * p], fo[6 * p + 1], fo[6 * p + 3], fo[6 * p + 4]];
             close("f", &mapped, &fg[4 * k..4 * k + 4]);
-            assert_eq!((fo[6 * p + 2], fo[6 * p + 5]), (0.0, 0.0), "out of the plane");
+            assert_eq!(
+                (fo[6 * p + 2], fo[6 * p + 5]),
+                (0.0, 0.0),
+                "out of the plane"
+            );
         }
         close("w", &wo, &wg);
         close("s", &so, &sg);
@@ -94,7 +101,10 @@ fn end_after<B: Backend>(sys: &System, backend: B, frames: u64) -> ([f64; 3], f6
     for _ in 0..frames {
         scene.step().unwrap();
     }
-    (scene.positions()[sys.n_particles() - 1], scene.worst_strain().strain)
+    (
+        scene.positions()[sys.n_particles() - 1],
+        scene.worst_strain().strain,
+    )
 }
 
 fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
@@ -106,12 +116,34 @@ fn index_one_converges_to_the_reference_on_a_tiny_chain() {
     let sys = chain(3, 1.0).unwrap();
     let model = || ParticleModel::new(&sys).unwrap();
     let frames = 12;
-    let (reference, _) = end_after(&sys, IndexOneParticles::new(model(), 256, SolverChoice::Auto).unwrap(), frames);
-    let (check, _) = end_after(&sys, IndexOneParticles::new(model(), 512, SolverChoice::Auto).unwrap(), frames);
-    assert!(dist(reference, check) < 1e-7, "the reference itself: {}", dist(reference, check));
+    let (reference, _) = end_after(
+        &sys,
+        IndexOneParticles::new(model(), 256, SolverChoice::Auto).unwrap(),
+        frames,
+    );
+    let (check, _) = end_after(
+        &sys,
+        IndexOneParticles::new(model(), 512, SolverChoice::Auto).unwrap(),
+        frames,
+    );
+    assert!(
+        dist(reference, check) < 1e-7,
+        "the reference itself: {}",
+        dist(reference, check)
+    );
     let errors: Vec<f64> = [4, 16, 64]
         .iter()
-        .map(|&spf| dist(end_after(&sys, IndexOneParticles::new(model(), spf, SolverChoice::Auto).unwrap(), frames).0, reference))
+        .map(|&spf| {
+            dist(
+                end_after(
+                    &sys,
+                    IndexOneParticles::new(model(), spf, SolverChoice::Auto).unwrap(),
+                    frames,
+                )
+                .0,
+                reference,
+            )
+        })
         .collect();
     assert!(errors[0] > errors[1] && errors[1] > errors[2], "{errors:?}");
     assert!(errors[2] < 1e-5, "{errors:?}");
@@ -121,8 +153,15 @@ fn index_one_converges_to_the_reference_on_a_tiny_chain() {
 fn xpbd_stretch_decreases_with_substeps_and_positions_approach_the_reference() {
     let sys = chain(3, 1.0).unwrap();
     let frames = 12;
-    let (reference, _) = end_after(&sys, IndexOneParticles::new(ParticleModel::new(&sys).unwrap(), 256, SolverChoice::Auto).unwrap(), frames);
-    let runs: Vec<([f64; 3], f64)> = [1, 4, 16, 64].iter().map(|&k| end_after(&sys, Xpbd::new(&sys, k, 1).unwrap(), frames)).collect();
+    let (reference, _) = end_after(
+        &sys,
+        IndexOneParticles::new(ParticleModel::new(&sys).unwrap(), 256, SolverChoice::Auto).unwrap(),
+        frames,
+    );
+    let runs: Vec<([f64; 3], f64)> = [1, 4, 16, 64]
+        .iter()
+        .map(|&k| end_after(&sys, Xpbd::new(&sys, k, 1).unwrap(), frames))
+        .collect();
     for w in runs.windows(2) {
         assert!(w[1].1 < w[0].1, "stretch must fall with substeps: {runs:?}");
     }
@@ -147,13 +186,31 @@ fn dbsmc_keeps_its_bound_on_a_tiny_chain_through_the_harness() {
             solver: SolverChoice::Auto,
             integrator,
         };
-        let r = run_particle_method(&short, &spec, Some(&bounds), Duration::from_secs(60), None, None);
+        let r = run_particle_method(
+            &short,
+            &spec,
+            Some(&bounds),
+            Duration::from_secs(60),
+            None,
+            None,
+        );
         assert!(r.complete(), "{}", r.status);
-        assert!(r.worst_strain <= 1.05e-3, "{integrator:?}: {}", r.worst_strain);
+        assert!(
+            r.worst_strain <= 1.05e-3,
+            "{integrator:?}: {}",
+            r.worst_strain
+        );
         assert!(r.counters.updates > 0 && r.counters.f_evals > 0);
     }
     // The driver counts the frames of the scene.
-    let r = drive_scene(&short, &MethodSpec::XpbdSubsteps(4), Xpbd::new(&short.system, 4, 1).unwrap(), Duration::from_secs(60), None, None);
+    let r = drive_scene(
+        &short,
+        &MethodSpec::XpbdSubsteps(4),
+        Xpbd::new(&short.system, 4, 1).unwrap(),
+        Duration::from_secs(60),
+        None,
+        None,
+    );
     assert_eq!((r.frames, r.frames_total), (30, 30));
     assert!((r.frames as f64 * FRAME - 0.5).abs() < 1e-12);
 }

@@ -150,7 +150,8 @@ pub fn grid(w: usize, pins: GridPins, shear: bool) -> Result<System, SystemError
         }
     }
     let at = |ix, iy| grid_index(w, ix, iy);
-    let mut edges = Vec::with_capacity(2 * w * (w - 1) + if shear { 2 * (w - 1) * (w - 1) } else { 0 });
+    let mut edges =
+        Vec::with_capacity(2 * w * (w - 1) + if shear { 2 * (w - 1) * (w - 1) } else { 0 });
     for iy in 0..w {
         for ix in 0..w {
             if ix + 1 < w {
@@ -222,17 +223,25 @@ mod tests {
     fn strands_hang_from_roots_on_the_head_that_sway() {
         let s = strands(100, 32).unwrap();
         assert_eq!((s.n_particles(), s.links().len()), (3300, 3200));
-        let pins: Vec<usize> = (0..s.n_particles()).filter(|&k| s.pins()[k].is_some()).collect();
+        let pins: Vec<usize> = (0..s.n_particles())
+            .filter(|&k| s.pins()[k].is_some())
+            .collect();
         assert_eq!(pins, (0..100).map(|i| 33 * i).collect::<Vec<_>>());
         for &r in &pins {
             let p = s.positions()[r];
             assert!((distance(p, [0.0; 3]) - HEAD_RADIUS).abs() < 1e-14);
             assert!(p[2] >= 100f64.to_radians().cos() * HEAD_RADIUS - 1e-12);
             let k = s.pins()[r].as_ref().unwrap().at(0.5);
-            assert!((k.pos[0] - p[0] - 0.2).abs() < 1e-12, "half a period: +0.2 m in x");
+            assert!(
+                (k.pos[0] - p[0] - 0.2).abs() < 1e-12,
+                "half a period: +0.2 m in x"
+            );
         }
         for strand in 0..100 {
-            let len: f64 = s.links()[32 * strand..32 * (strand + 1)].iter().map(|l| l.rest).sum();
+            let len: f64 = s.links()[32 * strand..32 * (strand + 1)]
+                .iter()
+                .map(|l| l.rest)
+                .sum();
             assert!((len - STRAND_LENGTH).abs() < 1e-12);
         }
         rest_lengths_hold(&s);
@@ -243,12 +252,20 @@ mod tests {
         let w = 16;
         let s = grid(w, GridPins::Corners, false).unwrap();
         let edge: f64 = (0..w - 1)
-            .map(|ix| distance(s.positions()[grid_index(w, ix, w - 1)], s.positions()[grid_index(w, ix + 1, w - 1)]))
+            .map(|ix| {
+                distance(
+                    s.positions()[grid_index(w, ix, w - 1)],
+                    s.positions()[grid_index(w, ix + 1, w - 1)],
+                )
+            })
             .sum();
         // The chords of the arc are a little shorter than the arc itself.
         assert!((edge - 1.0 - FAR_EDGE_SLACK).abs() < 1e-5, "{edge}");
         let mid = s.positions()[grid_index(w, w / 2, w - 1)];
-        assert!((mid[2] + (3.0 * FAR_EDGE_SLACK / 8.0).sqrt()).abs() < 1e-3, "{mid:?}");
+        assert!(
+            (mid[2] + (3.0 * FAR_EDGE_SLACK / 8.0).sqrt()).abs() < 1e-3,
+            "{mid:?}"
+        );
         assert_eq!(s.positions()[grid_index(w, w - 1, w - 1)], [1.0, 1.0, 0.0]);
     }
 
@@ -258,15 +275,22 @@ mod tests {
         assert_eq!(s.links().len(), 8064);
         let total: f64 = s.masses().iter().sum();
         assert!((total - 0.5).abs() < 1e-12);
-        let pinned: Vec<usize> = (0..s.n_particles()).filter(|&k| s.pins()[k].is_some()).collect();
+        let pinned: Vec<usize> = (0..s.n_particles())
+            .filter(|&k| s.pins()[k].is_some())
+            .collect();
         assert_eq!(pinned, vec![grid_index(64, 0, 63), grid_index(64, 63, 63)]);
         let corner = s.positions()[grid_index(64, 63, 63)];
         assert!(distance(corner, [1.0, 1.0, 0.0]) < 1e-12, "{corner:?}");
         rest_lengths_hold(&s);
 
         let e = grid(32, GridPins::Edge, false).unwrap();
-        let pinned: Vec<usize> = (0..e.n_particles()).filter(|&k| e.pins()[k].is_some()).collect();
-        assert_eq!(pinned, (0..32).map(|ix| grid_index(32, ix, 31)).collect::<Vec<_>>());
+        let pinned: Vec<usize> = (0..e.n_particles())
+            .filter(|&k| e.pins()[k].is_some())
+            .collect();
+        assert_eq!(
+            pinned,
+            (0..32).map(|ix| grid_index(32, ix, 31)).collect::<Vec<_>>()
+        );
 
         let c = grid(32, GridPins::CornersHeavy, true).unwrap();
         assert_eq!(c.links().len(), 2 * 32 * 31 + 2 * 31 * 31);

@@ -30,10 +30,17 @@ enum Command {
 
 /// Answers of the simulating thread.
 enum Reply {
-    Frame { t: f64, x: Vec<f64>, counters: Counters },
+    Frame {
+        t: f64,
+        x: Vec<f64>,
+        counters: Counters,
+    },
     Pinned(Result<(), String>),
     Particle(Kinematics),
-    Failed { t: f64, reason: String },
+    Failed {
+        t: f64,
+        reason: String,
+    },
 }
 
 /// The model behind a `RefCell` (pins change between steps) with call counters; the
@@ -54,8 +61,12 @@ impl<M: ParticleDae> Shared<M> {
     fn new(model: M) -> Self {
         Self {
             name: model.name().to_string(),
-            states: (0..model.n_states()).map(|i| model.state_name(i).to_string()).collect(),
-            algs: (0..model.n_constraints()).map(|i| model.alg_name(i).to_string()).collect(),
+            states: (0..model.n_states())
+                .map(|i| model.state_name(i).to_string())
+                .collect(),
+            algs: (0..model.n_constraints())
+                .map(|i| model.alg_name(i).to_string())
+                .collect(),
             constraints: (0..model.n_constraints())
                 .map(|i| model.constraint_name(i).to_string())
                 .collect(),
@@ -110,7 +121,16 @@ impl<M: ParticleDae> Model for Shared<M> {
         self.rhs_calls.set(self.rhs_calls.get() + 1);
         self.model.borrow().rhs(t, x, z, dx)
     }
-    fn sliding(&self, t: f64, x: &[f64], z: &[f64], mu: &[f64], w: &mut [f64], s: &mut [f64], ah: &mut [f64]) {
+    fn sliding(
+        &self,
+        t: f64,
+        x: &[f64],
+        z: &[f64],
+        mu: &[f64],
+        w: &mut [f64],
+        s: &mut [f64],
+        ah: &mut [f64],
+    ) {
         self.model.borrow().sliding(t, x, z, mu, w, s, ah)
     }
     fn jacobian_pattern(&self) -> &[(usize, usize)] {
@@ -168,7 +188,12 @@ impl<M: ParticleDae> FrameSink<'_, M> {
                     return Ok(());
                 }
                 Command::SetPin(k, pin) => {
-                    let r = self.shared.model.borrow_mut().set_pin(k, pin).map_err(|e| e.to_string());
+                    let r = self
+                        .shared
+                        .model
+                        .borrow_mut()
+                        .set_pin(k, pin)
+                        .map_err(|e| e.to_string());
                     self.replies.send(Reply::Pinned(r)).map_err(|_| stopped())?;
                 }
                 Command::Particle(k) => {
@@ -180,7 +205,9 @@ impl<M: ParticleDae> FrameSink<'_, M> {
                         acc: [self.f[v], self.f[v + 1], self.f[v + 2]],
                         jerk: [0.0; 3],
                     };
-                    self.replies.send(Reply::Particle(k)).map_err(|_| stopped())?;
+                    self.replies
+                        .send(Reply::Particle(k))
+                        .map_err(|_| stopped())?;
                 }
                 Command::Stop => return Err(stopped()),
             }
@@ -229,20 +256,30 @@ pub struct Dbsmc {
 
 impl std::fmt::Debug for Dbsmc {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Dbsmc").field("name", &self.name).field("t", &self.t).finish()
+        f.debug_struct("Dbsmc")
+            .field("name", &self.name)
+            .field("t", &self.t)
+            .finish()
     }
 }
 
 impl Dbsmc {
     /// Start DBSMC on `model` with `settings`; `name` labels reports.
-    pub fn new<M: ParticleDae + Send + 'static>(model: M, settings: Settings, name: &str) -> Result<Self, BackendError> {
+    pub fn new<M: ParticleDae + Send + 'static>(
+        model: M,
+        settings: Settings,
+        name: &str,
+    ) -> Result<Self, BackendError> {
         let fail = |reason: String| BackendError {
             method: name.to_string(),
             t: 0.0,
             reason,
         };
         let per_frame = FRAME / settings.step;
-        if !(per_frame.is_finite() && per_frame >= 1.0 && (per_frame - per_frame.round()).abs() < 1e-6) {
+        if !(per_frame.is_finite()
+            && per_frame >= 1.0
+            && (per_frame - per_frame.round()).abs() < 1e-6)
+        {
             return Err(fail(format!(
                 "step {} does not divide the frame of 1/60 s (choose 1/(60 k))",
                 settings.step
@@ -280,7 +317,10 @@ impl Dbsmc {
                 },
             };
             // After a stop nobody listens any more; the send then fails harmlessly.
-            let _ = rep_tx.send(Reply::Failed { t, reason: e.to_string() });
+            let _ = rep_tx.send(Reply::Failed {
+                t,
+                reason: e.to_string(),
+            });
         });
         let mut me = Self {
             name: name.to_string(),
@@ -307,7 +347,9 @@ impl Dbsmc {
                 Ok(())
             }
             Ok(Reply::Failed { t, reason }) => Err(self.failure(t, reason)),
-            Ok(_) => Err(self.failure(self.t, "unexpected reply from the simulating thread".into())),
+            Ok(_) => {
+                Err(self.failure(self.t, "unexpected reply from the simulating thread".into()))
+            }
             Err(_) => Err(self.failure(self.t, "the simulating thread ended".into())),
         }
     }

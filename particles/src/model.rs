@@ -36,7 +36,9 @@ pub enum ModelError {
     NoConstraint,
     /// `J_Omega` is singular at the start (dependent links, e.g. a closed loop of
     /// collinear links), so no consistent tensions exist.
-    #[error("J_Omega is singular at the start ({0}): remove redundant links; a straight run of links between two pinned particles at its full length (a taut edge between pinned corners) is dependent too: give it slack")]
+    #[error(
+        "J_Omega is singular at the start ({0}): remove redundant links; a straight run of links between two pinned particles at its full length (a taut edge between pinned corners) is dependent too: give it slack"
+    )]
     Singular(String),
     /// A particle index is out of range.
     #[error("particle {particle} does not exist ({particles} particles)")]
@@ -169,7 +171,8 @@ impl ParticleModel {
             at[b].push(l);
         }
         let side = |l: usize, c: usize| if ends[l].0 == c { 1.0 } else { -1.0 };
-        let mut entries: Vec<((usize, usize), (usize, f64))> = (0..m).map(|l| ((l, l), (usize::MAX, 0.0))).collect();
+        let mut entries: Vec<((usize, usize), (usize, f64))> =
+            (0..m).map(|l| ((l, l), (usize::MAX, 0.0))).collect();
         for (c, ls) in at.iter().enumerate() {
             for &l in ls {
                 for &k in ls {
@@ -192,7 +195,13 @@ impl ParticleModel {
             x0[6 * k + 3..6 * k + 6].copy_from_slice(&system.velocities()[k]);
         }
         let inv_mass = (0..n)
-            .map(|k| if pins[k].is_some() { 0.0 } else { 1.0 / system.masses()[k] })
+            .map(|k| {
+                if pins[k].is_some() {
+                    0.0
+                } else {
+                    1.0 / system.masses()[k]
+                }
+            })
             .collect();
         let mut model = Self {
             name: format!("particles_{n}p_{m}l"),
@@ -270,9 +279,21 @@ impl ParticleModel {
 
     /// Accelerations of every particle into `acc`; for the links' geometry, unit
     /// vectors and lengths into `geo` (and with `full` the relative velocity terms).
-    fn accelerations(&self, t: f64, x: &[f64], z: &[f64], geo: &mut [Geo], acc: &mut [[f64; 3]], full: bool) {
+    fn accelerations(
+        &self,
+        t: f64,
+        x: &[f64],
+        z: &[f64],
+        geo: &mut [Geo],
+        acc: &mut [[f64; 3]],
+        full: bool,
+    ) {
         for (k, a) in acc.iter_mut().enumerate() {
-            *a = if self.inv_mass[k] > 0.0 { self.gravity } else { [0.0; 3] };
+            *a = if self.inv_mass[k] > 0.0 {
+                self.gravity
+            } else {
+                [0.0; 3]
+            };
         }
         for (l, &(a, b)) in self.ends.iter().enumerate() {
             let d = sub(get3(x, 6 * b), get3(x, 6 * a));
@@ -343,7 +364,11 @@ impl Model for ParticleModel {
     fn rhs(&self, t: f64, x: &[f64], z: &[f64], dx: &mut [f64]) {
         // The accelerations accumulate directly in dx: no scratch on the hot path.
         for k in 0..self.mass.len() {
-            let g = if self.inv_mass[k] > 0.0 { self.gravity } else { [0.0; 3] };
+            let g = if self.inv_mass[k] > 0.0 {
+                self.gravity
+            } else {
+                [0.0; 3]
+            };
             dx[6 * k..6 * k + 3].copy_from_slice(&x[6 * k + 3..6 * k + 6]);
             dx[6 * k + 3..6 * k + 6].copy_from_slice(&g);
         }
@@ -363,7 +388,16 @@ impl Model for ParticleModel {
         }
     }
 
-    fn sliding(&self, t: f64, x: &[f64], z: &[f64], mu: &[f64], w: &mut [f64], s: &mut [f64], ah: &mut [f64]) {
+    fn sliding(
+        &self,
+        t: f64,
+        x: &[f64],
+        z: &[f64],
+        mu: &[f64],
+        w: &mut [f64],
+        s: &mut [f64],
+        ah: &mut [f64],
+    ) {
         let mut sc = self.scratch.borrow_mut();
         let Scratch { geo, acc, .. } = &mut *sc;
         self.accelerations(t, x, z, geo, acc, true);
@@ -409,11 +443,15 @@ impl Model for ParticleModel {
         for (l, &(a, b)) in self.ends.iter().enumerate() {
             let g = &geo[l];
             let (fa, fb) = (z[l] * self.inv_mass[a] / g.l, z[l] * self.inv_mass[b] / g.l);
-            for i in 0..3 {
-                // u' = (e - p u) / l; A_a gains z u'/m_a, A_b loses z u'/m_b.
-                let du = g.e[i] - g.p * g.u[i];
-                jerk[a][i] += fa * du;
-                jerk[b][i] -= fb * du;
+            // u' = (e - p u) / l; A_a gains z u'/m_a, A_b loses z u'/m_b.
+            let du = [
+                g.e[0] - g.p * g.u[0],
+                g.e[1] - g.p * g.u[1],
+                g.e[2] - g.p * g.u[2],
+            ];
+            for (i, d) in du.iter().enumerate() {
+                jerk[a][i] += fa * d;
+                jerk[b][i] -= fb * d;
             }
         }
         for &k in &self.pinned {
@@ -430,7 +468,9 @@ impl Model for ParticleModel {
                 (g.e[1] - g.p * g.u[1]) / g.l,
                 (g.e[2] - g.p * g.u[2]) / g.l,
             ];
-            beta[l] = (2.0 * dot(g.e, bb) - 2.0 * g.p * w2) / g.l - qp * g.p / (g.l * g.l) + dot(ud, bb) + dot(g.u, bd);
+            beta[l] = (2.0 * dot(g.e, bb) - 2.0 * g.p * w2) / g.l - qp * g.p / (g.l * g.l)
+                + dot(ud, bb)
+                + dot(g.u, bd);
         }
     }
 }
@@ -478,7 +518,11 @@ impl ParticleDae for ParticleModel {
                 });
             }
         }
-        self.inv_mass[k] = if pin.is_some() { 0.0 } else { 1.0 / self.mass[k] };
+        self.inv_mass[k] = if pin.is_some() {
+            0.0
+        } else {
+            1.0 / self.mass[k]
+        };
         self.pins[k] = pin;
         self.pinned = (0..n).filter(|&j| self.pins[j].is_some()).collect();
         Ok(())

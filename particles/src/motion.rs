@@ -189,7 +189,10 @@ mod tests {
             let (a, b, s) = (smoothstep7(u - h), smoothstep7(u + h), smoothstep7(u));
             for d in 0..3 {
                 let fd = (b[d] - a[d]) / (2.0 * h);
-                assert!((fd - s[d + 1]).abs() < 1e-6 * (1.0 + fd.abs()), "S^({d}) at {u}");
+                assert!(
+                    (fd - s[d + 1]).abs() < 1e-6 * (1.0 + fd.abs()),
+                    "S^({d}) at {u}"
+                );
             }
         }
         assert_eq!(smoothstep7(0.0), [0.0; 4]);
@@ -197,7 +200,10 @@ mod tests {
         // Just inside both ends the derivatives are already tiny (continuity).
         for u in [1e-4, 1.0 - 1e-4] {
             let s = smoothstep7(u);
-            assert!(s[1].abs() < 1e-9 && s[2].abs() < 1e-5 && s[3].abs() < 0.1, "{s:?}");
+            assert!(
+                s[1].abs() < 1e-9 && s[2].abs() < 1e-5 && s[3].abs() < 0.1,
+                "{s:?}"
+            );
         }
     }
 
@@ -235,8 +241,8 @@ mod tests {
         for t in [1.5, 2.0] {
             let k = g.at(t);
             let target = [0.8, 0.0, 0.1];
-            for i in 0..3 {
-                assert!((k.pos[i] - target[i]).abs() < 1e-12);
+            for (i, want) in target.iter().enumerate() {
+                assert!((k.pos[i] - want).abs() < 1e-12);
                 assert!(k.vel[i].abs() < 1e-12 && k.acc[i].abs() < 1e-12);
             }
         }

@@ -94,7 +94,11 @@ impl<B: Backend> Scene<B> {
             links: system.links().to_vec(),
             frame: 0,
             positions,
-            worst: WorstStrain { strain, link, frame: 0 },
+            worst: WorstStrain {
+                strain,
+                link,
+                frame: 0,
+            },
         })
     }
 
@@ -108,10 +112,21 @@ impl<B: Backend> Scene<B> {
         self.frame = index;
         self.backend.positions(&mut self.positions);
         let (strain, link) = worst_strain(&self.links, &self.positions);
-        if !(strain <= self.worst.strain) {
-            self.worst = WorstStrain { strain, link, frame: index };
+        // A NaN strain (a broken run) must win and stay.
+        if !self.worst.strain.is_nan() && (strain.is_nan() || strain > self.worst.strain) {
+            self.worst = WorstStrain {
+                strain,
+                link,
+                frame: index,
+            };
         }
-        Ok(Frame { index, t, wall, strain, link })
+        Ok(Frame {
+            index,
+            t,
+            wall,
+            strain,
+            link,
+        })
     }
 
     /// Current simulation time.
@@ -148,7 +163,10 @@ impl<B: Backend> Scene<B> {
         if particle < particles {
             Ok(())
         } else {
-            Err(SceneError::NoSuchParticle { particle, particles })
+            Err(SceneError::NoSuchParticle {
+                particle,
+                particles,
+            })
         }
     }
 
@@ -156,7 +174,12 @@ impl<B: Backend> Scene<B> {
     /// a [`GrabPath`] (continuous in position, velocity and acceleration with the
     /// particle's own motion, three times differentiable, arriving at rest), then hold
     /// it. Returns the path.
-    pub fn grab(&mut self, particle: usize, offset: [f64; 3], duration: f64) -> Result<GrabPath, SceneError> {
+    pub fn grab(
+        &mut self,
+        particle: usize,
+        offset: [f64; 3],
+        duration: f64,
+    ) -> Result<GrabPath, SceneError> {
         self.check(particle)?;
         if !(duration.is_finite() && duration > 0.0) {
             return Err(SceneError::Duration(duration));

@@ -47,7 +47,9 @@ pub enum SystemError {
         value: [f64; 3],
     },
     /// A link names a particle that does not exist.
-    #[error("link {link} names particle {particle}, but there are only {particles} (0..{particles})")]
+    #[error(
+        "link {link} names particle {particle}, but there are only {particles} (0..{particles})"
+    )]
     NoSuchParticle {
         /// The link.
         link: usize,
@@ -65,7 +67,9 @@ pub enum SystemError {
         particle: usize,
     },
     /// Two links join the same two particles (their constraints would be dependent).
-    #[error("link {link} joins particles {a} and {b}, like link {first}: remove one (two rigid links between the same particles are redundant)")]
+    #[error(
+        "link {link} joins particles {a} and {b}, like link {first}: remove one (two rigid links between the same particles are redundant)"
+    )]
     DuplicateLink {
         /// The second link.
         link: usize,
@@ -77,7 +81,9 @@ pub enum SystemError {
         b: usize,
     },
     /// A rest length is not finite and positive (e.g. two particles at the same place).
-    #[error("link {link}: rest length {rest} must be finite and > 0 (are particles {a} and {b} at the same place?)")]
+    #[error(
+        "link {link}: rest length {rest} must be finite and > 0 (are particles {a} and {b} at the same place?)"
+    )]
     RestLength {
         /// The link.
         link: usize,
@@ -107,7 +113,9 @@ pub enum SystemError {
         need: &'static str,
     },
     /// A line of an edge list could not be read.
-    #[error("edge list line {line}: {reason} in `{text}` (expected two particle indices, `a b`, optionally followed by a rest length)")]
+    #[error(
+        "edge list line {line}: {reason} in `{text}` (expected two particle indices, `a b`, optionally followed by a rest length)"
+    )]
     Parse {
         /// 1-based line number.
         line: usize,
@@ -228,7 +236,10 @@ impl System {
                 });
             }
             if !(m.is_finite() && m > 0.0) {
-                return Err(SystemError::Mass { particle: k, mass: m });
+                return Err(SystemError::Mass {
+                    particle: k,
+                    mass: m,
+                });
             }
         }
         let mut links = Vec::with_capacity(edges.len());
@@ -245,7 +256,10 @@ impl System {
                 }
             }
             if a == b {
-                return Err(SystemError::SelfLink { link: l, particle: a });
+                return Err(SystemError::SelfLink {
+                    link: l,
+                    particle: a,
+                });
             }
             if let Some(&first) = seen.get(&(a.min(b), a.max(b))) {
                 return Err(SystemError::DuplicateLink {
@@ -258,7 +272,12 @@ impl System {
             seen.insert((a.min(b), a.max(b)), l);
             let rest = rest.unwrap_or_else(|| distance(positions[a], positions[b]));
             if !(rest.is_finite() && rest > 0.0) {
-                return Err(SystemError::RestLength { link: l, a, b, rest });
+                return Err(SystemError::RestLength {
+                    link: l,
+                    a,
+                    b,
+                    rest,
+                });
             }
             links.push(Link { a, b, rest });
         }
@@ -387,7 +406,9 @@ impl System {
         for k in 0..self.masses.len() {
             if self.pins[k].is_none() {
                 let (x, v) = (positions[k], velocities[k]);
-                e += self.masses[k] * (0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) - (g[0] * x[0] + g[1] * x[1] + g[2] * x[2]));
+                e += self.masses[k]
+                    * (0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+                        - (g[0] * x[0] + g[1] * x[1] + g[2] * x[2]));
             }
         }
         e
@@ -406,7 +427,7 @@ pub fn worst_strain(links: &[Link], positions: &[[f64; 3]]) -> (f64, usize) {
     let mut worst = (0.0, 0);
     for (l, link) in links.iter().enumerate() {
         let e = (distance(positions[link.a], positions[link.b]) - link.rest).abs() / link.rest;
-        if !(e <= worst.0) {
+        if e.is_nan() || e > worst.0 {
             worst = (e, l);
         }
     }
@@ -423,8 +444,16 @@ mod tests {
         assert_eq!(
             e,
             vec![
-                Edge { a: 0, b: 1, rest: None },
-                Edge { a: 1, b: 2, rest: Some(0.5) }
+                Edge {
+                    a: 0,
+                    b: 1,
+                    rest: None
+                },
+                Edge {
+                    a: 1,
+                    b: 2,
+                    rest: Some(0.5)
+                }
             ]
         );
         let err = parse_edge_list("0 1\n0 x\n").unwrap_err();
@@ -441,12 +470,20 @@ mod tests {
         let e = |edges: &[(usize, usize)]| System::from_edges(p.clone(), m.clone(), edges);
         assert!(matches!(
             e(&[(0, 3)]),
-            Err(SystemError::NoSuchParticle { link: 0, particle: 3, .. })
+            Err(SystemError::NoSuchParticle {
+                link: 0,
+                particle: 3,
+                ..
+            })
         ));
         assert!(matches!(e(&[(1, 1)]), Err(SystemError::SelfLink { .. })));
         assert!(matches!(
             e(&[(0, 1), (1, 0)]),
-            Err(SystemError::DuplicateLink { link: 1, first: 0, .. })
+            Err(SystemError::DuplicateLink {
+                link: 1,
+                first: 0,
+                ..
+            })
         ));
         assert!(matches!(
             e(&[(1, 2)]),
@@ -463,7 +500,10 @@ mod tests {
         ));
         assert!(matches!(
             s.with_velocities(vec![[0.0; 3]; 2]),
-            Err(SystemError::Length { what: "velocities", .. })
+            Err(SystemError::Length {
+                what: "velocities",
+                ..
+            })
         ));
     }
 

@@ -27,7 +27,13 @@ pub struct Line {
 }
 
 /// A log-log chart of `lines` into `path`.
-pub fn loglog(path: &Path, title: &str, x_label: &str, y_label: &str, lines: &[Line]) -> Result<(), String> {
+pub fn loglog(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    lines: &[Line],
+) -> Result<(), String> {
     let pts: Vec<(f64, f64)> = lines
         .iter()
         .flat_map(|l| l.points.iter().copied())
@@ -95,14 +101,21 @@ pub fn loglog(path: &Path, title: &str, x_label: &str, y_label: &str, lines: &[L
 
 /// Cost per frame against worst strain for one scene, one line per method (complete
 /// runs, in the order of their settings).
-pub fn strain_chart(records: &[ParticleRecord], title: &str, methods: &[String], path: &Path) -> Result<(), String> {
+pub fn strain_chart(
+    records: &[ParticleRecord],
+    title: &str,
+    methods: &[String],
+    path: &Path,
+) -> Result<(), String> {
     let lines: Vec<Line> = methods
         .iter()
         .map(|m| Line {
             label: m.clone(),
             points: records
                 .iter()
-                .filter(|r| format!("{} {}", r.scene, r.variant) == title && &r.method == m && r.complete())
+                .filter(|r| {
+                    format!("{} {}", r.scene, r.variant) == title && &r.method == m && r.complete()
+                })
                 .map(|r| (r.worst_strain, r.ms_mean))
                 .collect(),
         })
@@ -119,13 +132,24 @@ pub fn strain_chart(records: &[ParticleRecord], title: &str, methods: &[String],
 
 /// Cost per frame against links for the runs with `knob` of `method` over the given
 /// scenes (titles), with the fitted exponent in the label; also returns the exponent.
-pub fn size_line(records: &[ParticleRecord], titles: &[String], method: &str, knob: &str, label: &str) -> (Line, Option<f64>) {
+pub fn size_line(
+    records: &[ParticleRecord],
+    titles: &[String],
+    method: &str,
+    knob: &str,
+    label: &str,
+) -> (Line, Option<f64>) {
     let points: Vec<(f64, f64)> = titles
         .iter()
         .filter_map(|t| {
             records
                 .iter()
-                .find(|r| &format!("{} {}", r.scene, r.variant) == t && r.method == method && r.knob == knob && r.frames > 0)
+                .find(|r| {
+                    &format!("{} {}", r.scene, r.variant) == t
+                        && r.method == method
+                        && r.knob == knob
+                        && r.frames > 0
+                })
                 .map(|r| (r.size as f64, r.ms_mean))
         })
         .collect();
@@ -139,8 +163,18 @@ pub fn size_line(records: &[ParticleRecord], titles: &[String], method: &str, kn
 
 /// Cost to hold `target` against the C1 end-mass ratio, one line per method, for the
 /// chains of `links` links.
-pub fn ratio_chart(records: &[ParticleRecord], links: usize, target: f64, methods: &[String], path: &Path) -> Result<(), String> {
-    let mut ratios: Vec<f64> = records.iter().filter(|r| r.scene == "C1" && r.size == links).map(|r| r.param).collect();
+pub fn ratio_chart(
+    records: &[ParticleRecord],
+    links: usize,
+    target: f64,
+    methods: &[String],
+    path: &Path,
+) -> Result<(), String> {
+    let mut ratios: Vec<f64> = records
+        .iter()
+        .filter(|r| r.scene == "C1" && r.size == links)
+        .map(|r| r.param)
+        .collect();
     ratios.sort_by(f64::total_cmp);
     ratios.dedup();
     let lines: Vec<Line> = methods

@@ -21,7 +21,11 @@ fn project(p: [f64; 3]) -> (f64, f64) {
 /// Colour of a strain relative to `scale`: green at or below `scale / 10`, yellow at
 /// `scale`, red at or above `10 scale` (log scale in between).
 pub fn strain_colour(strain: f64, scale: f64) -> RGBColor {
-    let r = if strain > 0.0 { (strain / scale).log10().clamp(-1.0, 1.0) } else { -1.0 };
+    let r = if strain > 0.0 {
+        (strain / scale).log10().clamp(-1.0, 1.0)
+    } else {
+        -1.0
+    };
     let lerp = |a: u8, b: u8, f: f64| (a as f64 + (b as f64 - a as f64) * f).round() as u8;
     if r < 0.0 {
         let f = r + 1.0;
@@ -33,7 +37,12 @@ pub fn strain_colour(strain: f64, scale: f64) -> RGBColor {
 
 /// The view window of all captured frames, square, with a margin.
 fn window(capture: &Capture) -> (f64, f64, f64) {
-    let (mut u0, mut u1, mut v0, mut v1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+    let (mut u0, mut u1, mut v0, mut v1) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
     for (_, ps) in capture {
         for &p in ps {
             let (u, v) = project(p);
@@ -49,7 +58,13 @@ fn window(capture: &Capture) -> (f64, f64, f64) {
     ((u0 + u1 - side) / 2.0, (v0 + v1 + side) / 2.0, side)
 }
 
-fn draw<DB: DrawingBackend>(area: &DrawingArea<DB, plotters::coord::Shift>, links: &[Link], ps: &[[f64; 3]], view: (f64, f64, f64), scale: f64) -> Result<(), String>
+fn draw<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    links: &[Link],
+    ps: &[[f64; 3]],
+    view: (f64, f64, f64),
+    scale: f64,
+) -> Result<(), String>
 where
     DB::ErrorType: 'static,
 {
@@ -57,13 +72,17 @@ where
     let (u0, vtop, side) = view;
     let px = |p: [f64; 3]| {
         let (u, v) = project(p);
-        (((u - u0) / side * SIZE as f64) as i32, ((vtop - v) / side * SIZE as f64) as i32)
+        (
+            ((u - u0) / side * SIZE as f64) as i32,
+            ((vtop - v) / side * SIZE as f64) as i32,
+        )
     };
     for l in links {
         let (a, b) = (ps[l.a], ps[l.b]);
         let strain = (distance(a, b) - l.rest).abs() / l.rest;
         let c = strain_colour(strain, scale);
-        area.draw(&PathElement::new(vec![px(a), px(b)], c.stroke_width(2))).map_err(|e| e.to_string())?;
+        area.draw(&PathElement::new(vec![px(a), px(b)], c.stroke_width(2)))
+            .map_err(|e| e.to_string())?;
     }
     Ok(())
 }
@@ -71,7 +90,15 @@ where
 /// Write `stem_t<time>.png` for the captured frames in `png_frames`, and `stem.gif` of
 /// all captured frames (`delay_ms` per picture), links coloured by strain relative to
 /// `scale` (e.g. the layer `eps`).
-pub fn write_pictures(dir: &Path, stem: &str, links: &[Link], capture: &Capture, png_frames: &[u64], delay_ms: u32, scale: f64) -> Result<Vec<String>, String> {
+pub fn write_pictures(
+    dir: &Path,
+    stem: &str,
+    links: &[Link],
+    capture: &Capture,
+    png_frames: &[u64],
+    delay_ms: u32,
+    scale: f64,
+) -> Result<Vec<String>, String> {
     let view = window(capture);
     let mut written = Vec::new();
     for (f, ps) in capture.iter().filter(|(f, _)| png_frames.contains(f)) {
@@ -87,7 +114,8 @@ pub fn write_pictures(dir: &Path, stem: &str, links: &[Link], capture: &Capture,
         enc.set_color(png::ColorType::Rgb);
         enc.set_depth(png::BitDepth::Eight);
         let mut w = enc.write_header().map_err(|e| format!("{name}: {e}"))?;
-        w.write_image_data(&buf).map_err(|e| format!("{name}: {e}"))?;
+        w.write_image_data(&buf)
+            .map_err(|e| format!("{name}: {e}"))?;
         written.push(name);
     }
     let name = format!("{stem}.gif");

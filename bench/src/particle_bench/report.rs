@@ -33,7 +33,11 @@ pub const CSV_COLUMNS: [&str; 22] = [
 ];
 
 fn num(v: f64) -> String {
-    if v.is_finite() { format!("{v:e}") } else { String::new() }
+    if v.is_finite() {
+        format!("{v:e}")
+    } else {
+        String::new()
+    }
 }
 fn opt(v: Option<f64>) -> String {
     v.map(num).unwrap_or_default()
@@ -88,7 +92,12 @@ pub fn write_particles_csv<W: Write>(records: &[ParticleRecord], mut out: W) -> 
 
 /// The cheapest complete run (lowest mean cost per frame) of `method` on the scene
 /// `title` whose worst strain is at most `target`.
-pub fn cheapest<'a>(records: &'a [ParticleRecord], title: &str, method: &str, target: f64) -> Option<&'a ParticleRecord> {
+pub fn cheapest<'a>(
+    records: &'a [ParticleRecord],
+    title: &str,
+    method: &str,
+    target: f64,
+) -> Option<&'a ParticleRecord> {
     records
         .iter()
         .filter(|r| format!("{} {}", r.scene, r.variant) == title && r.method == method)
@@ -108,7 +117,10 @@ pub fn fitted_exponent(points: &[(f64, f64)]) -> Option<f64> {
         return None;
     }
     let n = p.len() as f64;
-    let (mx, my) = (p.iter().map(|q| q.0).sum::<f64>() / n, p.iter().map(|q| q.1).sum::<f64>() / n);
+    let (mx, my) = (
+        p.iter().map(|q| q.0).sum::<f64>() / n,
+        p.iter().map(|q| q.1).sum::<f64>() / n,
+    );
     let sxx: f64 = p.iter().map(|q| (q.0 - mx) * (q.0 - mx)).sum();
     let sxy: f64 = p.iter().map(|q| (q.0 - mx) * (q.1 - my)).sum();
     (sxx > 0.0).then(|| sxy / sxx)
@@ -124,17 +136,28 @@ pub fn cheapest_table(records: &[ParticleRecord], methods: &[String]) -> String 
             titles.push(t);
         }
     }
-    let mut s = String::from("| scene | method | worst strain <= 1e-2 | <= 1e-3 | <= 1e-4 |\n|---|---|---|---|---|\n");
+    let mut s = String::from(
+        "| scene | method | worst strain <= 1e-2 | <= 1e-3 | <= 1e-4 |\n|---|---|---|---|---|\n",
+    );
     for t in &titles {
         for m in methods {
-            if !records.iter().any(|r| &format!("{} {}", r.scene, r.variant) == t && &r.method == m) {
+            if !records
+                .iter()
+                .any(|r| &format!("{} {}", r.scene, r.variant) == t && &r.method == m)
+            {
                 continue;
             }
             let cell = |target: f64| match cheapest(records, t, m, target) {
                 Some(r) => format!("{} ({:.3} ms)", r.knob, r.ms_mean),
                 None => "none".into(),
             };
-            let _ = writeln!(s, "| {t} | {m} | {} | {} | {} |", cell(1e-2), cell(1e-3), cell(1e-4));
+            let _ = writeln!(
+                s,
+                "| {t} | {m} | {} | {} | {} |",
+                cell(1e-2),
+                cell(1e-3),
+                cell(1e-4)
+            );
         }
     }
     s
@@ -150,18 +173,29 @@ pub fn stability_table(records: &[ParticleRecord]) -> String {
             keys.push(k);
         }
     }
-    let mut s = String::from("| scene | method | runs | complete | budget | failed | bound lost (> 1.05 eps) | first failure |\n|---|---|---|---|---|---|---|---|\n");
+    let mut s = String::from(
+        "| scene | method | runs | complete | budget | failed | bound lost (> 1.05 eps) | first failure |\n|---|---|---|---|---|---|---|---|\n",
+    );
     for (t, m) in keys {
         let runs: Vec<&ParticleRecord> = records
             .iter()
             .filter(|r| format!("{} {}", r.scene, r.variant) == t && r.method == m)
             .collect();
         let count = |f: &dyn Fn(&ParticleRecord) -> bool| runs.iter().filter(|r| f(r)).count();
-        let failed: Vec<&&ParticleRecord> = runs.iter().filter(|r| r.status.starts_with("failed")).collect();
+        let failed: Vec<&&ParticleRecord> = runs
+            .iter()
+            .filter(|r| r.status.starts_with("failed"))
+            .collect();
         let lost = count(&|r| bound_held(r) == Some(false));
         let first = failed
             .first()
-            .map(|r| format!("{}: {}", r.knob, r.status.trim_start_matches("failed: ").replace('|', "/")))
+            .map(|r| {
+                format!(
+                    "{}: {}",
+                    r.knob,
+                    r.status.trim_start_matches("failed: ").replace('|', "/")
+                )
+            })
             .unwrap_or_default();
         let first: String = first.chars().take(140).collect();
         let _ = writeln!(
@@ -171,7 +205,11 @@ pub fn stability_table(records: &[ParticleRecord]) -> String {
             count(&|r| r.complete()),
             count(&|r| r.status == "budget"),
             failed.len(),
-            if runs.iter().any(|r| r.eps.is_some()) { lost.to_string() } else { "-".into() },
+            if runs.iter().any(|r| r.eps.is_some()) {
+                lost.to_string()
+            } else {
+                "-".into()
+            },
         );
     }
     s
@@ -182,7 +220,14 @@ mod tests {
     use super::*;
     use dae_particles::Counters;
 
-    fn rec(method: &str, knob: &str, eps: Option<f64>, strain: f64, ms: f64, status: &str) -> ParticleRecord {
+    fn rec(
+        method: &str,
+        knob: &str,
+        eps: Option<f64>,
+        strain: f64,
+        ms: f64,
+        status: &str,
+    ) -> ParticleRecord {
         ParticleRecord {
             scene: "C1".into(),
             variant: "N=10 r=1".into(),
@@ -209,14 +254,23 @@ mod tests {
     fn csv_has_the_required_columns_first_and_one_row_per_run() {
         let records = vec![
             rec("dbsmc", "eps=1e-3", Some(1e-3), 9e-4, 0.5, "ok"),
-            rec("xpbd-substeps", "k=16", None, 6e-3, 0.01, "failed: x, \"y\""),
+            rec(
+                "xpbd-substeps",
+                "k=16",
+                None,
+                6e-3,
+                0.01,
+                "failed: x, \"y\"",
+            ),
         ];
         let mut out = Vec::new();
         write_particles_csv(&records, &mut out).unwrap();
         let text = String::from_utf8(out).unwrap();
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines.len(), 3);
-        assert!(lines[0].starts_with("scene,size,method,knob,eps,worst_strain,ms_per_frame_mean,ms_per_frame_max,"));
+        assert!(lines[0].starts_with(
+            "scene,size,method,knob,eps,worst_strain,ms_per_frame_mean,ms_per_frame_max,"
+        ));
         let head: Vec<&str> = lines[0].split(',').collect();
         assert_eq!(head.len(), CSV_COLUMNS.len());
         assert!(lines[1].starts_with("C1,10,dbsmc,eps=1e-3,1e-3,9e-4,5e-1,1e0,"));
@@ -234,13 +288,19 @@ mod tests {
             rec("m", "c", None, 1e-4, 1.0, "budget"),
             rec("m", "d", None, 2e-3, 0.5, "ok"),
         ];
-        assert_eq!(cheapest(&records, "C1 N=10 r=1", "m", 1e-3).unwrap().knob, "b");
+        assert_eq!(
+            cheapest(&records, "C1 N=10 r=1", "m", 1e-3).unwrap().knob,
+            "b"
+        );
         assert!(cheapest(&records, "C1 N=10 r=1", "m", 1e-4).is_none());
     }
 
     #[test]
     fn the_fitted_exponent_of_a_power_law_is_its_power() {
-        let p: Vec<(f64, f64)> = [10.0, 100.0, 1000.0].iter().map(|&x: &f64| (x, 3.0 * x.powf(1.2))).collect();
+        let p: Vec<(f64, f64)> = [10.0, 100.0, 1000.0]
+            .iter()
+            .map(|&x: &f64| (x, 3.0 * x.powf(1.2)))
+            .collect();
         assert!((fitted_exponent(&p).unwrap() - 1.2).abs() < 1e-12);
         assert!(fitted_exponent(&p[..1]).is_none());
     }

@@ -6,7 +6,8 @@ use std::time::{Duration, Instant};
 
 use dae_particles::{Backend, Counters, Dbsmc, FRAME, ParticleModel, Scene};
 use dae_runtime::{
-    AlphaChoice, ConstraintSpec, Integrator, GainChoice, LayerBound, Model, MuSearch, Settings, SolverChoice, design,
+    AlphaChoice, ConstraintSpec, GainChoice, Integrator, LayerBound, Model, MuSearch, Settings,
+    SolverChoice, design,
 };
 
 use super::scenes::ParticleScene;
@@ -36,7 +37,9 @@ impl MethodSpec {
     /// The method's name in reports.
     pub fn method(&self) -> String {
         match self {
-            MethodSpec::Dbsmc { solver, integrator, .. } => {
+            MethodSpec::Dbsmc {
+                solver, integrator, ..
+            } => {
                 let mut name = String::from("dbsmc");
                 if *integrator == Integrator::Euler {
                     name += "-euler";
@@ -187,7 +190,9 @@ pub fn drive_scene<B: Backend>(
         // would exceed the budget: it is measured, not completed.
         let spent = clock.elapsed();
         let projected = spent.as_secs_f64() * frames_total as f64 / f as f64;
-        if f < frames_total && (spent > budget || (spent > budget / 10 && projected > budget.as_secs_f64())) {
+        if f < frames_total
+            && (spent > budget || (spent > budget / 10 && projected > budget.as_secs_f64()))
+        {
             rec.status = "budget".into();
             break;
         }
@@ -208,7 +213,10 @@ pub fn drive_scene<B: Backend>(
 }
 
 /// The index-1 method on the scene's particle model (errors as a failed record).
-pub fn index_one(scene: &ParticleScene, steps_per_frame: u32) -> Result<IndexOneParticles<ParticleModel>, String> {
+pub fn index_one(
+    scene: &ParticleScene,
+    steps_per_frame: u32,
+) -> Result<IndexOneParticles<ParticleModel>, String> {
     let model = ParticleModel::new(&scene.system).map_err(|e| e.to_string())?;
     IndexOneParticles::new(model, steps_per_frame, SolverChoice::Auto)
 }
@@ -216,14 +224,21 @@ pub fn index_one(scene: &ParticleScene, steps_per_frame: u32) -> Result<IndexOne
 /// Pilot bounds of every constraint from an index-1 run of the scene at
 /// `steps_per_frame` (the whole scene, or as much as `budget` allows: the record says
 /// how many frames), and that run's record.
-pub fn particle_pilot(scene: &ParticleScene, steps_per_frame: u32, budget: Duration) -> Result<(PilotBounds, ParticleRecord), String> {
+pub fn particle_pilot(
+    scene: &ParticleScene,
+    steps_per_frame: u32,
+    budget: Duration,
+) -> Result<(PilotBounds, ParticleRecord), String> {
     let spec = MethodSpec::IndexOne(steps_per_frame);
     let mut backend = index_one(scene, steps_per_frame)?.track_bounds();
     let rec = drive_scene(scene, &spec, &mut backend, budget, None, None);
     if !(rec.complete() || rec.status == "budget") {
         return Err(format!("pilot {}: {}", spec.knob(), rec.status));
     }
-    let bounds = backend.bounds().cloned().ok_or("pilot produced no bounds")?;
+    let bounds = backend
+        .bounds()
+        .cloned()
+        .ok_or("pilot produced no bounds")?;
     Ok((bounds, rec))
 }
 
@@ -234,7 +249,7 @@ pub const PILOT_SAFETY: f64 = 2.0;
 /// exact `alpha` (one `beta` evaluation per update, so that the gain has no `|beta|` to
 /// cover, T 3.17), the sufficient crossing gain `k_i = mu_i^3 M_i / 2 + 4 eps_i / mu_i`
 /// (T 4.4) with `mu_i` maximising `T_i^min` (T 3.14), `M_i` the pilot's drift bound
-/// times [`PILOT_SAFETY`], monitoring, and the step `h = 0.2 min_i eps_i / k_i` rounded
+/// (at least a hundredth of the largest) times [`PILOT_SAFETY`], monitoring, and the step `h = 0.2 min_i eps_i / k_i` rounded
 /// down to divide the frame (the crossing overshoot `|s'| h` small against the layer).
 /// Returns the settings and the design's guaranteed period `T_min`.
 pub fn dbsmc_settings(
@@ -245,11 +260,15 @@ pub fn dbsmc_settings(
 ) -> Result<(Settings, f64), String> {
     use dae_particles::ParticleDae;
     let m = model.n_constraints();
+    let m_max = bounds.drift.iter().copied().fold(0.0, f64::max);
     let specs: Vec<ConstraintSpec> = (0..m)
         .map(|i| ConstraintSpec {
             r: 3,
             eps: eps * model.rest_length(i),
-            m: (PILOT_SAFETY * bounds.drift[i]).max(1e-300),
+            // A link whose pilot saw almost no drift (quiet in the piloted frames) gets
+            // a hundredth of the largest: without a floor T_min(mu) has no interior
+            // maximum, and the link may move later.
+            m: PILOT_SAFETY * bounds.drift[i].max(1e-2 * m_max).max(1e-300),
             // The exact alpha leaves no beta for the gain to cover (T 3.17).
             beta_abs: 0.0,
             layer: LayerBound::General,
@@ -265,8 +284,14 @@ pub fn dbsmc_settings(
     let mu: Vec<f64> = d.constraints.iter().map(|c| c.mu).collect();
     // A gain of 0 (a link whose pilot saw beta = 0) would leave s adrift: floor it.
     let kmax = d.constraints.iter().map(|c| c.k).fold(0.0, f64::max);
-    let k: Vec<f64> = d.constraints.iter().map(|c| c.k.max(1e-3 * kmax).max(1e-12)).collect();
-    let h_layer = (0..m).map(|i| 0.2 * specs[i].eps / k[i]).fold(f64::INFINITY, f64::min);
+    let k: Vec<f64> = d
+        .constraints
+        .iter()
+        .map(|c| c.k.max(1e-3 * kmax).max(1e-12))
+        .collect();
+    let h_layer = (0..m)
+        .map(|i| 0.2 * specs[i].eps / k[i])
+        .fold(f64::INFINITY, f64::min);
     let per_frame = (FRAME / h_layer.min(FRAME)).ceil().max(1.0);
     let settings = Settings::new(specs.iter().map(|s| s.eps).collect(), mu, k)
         .step(FRAME / per_frame)
@@ -302,7 +327,11 @@ pub fn run_particle_method(
             Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
             Err(e) => failed(e),
         },
-        MethodSpec::Dbsmc { eps, solver, integrator } => {
+        MethodSpec::Dbsmc {
+            eps,
+            solver,
+            integrator,
+        } => {
             let Some(bounds) = bounds else {
                 return failed("no pilot bounds for the design".into());
             };
@@ -315,7 +344,11 @@ pub fn run_particle_method(
                 Err(e) => return failed(e),
             };
             let step = settings.step;
-            match Dbsmc::new(model, settings, &format!("{} {}", spec.method(), spec.knob())) {
+            match Dbsmc::new(
+                model,
+                settings,
+                &format!("{} {}", spec.method(), spec.knob()),
+            ) {
                 Ok(b) => {
                     let mut r = drive_scene(scene, spec, b, budget, reference, observe);
                     r.t_min = Some(t_min);

@@ -140,7 +140,15 @@ impl<M: ParticleDae> IndexOneParticles<M> {
     /// `z` from `s(t, x, z) = 0` at the stage point, then `f` into `k[stage]`.
     fn stage(&mut self, stage: usize, t: f64, at_xs: bool) -> Result<(), BackendError> {
         let x = if at_xs { &self.xs } else { &self.x };
-        self.model.sliding(t, x, &self.z, &self.mu, &mut self.w, &mut self.s, &mut self.ah);
+        self.model.sliding(
+            t,
+            x,
+            &self.z,
+            &self.mu,
+            &mut self.w,
+            &mut self.s,
+            &mut self.ah,
+        );
         self.model.jacobian(t, x, &self.z, &mut self.jvals);
         if let Err(e) = self.solver.factor(&self.jvals, &self.mu2) {
             return Err(self.fail(t, format!("J_s: {e}")));
@@ -194,14 +202,19 @@ impl<M: ParticleDae> Backend for IndexOneParticles<M> {
     }
     fn advance_to(&mut self, t: f64) -> Result<(), BackendError> {
         let span = t - self.t;
-        let n = ((span * 60.0 * self.steps_per_frame as f64) - 1e-9).ceil().max(1.0) as u64;
+        let n = ((span * 60.0 * self.steps_per_frame as f64) - 1e-9)
+            .ceil()
+            .max(1.0) as u64;
         let h = span / n as f64;
         for _ in 0..n {
             self.step(h)?;
         }
         self.t = t;
         if let Some(i) = self.x.iter().position(|v| !v.is_finite()) {
-            return Err(self.fail(t, format!("state {} is not finite", self.model.state_name(i))));
+            return Err(self.fail(
+                t,
+                format!("state {} is not finite", self.model.state_name(i)),
+            ));
         }
         Ok(())
     }
@@ -228,7 +241,9 @@ impl<M: ParticleDae> Backend for IndexOneParticles<M> {
     }
     fn set_pin(&mut self, k: usize, pin: Option<Pin>) -> Result<(), BackendError> {
         let t = self.t;
-        self.model.set_pin(k, pin).map_err(|e| self.fail(t, e.to_string()))
+        self.model
+            .set_pin(k, pin)
+            .map_err(|e| self.fail(t, e.to_string()))
     }
     fn counters(&self) -> Counters {
         self.counters

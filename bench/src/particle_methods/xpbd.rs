@@ -60,7 +60,13 @@ impl Xpbd {
             h_last: 0.0,
             mass: system.masses().to_vec(),
             inv_mass: (0..n)
-                .map(|k| if system.pins()[k].is_some() { 0.0 } else { 1.0 / system.masses()[k] })
+                .map(|k| {
+                    if system.pins()[k].is_some() {
+                        0.0
+                    } else {
+                        1.0 / system.masses()[k]
+                    }
+                })
                 .collect(),
             pins: system.pins().to_vec(),
             links: system.links().iter().map(|l| (l.a, l.b, l.rest)).collect(),
@@ -99,9 +105,9 @@ impl Xpbd {
                 }
                 // dlambda = -C / (w_a + w_b); the step along n = d / len.
                 let s = (len - rest) / (w * len);
-                for i in 0..3 {
-                    self.x[a][i] += wa * s * d[i];
-                    self.x[b][i] -= wb * s * d[i];
+                for (i, di) in d.iter().enumerate() {
+                    self.x[a][i] += wa * s * di;
+                    self.x[b][i] -= wb * s * di;
                 }
             }
         }
@@ -131,7 +137,9 @@ impl Backend for Xpbd {
     fn advance_to(&mut self, t: f64) -> Result<(), BackendError> {
         let span = t - self.t;
         // Substeps of 1/(60 k) s, as many as fit (at least one).
-        let n = ((span * 60.0 * self.substeps as f64) - 1e-9).ceil().max(1.0) as u64;
+        let n = ((span * 60.0 * self.substeps as f64) - 1e-9)
+            .ceil()
+            .max(1.0) as u64;
         let h = span / n as f64;
         for _ in 0..n {
             self.substep(h);
@@ -174,7 +182,11 @@ impl Backend for Xpbd {
                 reason: format!("particle {k} does not exist"),
             });
         }
-        self.inv_mass[k] = if pin.is_some() { 0.0 } else { 1.0 / self.mass[k] };
+        self.inv_mass[k] = if pin.is_some() {
+            0.0
+        } else {
+            1.0 / self.mass[k]
+        };
         self.pins[k] = pin;
         Ok(())
     }

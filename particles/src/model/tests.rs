@@ -27,7 +27,13 @@ fn test_model() -> ParticleModel {
     let positions = flat
         .positions()
         .iter()
-        .map(|p| [p[0] + 0.1 * rng.next(), p[1] + 0.1 * rng.next(), 0.2 * rng.next()])
+        .map(|p| {
+            [
+                p[0] + 0.1 * rng.next(),
+                p[1] + 0.1 * rng.next(),
+                0.2 * rng.next(),
+            ]
+        })
         .collect();
     let edges: Vec<(usize, usize)> = flat.links().iter().map(|l| (l.a, l.b)).collect();
     let sys = System::from_edges(positions, flat.masses().to_vec(), &edges)
@@ -122,7 +128,11 @@ fn jacobian_is_the_derivative_of_w2_in_z() {
             let (ep, em) = (eval(&model, t, &x, &zp, &mu), eval(&model, t, &x, &zm, &mu));
             for l in 0..m {
                 let fd = (ep.w[3 * l + 2] - em.w[3 * l + 2]) / 2.0;
-                assert!((fd - j[l * m + k]).abs() < 1e-9 * (1.0 + fd.abs()), "J[{l},{k}] = {} vs fd {fd}", j[l * m + k]);
+                assert!(
+                    (fd - j[l * m + k]).abs() < 1e-9 * (1.0 + fd.abs()),
+                    "J[{l},{k}] = {} vs fd {fd}",
+                    j[l * m + k]
+                );
             }
         }
     }
@@ -147,8 +157,15 @@ fn w_derivatives_and_beta_match_finite_differences_along_the_flow() {
         model.beta(t, &x, &z, &mut beta);
         for l in 0..m {
             let fd = |j: usize| (ep.w[3 * l + j] - em.w[3 * l + j]) / (2.0 * h);
-            for (what, d, exact) in [("w'", fd(0), e.w[3 * l + 1]), ("w''", fd(1), e.w[3 * l + 2]), ("beta", fd(2), beta[l])] {
-                assert!((d - exact).abs() < 1e-5 * (1.0 + exact.abs()), "link {l} {what}: {exact} vs fd {d}");
+            for (what, d, exact) in [
+                ("w'", fd(0), e.w[3 * l + 1]),
+                ("w''", fd(1), e.w[3 * l + 2]),
+                ("beta", fd(2), beta[l]),
+            ] {
+                assert!(
+                    (d - exact).abs() < 1e-5 * (1.0 + exact.abs()),
+                    "link {l} {what}: {exact} vs fd {d}"
+                );
             }
             let (w0, w1, w2) = (e.w[3 * l], e.w[3 * l + 1], e.w[3 * l + 2]);
             assert!((e.s[l] - (mu[l] * mu[l] * w2 + 2.0 * mu[l] * w1 + w0)).abs() < 1e-14);
@@ -176,7 +193,12 @@ fn pinned_particles_follow_their_motion_and_feel_no_tension() {
 fn jacobian_entries_are_the_closed_forms_of_the_method() {
     // A bent 3-link chain: J[0,1] = -(rhat_10 . rhat_12) / m_1 through particle 1.
     let sys = System::from_edges(
-        vec![[0.0; 3], [1.0, 0.0, 0.0], [1.0, -1.0, 0.0], [2.0, -1.0, 0.5]],
+        vec![
+            [0.0; 3],
+            [1.0, 0.0, 0.0],
+            [1.0, -1.0, 0.0],
+            [2.0, -1.0, 0.5],
+        ],
         vec![1.0, 2.0, 4.0, 8.0],
         &[(0, 1), (1, 2), (2, 3)],
     )
@@ -211,7 +233,9 @@ fn the_start_is_consistent_and_links_between_pins_are_dropped() {
     let model = ParticleModel::new(&sys).unwrap();
     // 24 links, 3 of them along the pinned edge.
     assert_eq!(model.n_constraints(), 21);
-    let dropped: Vec<usize> = (0..24).filter(|&l| model.constraint_of_link(l).is_none()).collect();
+    let dropped: Vec<usize> = (0..24)
+        .filter(|&l| model.constraint_of_link(l).is_none())
+        .collect();
     assert_eq!(dropped.len(), 3);
     for &l in &dropped {
         let link = sys.links()[l];
@@ -222,7 +246,11 @@ fn the_start_is_consistent_and_links_between_pins_are_dropped() {
     model.initial_alg(&mut z);
     let e = eval(&model, 0.0, &x, &z, &[0.1; 21]);
     for l in 0..21 {
-        assert!(e.w[3 * l].abs() < 1e-15 && e.w[3 * l + 1] == 0.0 && e.w[3 * l + 2].abs() < 1e-9, "link {l}: {:?}", &e.w[3 * l..3 * l + 3]);
+        assert!(
+            e.w[3 * l].abs() < 1e-15 && e.w[3 * l + 1] == 0.0 && e.w[3 * l + 2].abs() < 1e-9,
+            "link {l}: {:?}",
+            &e.w[3 * l..3 * l + 3]
+        );
     }
 }
 
@@ -231,9 +259,16 @@ fn pin_changes_keep_the_pattern_and_refuse_doubly_pinned_links() {
     let sys = chain(3, 1.0).unwrap();
     let mut model = ParticleModel::new(&sys).unwrap();
     let pattern = model.jacobian_pattern().to_vec();
-    let err = model.set_pin(1, Some(Pin::Fixed([1.0 / 3.0, 0.0, 0.0]))).unwrap_err();
-    assert!(matches!(err, ModelError::PinnedLink { link: 0, .. }), "{err}");
-    model.set_pin(2, Some(Pin::Fixed([2.0 / 3.0, 0.0, 0.0]))).unwrap();
+    let err = model
+        .set_pin(1, Some(Pin::Fixed([1.0 / 3.0, 0.0, 0.0])))
+        .unwrap_err();
+    assert!(
+        matches!(err, ModelError::PinnedLink { link: 0, .. }),
+        "{err}"
+    );
+    model
+        .set_pin(2, Some(Pin::Fixed([2.0 / 3.0, 0.0, 0.0])))
+        .unwrap();
     assert_eq!(model.jacobian_pattern(), &pattern[..]);
     let mut x = vec![0.0; model.n_states()];
     model.initial_state(&mut x);
@@ -246,7 +281,10 @@ fn pin_changes_keep_the_pattern_and_refuse_doubly_pinned_links() {
     model.set_pin(2, None).unwrap();
     let j = dense_jacobian(&model, 0.0, &x);
     assert!((j[4] + 2.0 * inv).abs() < 1e-12 && (j[3 + 2] - inv).abs() < 1e-12);
-    assert!(matches!(model.set_pin(9, None), Err(ModelError::NoSuchParticle { .. })));
+    assert!(matches!(
+        model.set_pin(9, None),
+        Err(ModelError::NoSuchParticle { .. })
+    ));
 }
 
 #[test]
