@@ -30,6 +30,14 @@
 //!   test and benchmark matrices of the runtime's `J_s` solvers
 //!   (`cargo run --release -p dae-bench --example solvers` times every solver at 10^2,
 //!   10^3 and 10^4 links with fitted exponents).
+//! * **Particle scenes** ([`ParticleScene`], [`c1`] ... [`c4`], [`MethodSpec`],
+//!   [`run_particle_method`], [`ParticleRecord`], [`write_particles_csv`]): the scenes of
+//!   docs/particles.md through the `dae_particles::Backend` seam, with the baselines
+//!   [`Xpbd`] (zero compliance, substeps or iterations) and [`IndexOneParticles`] (RK4,
+//!   exact solve at every stage), the DBSMC design from an index-1 pilot
+//!   ([`particle_pilot`], [`dbsmc_settings`]), charts and pictures;
+//!   `cargo run --release -p dae-bench --example particles` regenerates
+//!   `docs/results/particles.csv` and everything beside it.
 //! * **Work-precision harness** ([`Scene`], [`Method`], [`run_method`], [`Record`],
 //!   [`write_csv`], [`chart`]): one run per knob value, position error at `t_end`
 //!   against the truth, max `|w|`, best-of-N wall time, `J_s` solves, `f` evaluations.
