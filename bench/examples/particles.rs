@@ -113,6 +113,13 @@ fn sweeps() -> Vec<Vec<MethodSpec>> {
                 integrator: Integrator::Euler,
             })
             .to_vec(),
+        [1e-2, 1e-3, 1e-4]
+            .map(|eps| MethodSpec::Dbsmc {
+                eps,
+                solver: SolverChoice::Auto,
+                integrator: Integrator::DormandPrince,
+            })
+            .to_vec(),
     ]
 }
 

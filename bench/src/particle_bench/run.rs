@@ -41,8 +41,10 @@ impl MethodSpec {
                 solver, integrator, ..
             } => {
                 let mut name = String::from("dbsmc");
-                if *integrator == Integrator::Euler {
-                    name += "-euler";
+                match integrator {
+                    Integrator::Euler => name += "-euler",
+                    Integrator::DormandPrince => name += "-dp",
+                    _ => {}
                 }
                 if *solver != SolverChoice::Auto {
                     name += &format!("-{solver}");
@@ -340,6 +342,11 @@ pub fn run_particle_method(
                 Err(e) => return failed(e.to_string()),
             };
             let (settings, t_min) = match dbsmc_settings(&model, bounds, eps, solver) {
+                // An error-controlled integrator chooses its own steps (crossings are
+                // located inside them): no step tied to the layer, at most a frame.
+                Ok((s, t)) if integrator.is_adaptive() => {
+                    (s.integrator(integrator).step(FRAME).max_step(FRAME), t)
+                }
                 Ok((s, t)) => (s.integrator(integrator), t),
                 Err(e) => return failed(e),
             };

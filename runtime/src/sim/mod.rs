@@ -138,6 +138,8 @@ struct RunState {
     j_current: bool,
     /// The step just taken was cut at an event that asks for an update.
     force_update: bool,
+    /// Steps in a row that made almost no progress (the progress guard of `step`).
+    short_steps: u32,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -216,6 +218,7 @@ impl<M: Model> Simulator<M> {
                 dirty: false,
                 j_current: false,
                 force_update: false,
+                short_steps: 0,
             },
             set: settings,
         })
@@ -310,6 +313,7 @@ impl<M: Model> Simulator<M> {
             dirty: false,
             j_current: false,
             force_update: false,
+            short_steps: 0,
         };
         self.f_cur_valid = false;
         sink.begin(&self.layout)?;

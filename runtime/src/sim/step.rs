@@ -24,6 +24,10 @@ const AIM_PAST_CROSSING: f64 = 1.3;
 /// true `s` to the tolerance after one or two; the rest is a guard against a model
 /// whose `s` is not smooth within a step.
 const MAX_CUTS: usize = 8;
+/// A step shorter than this fraction of the reference step makes no progress.
+const STALL_FRACTION: f64 = 1e-6;
+/// After this many such steps in a row, the next step is neither aimed nor cut.
+const STALL_STEPS: u32 = 2;
 /// Newton iterations on the true `s` per cut.
 const MAX_NEWTON: usize = 8;
 /// Consecutive non-finite trial steps of an embedded pair before the failure is
@@ -71,7 +75,7 @@ impl<M: Model> Simulator<M> {
             self.adaptive_step(target)?;
         } else {
             let mut t_new = self.grid_time();
-            let aims = self.located() && self.set.policy == Policy::Monitor;
+            let aims = self.located() && self.set.policy == Policy::Monitor && !self.stalled();
             let aim = if aims {
                 t0 + AIM_PAST_CROSSING * self.predicted_crossing()
             } else {
@@ -107,6 +111,14 @@ impl<M: Model> Simulator<M> {
         }
         self.measure.h = self.t - t0;
         self.stats.steps += 1;
+        // Progress guard: aimed and cut steps shrink without bound when a variable sits
+        // on its watch level with a rate lost in rounding (Zeno); after two steps
+        // shorter than a millionth of the reference step, the next is taken whole.
+        if self.t - t0 < STALL_FRACTION * self.reference_step() {
+            self.run.short_steps += 1;
+        } else {
+            self.run.short_steps = 0;
+        }
         Ok(())
     }
 
@@ -225,7 +237,7 @@ impl<M: Model> Simulator<M> {
         }
         let remaining = end - t0;
         let mut h_max = self.set.max_step.min(remaining);
-        if self.located() && self.set.policy == Policy::Monitor {
+        if self.located() && self.set.policy == Policy::Monitor && !self.stalled() {
             // Aim a little beyond the next crossing that s' predicts, so that the cut
             // falls near the step's end: the dense output there is as accurate as the
             // step itself, and one step usually spans a control interval.
@@ -381,7 +393,11 @@ impl<M: Model> Simulator<M> {
     fn locate(&mut self, t0: f64) {
         let tol = self.crossing_tol();
         self.build_cubics(self.t - t0);
-        if self.set.policy == Policy::Monitor {
+        if self.stalled() {
+            // Two steps in a row made (almost) no progress: this one is not cut, and
+            // the control is updated at its end, as the step-end rule does.
+            self.run.force_update = true;
+        } else if self.set.policy == Policy::Monitor {
             let mut cut = false;
             for _ in 0..MAX_CUTS {
                 let h = self.t - t0;
@@ -419,6 +435,21 @@ impl<M: Model> Simulator<M> {
             self.measure.max_s[i] = c.max_abs();
             self.measure.time_beyond[i] = c.time_beyond(bound * self.set.eps[i]) * h;
         }
+    }
+
+    /// The step against which progress is judged: the fixed step, or for the embedded
+    /// pairs the largest step allowed (at most the run's span).
+    fn reference_step(&self) -> f64 {
+        if self.set.integrator.is_adaptive() {
+            self.set.max_step.min(self.set.t_end - self.set.t_start)
+        } else {
+            self.set.step
+        }
+    }
+
+    /// Whether the last steps stalled (see the progress guard in [`Self::step`]).
+    fn stalled(&self) -> bool {
+        self.run.short_steps >= STALL_STEPS
     }
 
     /// The earliest event of all sliding variables on the current step.

@@ -1,0 +1,54 @@
+//! The simulator always makes progress. Found by the `run` fuzz target: the nonlinear RC
+//! circuit started far from its constraint (`u = 8` where the constraint holds near 5)
+//! with a gain too small to reach the layer. After an update the sliding variable sat on
+//! its contracting layer with a rate lost in rounding, so every step was aimed at, and
+//! cut at, a crossing predicted at zero distance: time stopped at t = 5.504e-3 and the
+//! run never ended. The run must end, as "not reached", in a few hundred steps.
+
+use dae_runtime::{Integrator, Model, NoTrace, Settings, SimError, Simulator};
+
+const STALLING_RC: &str = "
+model NonlinearRC {
+    param V0 = 5.0; param f = 50.0; param R1 = 100.0; param R2 = 1000.0;
+    param R3 = 202.0; param k = 1e-3; param C = 1e-4; param pi = 3.142592653589793;
+    state v = 0.0;
+    alg u = 8.0;
+    let vs = V0 * sin(2 * pi * f * t);
+    let i_load = u / R2 + k * u^3;
+    der(v) = (u - v) / (R3 * C);
+    constraint kcl_u: (vs - u) / R1 = i_load + (u - v) / R3;
+}";
+
+fn run(integrator: Integrator) -> (Result<dae_runtime::Summary, SimError>, u64) {
+    let compiled = dae_lang::compile_source(STALLING_RC).expect("the model compiles");
+    let model = daec::Interpreted::new(compiled.into_iter().next().unwrap());
+    let m = model.n_constraints();
+    // A step limit turns a stall into a failure of this test instead of a hang.
+    let settings = Settings::new(vec![0.1; m], vec![0.1; m], vec![1.0; m])
+        .integrator(integrator)
+        .step(1e-3)
+        .t_end(0.05)
+        .max_steps(100_000);
+    let mut sim = Simulator::new(&model, settings).expect("valid settings");
+    let result = sim.run(&mut NoTrace);
+    let t = sim.time();
+    (result, (t * 1e6) as u64)
+}
+
+#[test]
+fn a_variable_resting_on_its_contracting_layer_does_not_stop_time() {
+    for integrator in [Integrator::Rk4, Integrator::DormandPrince] {
+        let (result, t_us) = run(integrator);
+        match result {
+            Ok(summary) => {
+                assert!(
+                    summary.steps < 2_000,
+                    "{integrator:?}: {} steps for 50 ms",
+                    summary.steps
+                );
+                assert!(!summary.bound_held(), "{integrator:?}: the layer is not reached");
+            }
+            Err(e) => panic!("{integrator:?}: stopped at t = {t_us} us: {e}"),
+        }
+    }
+}
