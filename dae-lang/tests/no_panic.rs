@@ -28,19 +28,29 @@ fn examples() -> Vec<String> {
 }
 
 fn max_let(e: &RExpr) -> Option<usize> {
-    match e {
-        RExpr::Let(i) => Some(i.index()),
-        RExpr::Num(_) | RExpr::Var(_) => None,
-        RExpr::Neg(a) => max_let(a),
-        RExpr::Binary(_, a, b) => max_let(a).max(max_let(b)),
-        RExpr::Call(_, args) => args.iter().filter_map(max_let).max(),
-    }
+    let mut max = None;
+    e.visit(&mut |x| {
+        if let RExpr::Let(i) = x {
+            max = max.max(Some(i.index()));
+        }
+    });
+    max
 }
 
 fn check_invariants(m: &Model) {
     assert_eq!(m.ders.len(), m.states.len());
-    assert_eq!(m.constraints.len(), m.algs.len());
-    assert!(m.params.iter().all(|p| p.default.is_finite()));
+    if m.is_family() {
+        // Counts of family models are checked at construction (they need sizes); the
+        // defaults of scalar parameters are evaluated at the default sizes when possible.
+        assert!(
+            m.params
+                .iter()
+                .all(|p| p.family.over.is_some() || !p.default.is_infinite())
+        );
+    } else {
+        assert_eq!(m.constraints.len(), m.algs.len());
+        assert!(m.params.iter().all(|p| p.default.is_finite()));
+    }
     for (i, l) in m.lets.iter().enumerate() {
         assert!(
             max_let(&l.expr).is_none_or(|j| j < i),
