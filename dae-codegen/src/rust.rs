@@ -37,7 +37,18 @@ pub fn field_name(param: &str) -> String {
 }
 
 /// The tokens of the generated type and its `Model` implementation.
+///
+/// A family model (`model.family` set) is not generated yet: the result is a
+/// `compile_error!` naming the model.
 pub fn generate(model: &CompiledModel) -> TokenStream {
+    if model.is_family() {
+        let msg = format!(
+            "model `{}` has families (language version 2): the Rust code generator does not \
+             generate family models yet; run it with the interpreter",
+            model.name
+        );
+        return quote!(::core::compile_error!(#msg););
+    }
     let ty = format_ident!("{}", field_name(&model.name));
     let name = &model.name;
     let fields: Vec<Ident> = model
@@ -262,6 +273,16 @@ fn operand(o: Operand, fields: &[Ident]) -> TokenStream {
             quote!(mu[#i])
         }
         Operand::Input(VarRef::Time) => quote!(t),
+        // Family programs only: never in a version-1 tape (`generate` rejects family
+        // models first).
+        Operand::Input(VarRef::Input(..) | VarRef::Elem(_) | VarRef::Size(_))
+        | Operand::Gather(..)
+        | Operand::Array(_)
+        | Operand::ArrayAt(..) => {
+            quote!(::core::compile_error!(
+                "an element path in a version-1 tape"
+            ))
+        }
     }
 }
 

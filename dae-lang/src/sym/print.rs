@@ -13,8 +13,11 @@
 use std::collections::HashMap;
 
 use super::{Arena, Id, Node, Num};
-use crate::VarRef;
 use crate::model::Model;
+use crate::{SetId, VarRef};
+
+pub use super::print_family::FamilyNames;
+use super::print_family::{primes, split_component};
 
 /// Names of the leaves for printing. Missing names fall back to `p<i>`, `x<i>`, `z<i>`.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -25,6 +28,9 @@ pub struct Names {
     pub states: Vec<String>,
     /// Algebraic names.
     pub algs: Vec<String>,
+    /// The names of a family model's sizes, sets, inputs and constraints (`None` for a
+    /// version-1 model).
+    pub family: Option<Box<FamilyNames>>,
 }
 
 impl Names {
@@ -34,6 +40,7 @@ impl Names {
             params: m.params.iter().map(|p| p.name.clone()).collect(),
             states: m.states.iter().map(|s| s.name.clone()).collect(),
             algs: m.algs.iter().map(|a| a.name.clone()).collect(),
+            family: m.is_family().then(|| Box::new(FamilyNames::from_model(m))),
         }
     }
 
@@ -50,14 +57,54 @@ impl Names {
             VarRef::State(i) => named(&self.states, "x", i.index()),
             VarRef::Alg(i) => named(&self.algs, "z", i.index()),
             VarRef::Time => "t".into(),
-            VarRef::Mu(i) => format!("mu{}", i.index() + 1),
+            VarRef::Mu(i) => match &self.family {
+                Some(f) if f.constraint_families.get(i.index()) == Some(&true) => {
+                    format!("mu_{}", f.constraints[i.index()])
+                }
+                _ => format!("mu{}", i.index() + 1),
+            },
+            VarRef::Input(i, j) => {
+                let name = self
+                    .family
+                    .as_ref()
+                    .and_then(|f| f.inputs.get(i.index()).cloned())
+                    .unwrap_or_else(|| format!("u{}", i.index()));
+                let (base, comp) = split_component(&name);
+                format!("{base}{}{comp}", primes(j as usize))
+            }
+            VarRef::Elem(s) => self.elem(s),
+            VarRef::Size(i) => self
+                .family
+                .as_ref()
+                .and_then(|f| f.sizes.get(i.index()).cloned())
+                .unwrap_or_else(|| format!("n{}", i.index())),
+        }
+    }
+
+    /// The element name of a set (`s<i>` without family names).
+    pub fn elem(&self, s: SetId) -> String {
+        self.family
+            .as_ref()
+            .and_then(|f| f.elems.get(s.index()).cloned())
+            .unwrap_or_else(|| format!("s{}", s.index()))
+    }
+
+    /// The name of a set (`the unit` for `None`).
+    pub fn set(&self, s: Option<SetId>) -> String {
+        match s {
+            None => "the unit".into(),
+            Some(s) => self
+                .family
+                .as_ref()
+                .and_then(|f| f.sets.get(s.index()).cloned())
+                .unwrap_or_else(|| format!("S{}", s.index())),
         }
     }
 }
 
 /// Binding strength of the outermost operator of a printed piece.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-enum Kind {
+pub(super) enum Kind {
     Sum,
     Neg,
     Prod,
@@ -65,9 +112,9 @@ enum Kind {
     Atom,
 }
 
-type Piece = (String, Kind);
+pub(super) type Piece = (String, Kind);
 
-fn wrap((s, k): Piece, min: Kind) -> String {
+pub(super) fn wrap((s, k): Piece, min: Kind) -> String {
     if k < min { format!("({s})") } else { s }
 }
 
@@ -80,7 +127,7 @@ fn unsigned(v: f64) -> String {
     }
 }
 
-fn number(v: f64) -> Piece {
+pub(super) fn number(v: f64) -> Piece {
     if v.is_nan() {
         ("(0/0)".into(), Kind::Atom)
     } else if v.is_infinite() {
@@ -98,26 +145,43 @@ fn exact_reciprocal(v: f64) -> Option<f64> {
     (r > 1.0 && r < 1e15 && r.fract() == 0.0 && 1.0 / r == v).then_some(r)
 }
 
-struct Printer<'a> {
-    arena: &'a Arena,
-    names: &'a Names,
-    memo: HashMap<Id, Piece>,
+pub(super) struct Printer<'a> {
+    pub(super) arena: &'a Arena,
+    pub(super) names: &'a Names,
+    /// By node and the element name bound to its context (interned; 0 for a scalar).
+    pub(super) memo: HashMap<(Id, u32), Piece>,
+    /// Nodes written by name (a model's `let`s): `d.x` prints `d[l].x` in the context of
+    /// `l`.
+    pub(super) abbrev: HashMap<Id, String>,
     /// Abbreviations that are a power of one base, `name = base^e0` (a let `l =
     /// sqrt(x^2 + y^2)`), by base: a factor `base^e` with an integer `e/e0` prints as
     /// `name^(e/e0)` (for a positive integer `e/e0`), so `(x^2 + y^2)^1.5` reads `l^3`.
     /// Needed because a power of a let
-    /// merges into the surrounding product and the let's own node disappears.
-    roots: HashMap<Id, (String, f64)>,
+    /// merges into the surrounding product and the let's own node disappears. The value
+    /// is the abbreviated node and `e0`.
+    pub(super) roots: HashMap<Id, (Id, f64)>,
+    /// The element name bound to each set (family models).
+    pub(super) env: Vec<String>,
+    /// Interned bindings, for the memo.
+    pub(super) bindings: HashMap<String, u32>,
 }
 
 impl Printer<'_> {
-    fn pr(&mut self, id: Id) -> Piece {
-        if let Some(p) = self.memo.get(&id) {
+    pub(super) fn pr(&mut self, id: Id) -> Piece {
+        let key = self.key(id);
+        if let Some(p) = self.memo.get(&key) {
             return p.clone();
+        }
+        if let Some(name) = self.abbrev.get(&id) {
+            let p = (self.at_element(name, self.arena.ctx(id)), Kind::Atom);
+            self.memo.insert(key, p.clone());
+            return p;
         }
         let p = match self.arena.node(id) {
             Node::Const(v) => number(v.0),
-            Node::Var(v) => (self.names.var(*v), Kind::Atom),
+            Node::Var(v) => (self.leaf(*v), Kind::Atom),
+            Node::Gather(m, e) => self.gather(*m, *e),
+            Node::Sum(m, b) => self.sum_over(*m, *b),
             Node::Add(c, ts) => self.sum(c.0, ts),
             Node::Mul(c, fs) => self.product(c.0, fs),
             Node::Pow(a, b) => {
@@ -131,7 +195,7 @@ impl Printer<'_> {
                 Kind::Atom,
             ),
         };
-        self.memo.insert(id, p.clone());
+        self.memo.insert(key, p.clone());
         p
     }
 
@@ -223,11 +287,12 @@ impl Printer<'_> {
     }
 
     fn factor(&mut self, b: Id, e: f64) -> Piece {
-        if let Some((name, e0)) = self.roots.get(&b) {
+        if let Some(&(node, e0)) = self.roots.get(&b) {
             let k = e / e0;
             if k.fract() == 0.0 && k > 0.0 && k < 1e6 {
+                let name = self.pr(node).0;
                 return if k == 1.0 {
-                    (name.clone(), Kind::Atom)
+                    (name, Kind::Atom)
                 } else {
                     (format!("{name}^{}", wrap(number(k), Kind::Pow)), Kind::Pow)
                 };
@@ -317,13 +382,7 @@ impl Arena {
     /// The expression in the `.dae` language's syntax (shared sub-expressions are written
     /// out in full each time they occur).
     pub fn display(&self, id: Id, names: &Names) -> String {
-        let mut p = Printer {
-            arena: self,
-            names,
-            memo: HashMap::new(),
-            roots: HashMap::new(),
-        };
-        p.pr(id).0
+        Printer::new(self, names).pr(id).0
     }
 
     /// Several expressions printed with one memo (faster than repeated [`Arena::display`]).
@@ -339,25 +398,6 @@ impl Arena {
         names: &Names,
         abbrev: &[(Id, String)],
     ) -> Vec<String> {
-        let memo = abbrev
-            .iter()
-            .map(|(id, n)| (*id, (n.clone(), Kind::Atom)))
-            .collect();
-        let roots = abbrev
-            .iter()
-            .filter_map(|(id, n)| match self.node(*id) {
-                Node::Mul(c, fs) if c.0 == 1.0 && fs.len() == 1 => {
-                    Some((fs[0].0, (n.clone(), fs[0].1.0)))
-                }
-                _ => None,
-            })
-            .collect();
-        let mut p = Printer {
-            arena: self,
-            names,
-            memo,
-            roots,
-        };
-        ids.iter().map(|&id| p.pr(id).0).collect()
+        self.display_in(ids, names, abbrev, &[])
     }
 }
