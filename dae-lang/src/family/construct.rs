@@ -64,7 +64,11 @@ pub struct ConstructError {
 impl ConstructError {
     /// As a diagnostic (to render with the source).
     pub fn to_diagnostic(&self) -> Diagnostic {
-        Diagnostic::new(self.message.clone(), self.span, "at construction").hint(self.hint.clone())
+        self.diagnostic("at construction")
+    }
+
+    pub(crate) fn diagnostic(&self, label: &str) -> Diagnostic {
+        Diagnostic::new(self.message.clone(), self.span, label).hint(self.hint.clone())
     }
 }
 

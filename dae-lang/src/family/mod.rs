@@ -219,7 +219,7 @@ pub(crate) fn check_at_default_sizes(m: &mut Model, diags: &mut Vec<Diagnostic>)
                     }
                 }
             }
-            Err(e) => diags.push(e.to_diagnostic()),
+            Err(e) => diags.push(e.diagnostic("with the default sizes")),
         }
         return;
     }

@@ -47,7 +47,29 @@ impl Checker<'_> {
             );
         }
         let Some(entry) = self.names.get(n.as_str()).copied() else {
-            return self.unknown_name(n, base.span);
+            if crate::Func::from_name(n).is_some() {
+                return self.unknown_name(n, base.span);
+            }
+            let indexed: Vec<&str> = self
+                .ordered
+                .iter()
+                .copied()
+                .filter(|x| self.names[x].kind == Kind::Map || self.names[x].over.is_some())
+                .collect();
+            let hint = match crate::check::names::suggest(n, indexed.iter().copied()) {
+                Some(s) => format!("did you mean `{s}`?"),
+                None => {
+                    "declare it: `map NAME[l in L] -> P = ...;` or a family `NAME[p in P]`".into()
+                }
+            };
+            return self.err(
+                Diagnostic::new(
+                    format!("unknown map or family `{n}`"),
+                    base.span,
+                    format!("not declared in model `{}`", self.m.name.name),
+                )
+                .hint(hint),
+            );
         };
         match entry.kind {
             Kind::Set | Kind::Size => self.err(
