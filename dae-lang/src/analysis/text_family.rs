@@ -184,8 +184,8 @@ impl Analysis {
             ids.extend([e.beta, e.s, e.alpha, e.alpha_hat]);
             let printed = arena.display_in(&ids, names, &all, &[]);
             let row = |what: String| named(&what, set, &elem);
-            for j in 0..r {
-                let _ = writeln!(out, "{} = {}", row(wname(&c.name, j, r)), printed[j]);
+            for (j, text) in printed.iter().take(r).enumerate() {
+                let _ = writeln!(out, "{} = {}", row(wname(&c.name, j, r)), text);
             }
             for k in &e.kernels {
                 let _ = writeln!(

@@ -19,6 +19,46 @@
 //!
 //! [`expand`] is the oracle of the tests: a family model at given sizes and maps
 //! written out as the equivalent scalar (version-1) model.
+//!
+//! # What a back end does with it
+//!
+//! At construction (once per instance): [`construct`] (or the same steps in the
+//! runtime, see its documentation for the order and the checks, each reported with the
+//! span of the declaration concerned, which [`crate::line_col`] turns into a line and
+//! column), giving set sizes, every map as an array, the [`Layout`], the parameter
+//! vector, the initial states and algebraic guesses, the default input values and the
+//! [`JacobianPattern`] (entries and, per coupling, the `[entry, l, k]` lists). Names of
+//! the instance's slots are built from the component names: `x.y` over `P` at element
+//! 3 is `x[3].y`, constraint `link` at element 7 is `link[7]`.
+//!
+//! At every evaluation: each [`Program`] as its documentation says, reading the vectors
+//! at the layout's slots (inputs: the current values and derivatives of every input, in
+//! the layout's input value vector; the runtime evaluates them, e.g. from the caller's
+//! Taylor data `set_input(i, t0, [value, d1, ..])`, before calling). [`Program::eval`]
+//! is the interpreter; a code generator emits one loop per group.
+//!
+//! # Construction-time expressions
+//!
+//! Set sizes, map formulas, parameter values, initial values and input defaults are
+//! [`RExpr`]s evaluated per element `e` of the declaration's set (element 0 for a
+//! scalar) with integer, real and condition values, typed as the checker typed them:
+//!
+//! * `Num(v)`: an integer when `v` is a whole number, else a real;
+//! * `Var(Size(s))`: the size's value (integer); `Var(Elem(S))`: `e` (integer);
+//!   `Var(Param(p))`: the parameter's value at `e` (its only value for a scalar
+//!   parameter; parameters are evaluated in declaration order and read only earlier
+//!   ones);
+//! * `Gather(m, x)`: `x` evaluated at element `maps[m][e]`;
+//! * `Neg`, `Binary(+ - *)`: exact on two integers (`i64`; an overflow is a construction
+//!   error), real otherwise; `/` and `^` are real; `Call(f, ..)` real, except `min`,
+//!   `max` and `abs` of integers, which stay integers;
+//! * `Int(Div | Mod, a, b)`: floor division and modulo of integers (the result of `mod`
+//!   has the sign of `b`); a zero divisor is a construction error;
+//! * `Compare`: a condition (integers compare exactly, anything else as reals);
+//!   `Logic(and | or)`, `Not`: conditions; `If(c, a, b)`: `a` where `c` holds, else `b`.
+//!
+//! A map's values must be integers in `0 .. |codomain|`; every other value must be a
+//! finite number.
 
 mod ceval;
 mod construct;

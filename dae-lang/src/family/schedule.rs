@@ -146,10 +146,8 @@ pub(crate) fn program(
     for &id in &nodes {
         let node = arena.node(id).clone();
         match node {
-            Node::Gather(_, c) if !is_leaf(arena.node(c)) => {
-                if is_computed(arena.node(c)) {
-                    s.materialise(c);
-                }
+            Node::Gather(_, c) if is_computed(arena.node(c)) => {
+                s.materialise(c);
             }
             Node::Sum(m, b) => {
                 let k = arena.maps().domain(m);
