@@ -184,9 +184,9 @@
 #[cfg(feature = "macros")]
 pub use dae_macros::{dae, dae_file};
 
+#[cfg(feature = "plot")]
 mod charts;
 mod design;
-#[cfg(feature = "plot")]
 #[cfg(feature = "families")]
 pub mod family;
 mod model;
