@@ -38,7 +38,9 @@
 //!   using `dae!` does not compile `syn` and `prettyplease`.
 #![warn(missing_docs)]
 
+mod construction;
 mod expand;
+mod family;
 mod rust;
 mod tokens;
 
