@@ -30,6 +30,14 @@
 //!   test and benchmark matrices of the runtime's `J_s` solvers
 //!   (`cargo run --release -p dae-bench --example solvers` times every solver at 10^2,
 //!   10^3 and 10^4 links with fitted exponents).
+//! * **Particle scenes** ([`ParticleScene`], [`c1`] ... [`c4`], [`MethodSpec`],
+//!   [`run_particle_method`], [`ParticleRecord`], [`write_particles_csv`]): the scenes of
+//!   docs/particles.md through the `dae_particles::Backend` seam, with the baselines
+//!   [`Xpbd`] (zero compliance, substeps or iterations) and [`IndexOneParticles`] (RK4,
+//!   exact solve at every stage), the DBSMC design from an index-1 pilot
+//!   ([`particle_pilot`], [`dbsmc_settings`]), charts and pictures;
+//!   `cargo run --release -p dae-bench --example particles` regenerates
+//!   `docs/results/particles.csv` and everything beside it.
 //! * **Work-precision harness** ([`Scene`], [`Method`], [`run_method`], [`Record`],
 //!   [`write_csv`], [`chart`]): one run per knob value, position error at `t_end`
 //!   against the truth, max `|w|`, best-of-N wall time, `J_s` solves, `f` evaluations.
@@ -61,7 +69,7 @@
 //! let scene = chain_scene("dp", &model, &chain, &[h, h], 0.5)?;
 //! let r = run_method(&scene, &Method::IndexOne { mu: 0.05, step: 1e-3 }, 1);
 //! assert!(r.ok && r.pos_err < 1e-8 && r.max_w < 1e-8);
-//! let d = run_method(&scene, &scene.dbsmc(1e-3, 0.05, 1.5, 1e-3), 1);
+//! let d = run_method(&scene, &scene.dbsmc(1e-3, 0.05, 1.5), 1);
 //! assert!(d.ok && d.max_w < 2e-3);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
@@ -70,6 +78,8 @@
 mod baseline;
 mod generated;
 mod harness;
+mod particle_bench;
+mod particle_methods;
 mod particles;
 mod scenes;
 mod stability;
@@ -79,9 +89,17 @@ mod truth;
 pub use baseline::*;
 pub use generated::{Chain3, Chain5, DoublePendulum, DoublePendulum3D};
 pub use harness::{
-    BDF_MISSING, CostAxis, DesignedBounds, ErrorAxis, Method, Record, Scene, chart,
-    designed_bounds, pilot_beta_bound, run_method, write_csv,
+    BDF_MISSING, CostAxis, DbsmcStep, DesignedBounds, ErrorAxis, Method, Record, Scene, chart,
+    designed_bounds, pilot_beta_bound, run_method, step_rule, write_csv,
 };
+pub use particle_bench::{
+    CSV_COLUMNS, Capture, FrameObserver, Grab, Line, MethodSpec, PILOT_SAFETY, ParticleRecord,
+    ParticleScene, bound_held, c1, c2, c3, c4, cheapest, cheapest_table, dbsmc_settings,
+    drive_scene, fitted_exponent, index_one, loglog, particle_pilot, ratio_chart,
+    run_particle_method, size_line, stability_table, strain_chart, strain_colour,
+    write_particles_csv, write_pictures,
+};
+pub use particle_methods::{IndexOneParticles, PilotBounds, Xpbd};
 pub use particles::{Lcg, Particles};
 pub use scenes::{SceneError, TRUTH_TOL, chain_scene, embedded_chain_scene, vertical_plane_map};
 pub use stability::{

@@ -16,7 +16,11 @@ pub(crate) struct Args {
 pub(crate) fn run(args: &Args) -> Result<(), Reported> {
     let (name, src) = source::read(&args.file)?;
     let analysed = dae_lang::analyze_source(&src).map_err(|d| source::report(&name, &src, &d))?;
-    let texts: Vec<String> = analysed.iter().map(|(_, a)| a.derive_text()).collect();
-    print!("{}", texts.join("\n"));
+    for (k, (_, a)) in analysed.iter().enumerate() {
+        if k > 0 {
+            println!();
+        }
+        print!("{}", a.derive_text());
+    }
     Ok(())
 }

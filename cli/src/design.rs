@@ -2,8 +2,8 @@
 //! (one constraint) or from a pilot run of a model (every constraint).
 
 use crate::pilot::{PilotArgs, design_json, per_constraint};
-use crate::{Reported, source};
-use dae_runtime::{ConstraintSpec, Model, MuSearch, Settings, optimise_mu};
+use crate::{Reported, messages, source};
+use dae_runtime::{ConstraintSpec, DesignError, MAX_INDEX, Model, MuSearch, Settings, optimise_mu};
 use serde_json::json;
 use std::path::PathBuf;
 
@@ -72,16 +72,39 @@ fn from_bounds(args: &Args) -> Result<(), Reported> {
         eprintln!("error: without a model file, give one --eps value");
         return Err(Reported);
     };
+    let (index, beta, m) = (
+        args.index.unwrap_or(0),
+        args.beta.unwrap_or(0.0),
+        args.m.unwrap_or(0.0),
+    );
+    messages::check((1..=MAX_INDEX).contains(&index), || {
+        format!("--index must be in 1..={MAX_INDEX}, got {index}")
+    })?;
+    messages::all_positive("--eps", &args.eps)?;
+    messages::at_least("--beta", beta, 0.0)?;
+    messages::at_least("--m", m, 0.0)?;
     let spec = ConstraintSpec {
-        r: args.index.unwrap_or(0),
+        r: index,
         eps,
-        m: args.m.unwrap_or(0.0),
-        beta_abs: args.beta.unwrap_or(0.0),
+        m,
+        beta_abs: beta,
         layer: args.pilot_args.bound.layer(),
     };
     let gain = args.pilot_args.gains.choice();
     let d = optimise_mu(&spec, gain, &MuSearch::default()).map_err(|e| {
-        eprintln!("error: {e}");
+        let message = match e {
+            // The flags are checked above: a quantity out of range now is one that the
+            // design computed from them and that left the floating-point range.
+            DesignError::NotPositive { .. } | DesignError::Negative { .. } => format!(
+                "no finite gain for --beta {} and --m {} (--eps {}): the design leaves the \
+                 range of floating-point numbers",
+                messages::number(beta),
+                messages::number(m),
+                messages::number(eps)
+            ),
+            _ => messages::design_error(&e, None),
+        };
+        eprintln!("error: {message}");
         Reported
     })?;
     if args.json {
@@ -101,8 +124,45 @@ fn from_pilot(args: &Args, file: &std::path::Path) -> Result<(), Reported> {
         eprintln!("error: --index, --beta and --m are for a single constraint without a file");
         return Err(Reported);
     }
+    // Every value checked before the model is read and any pilot runs.
+    messages::positive("--pilot", duration)?;
+    messages::all_positive("--eps", &args.eps)?;
+    messages::positive("--step", args.step)?;
+    messages::at_least("--settle", args.settle, 0.0)?;
+    messages::check(args.settle < duration, || {
+        format!(
+            "--settle ({} s) must be shorter than --pilot ({duration} s): the bounds are \
+             collected after it",
+            args.settle
+        )
+    })?;
+    args.pilot_args.validate()?;
     let model = source::interpreted(file, args.model.as_deref())?;
     let m = model.n_constraints();
+    if m == 0 {
+        // An ODE is a DAE without constraints: nothing to design, and it runs as is.
+        let note =
+            "no constraints: there is no mu or gain to design (`daec run` integrates it as an ODE)";
+        if args.json {
+            println!(
+                "{}",
+                json!({"model": model.name(), "constraints": [], "mu": [], "gain": [], "note": note})
+            );
+        } else {
+            println!("model {} has {note}", model.name());
+        }
+        return Ok(());
+    }
+    if !(duration.is_finite() && duration > 0.0) {
+        eprintln!("error: --pilot {duration}: must be a finite number > 0");
+        return Err(Reported);
+    }
+    if !(args.step.is_finite() && args.step > 0.0) {
+        eprintln!("error: --step {}: must be a finite number > 0", args.step);
+        return Err(Reported);
+    }
+    args.pilot_args
+        .check_work(duration, args.step, crate::run::MAX_STEPS)?;
     let eps = per_constraint("--eps", &args.eps, m)?;
     let base = Settings::new(eps, vec![1.0; m], vec![1.0; m])
         .step(args.step)

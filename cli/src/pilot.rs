@@ -5,8 +5,8 @@
 
 use crate::Reported;
 use dae_runtime::{
-    AutoDesign, AutoDesignOptions, DesignPass, GainChoice, LayerBound, Model, MuChoice, Settings,
-    auto_design,
+    AutoDesign, AutoDesignOptions, Crossing, DesignPass, GainChoice, Integrator, LayerBound, Model,
+    MuChoice, Settings, auto_design,
 };
 use serde_json::json;
 
@@ -80,7 +80,53 @@ pub(crate) struct PilotArgs {
     pub(crate) safety: f64,
 }
 
+/// Most pilot -> design passes: each is a pilot run over the whole pilot duration, and
+/// the design settles in two or three.
+pub(crate) const MAX_PASSES: usize = 20;
+
 impl PilotArgs {
+    /// Checks the values of these options before any pilot runs.
+    pub(crate) fn validate(&self) -> Result<(), Reported> {
+        use crate::messages::{at_least, check, positive};
+        check(self.passes >= 1, || {
+            "--passes must be at least 1".to_string()
+        })?;
+        positive("--pilot-mu", self.pilot_mu)?;
+        if let Some(k) = self.pilot_gain {
+            positive("--pilot-gain", k)?;
+        }
+        at_least("--safety", self.safety, 1.0)
+    }
+
+    /// Refuse, before any work, more passes than [`MAX_PASSES`] or pilot runs that
+    /// together take more than `max_steps` fixed steps of `step` over `duration`.
+    pub(crate) fn check_work(
+        &self,
+        duration: f64,
+        step: f64,
+        max_steps: f64,
+    ) -> Result<(), Reported> {
+        if self.passes == 0 || self.passes > MAX_PASSES {
+            eprintln!(
+                "error: --passes {}: give 1 to {MAX_PASSES} (each pass is a pilot run of the whole --pilot duration; two or three settle the design)",
+                self.passes
+            );
+            return Err(Reported);
+        }
+        let steps = self.passes as f64 * duration / step;
+        if steps > max_steps {
+            eprintln!(
+                "error: {} pilot runs of {duration} s at a step of {step:e} are {steps:.3e} steps, more than the {max_steps:e} this command takes",
+                self.passes
+            );
+            eprintln!(
+                "  hint: a shorter --pilot, fewer --passes, or a larger --step for the pilots"
+            );
+            return Err(Reported);
+        }
+        Ok(())
+    }
+
     /// The automatic design of `model` with pilots under `base` (its eps, step, time
     /// span, settle time, policy and reaching rule are used). With `mu`, the surfaces are
     /// given and only the gains are designed; with `fixed_gain`, every pass (the pilots
@@ -93,7 +139,13 @@ impl PilotArgs {
         fixed_gain: Option<f64>,
     ) -> Result<AutoDesign, Reported> {
         let m = model.n_constraints();
-        let mut pilot = base.clone();
+        // The pilots run as the design procedure was built for: RK4 at the base's step
+        // with the thesis's step-end rule, so that every interval has dense samples for
+        // the drift bound M (error-controlled steps take about one per interval).
+        let mut pilot = base
+            .clone()
+            .integrator(Integrator::Rk4)
+            .crossing(Crossing::StepEnd);
         pilot.mu = vec![self.pilot_mu; m];
         pilot.gains = match fixed_gain.or(self.pilot_gain) {
             Some(k) => vec![k; m],
@@ -111,7 +163,11 @@ impl PilotArgs {
             mu: mu.map_or_else(MuChoice::default, MuChoice::Given),
         };
         auto_design(model, &base.eps, &pilot, &opts).map_err(|e| {
-            eprintln!("error: automatic design of `{}`: {e}", model.name());
+            eprintln!(
+                "error: automatic design of `{}`: {}",
+                model.name(),
+                crate::messages::pilot_run_error(model, &e)
+            );
             Reported
         })
     }
@@ -123,9 +179,12 @@ pub(crate) fn per_constraint(what: &str, values: &[f64], m: usize) -> Result<Vec
         1 => Ok(vec![values[0]; m]),
         n if n == m => Ok(values.to_vec()),
         n => {
-            eprintln!(
-                "error: {what} has {n} values, the model has {m} constraints (give 1 or {m})"
-            );
+            let (constraints, give) = if m == 1 {
+                ("1 constraint".to_string(), "1 value".to_string())
+            } else {
+                (format!("{m} constraints"), format!("1 or {m} values"))
+            };
+            eprintln!("error: {what} has {n} values, the model has {constraints} (give {give})");
             Err(Reported)
         }
     }

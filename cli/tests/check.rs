@@ -198,7 +198,7 @@ fn unreadable_or_binary_files_are_errors_not_panics() {
     let o = daec(&["check", path.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(1));
     assert!(
-        stderr(&o).contains("is not UTF-8 text (invalid byte at offset 1)"),
+        stderr(&o).contains("is not UTF-8 text: byte 0xFF at "),
         "{}",
         stderr(&o)
     );
@@ -273,4 +273,41 @@ fn the_first_model_in_the_user_docs_checks_as_shown() {
     let got: serde_json::Value = serde_json::from_slice(&o.stdout).expect("valid JSON");
     let want: serde_json::Value = serde_json::from_str(json).expect("the docs show valid JSON");
     assert_eq!(got, want);
+}
+
+/// `0/0`, `0 * (1/0)`, `(1/0) - (1/0)` and `0 * ln(x - 1)` (with x = 0 at the start) used
+/// to be folded to 0 and accepted; each is now an error at the operation that fails.
+#[test]
+fn operations_without_a_finite_value_are_errors_where_written() {
+    for (rhs, message, col) in [
+        (
+            "0/0 + x",
+            "zero divided by zero: an expression of numbers only that is NaN",
+            12,
+        ),
+        (
+            "x + 0 * (1/0)",
+            "division by zero: an expression of numbers only that is inf",
+            20,
+        ),
+        (
+            "x + (1/0) - (1/0)",
+            "division by zero: an expression of numbers only that is inf",
+            16,
+        ),
+        (
+            "0 * ln(x - 1)",
+            "`ln` of a negative number (-1) at the initial point",
+            16,
+        ),
+    ] {
+        let src = format!("model M {{\n  state x = 0;\n  der(x) = {rhs};\n}}\n");
+        let path = temp_file("nan.dae", src.as_bytes());
+        let o = daec(&["check", path.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(1), "{rhs}: {}", stdout(&o));
+        let err = stderr(&o);
+        assert!(err.contains(message), "{rhs}: {err}");
+        assert!(err.contains(&format!("nan.dae:3:{col}")), "{rhs}: {err}");
+        assert!(stdout(&o).is_empty());
+    }
 }

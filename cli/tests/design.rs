@@ -103,10 +103,150 @@ fn missing_bounds_and_bad_values_are_reported() {
     ]);
     assert_eq!(o.status.code(), Some(1));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("r = 3"), "{err}");
+    assert!(
+        err.contains("--bound index3 (T 4.6) holds for index 3 only"),
+        "{err}"
+    );
     let o = daec(&[
         "design", "--index", "3", "--eps=-1", "--beta", "1", "--m", "1",
     ]);
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stderr).contains("eps"));
+}
+
+/// The stderr of a failing `daec design`, after checking the exit status.
+fn failure(args: &[&str]) -> String {
+    let o = daec(args);
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    assert!(o.stdout.is_empty(), "{args:?}");
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Errors name the flag the user gave and the constraint by its name, never the
+/// runtime's fields (`t_end`, `gains`, `k_c`) or positions ("constraint 0").
+#[test]
+fn errors_name_the_flags_and_constraints_as_written() {
+    let tank = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../examples/models/tank_level_index2.dae")
+        .display()
+        .to_string();
+    // `--pilot 1 --eps 0.1` unless `extra` gives them.
+    let with_defaults = |mut args: Vec<&'static str>,
+                         extra: &[&'static str],
+                         defaults: &[(&'static str, &'static str)]| {
+        for (flag, value) in defaults {
+            if !extra.contains(flag) && !extra.iter().any(|e| e.starts_with(&format!("{flag}="))) {
+                args.extend([*flag, *value]);
+            }
+        }
+        args.extend_from_slice(extra);
+        args
+    };
+    let tank: &'static str = Box::leak(tank.into_boxed_str());
+    let pilot = |extra: &[&'static str]| -> String {
+        failure(&with_defaults(
+            vec!["design", tank],
+            extra,
+            &[("--pilot", "1"), ("--eps", "0.1")],
+        ))
+    };
+    for (extra, expected) in [
+        (
+            &["--pilot", "0"][..],
+            "--pilot must be a finite number > 0, got 0",
+        ),
+        (
+            &["--eps", "0"][..],
+            "--eps must be finite numbers > 0, got 0",
+        ),
+        (
+            &["--pilot-gain", "0"][..],
+            "--pilot-gain must be a finite number > 0, got 0",
+        ),
+        (
+            &["--pilot-mu", "0"][..],
+            "--pilot-mu must be a finite number > 0, got 0",
+        ),
+        (
+            &["--step", "0"][..],
+            "--step must be a finite number > 0, got 0",
+        ),
+        (
+            &["--safety", "0.5"][..],
+            "--safety must be a finite number >= 1, got 0.5",
+        ),
+        (
+            &["--settle", "5"][..],
+            "--settle (5 s) must be shorter than --pilot (1 s)",
+        ),
+        (&["--passes", "0"][..], "--passes must be at least 1"),
+        (
+            &["--bound", "index3"][..],
+            "constraint `follow`: --bound index3 (T 4.6) holds for index 3 only, and \
+             `follow` has index 2; use --bound general",
+        ),
+        (
+            &["--eps", "0.1,0.2"][..],
+            "--eps has 2 values, the model has 1 constraint (give 1 value)",
+        ),
+    ] {
+        let err = pilot(extra);
+        assert!(err.contains(expected), "{extra:?}: {err}");
+        for internal in ["t_end", "gains:", "constraint 0", "auto_design", "k_c"] {
+            assert!(
+                !err.contains(internal),
+                "{extra:?} names `{internal}`: {err}"
+            );
+        }
+    }
+    // Without a file.
+    let bounds = |extra: &[&'static str]| -> String {
+        let defaults = [
+            ("--index", "3"),
+            ("--eps", "0.2"),
+            ("--beta", "1"),
+            ("--m", "1"),
+        ];
+        failure(&with_defaults(vec!["design"], extra, &defaults))
+    };
+    for (extra, expected) in [
+        (&["--index", "0"][..], "--index must be in 1..=64, got 0"),
+        (
+            &["--eps", "0"][..],
+            "--eps must be finite numbers > 0, got 0",
+        ),
+        (
+            &["--beta=-1"][..],
+            "--beta must be a finite number >= 0, got -1",
+        ),
+        (&["--m=-1"][..], "--m must be a finite number >= 0, got -1"),
+        (
+            &["--beta", "1e300", "--m", "1e300"][..],
+            "no finite gain for --beta 1e300 and --m 1e300",
+        ),
+        (
+            &["--index", "2", "--bound", "index3"][..],
+            "--bound index3 (T 4.6) holds for index 3 only, got --index 2; use --bound general",
+        ),
+    ] {
+        let err = bounds(extra);
+        assert!(err.contains(expected), "{extra:?}: {err}");
+        for internal in [
+            "k_c",
+            "|beta|",
+            "error: M must",
+            "error: eps must",
+            "index r",
+        ] {
+            assert!(
+                !err.contains(internal),
+                "{extra:?} names `{internal}`: {err}"
+            );
+        }
+    }
 }

@@ -57,11 +57,8 @@ pub fn expand_dae_file(input: TokenStream, manifest_dir: &Path) -> TokenStream {
             }
         }
         Err(diags) => {
-            let msg: String = diags
-                .iter()
-                .map(|d| d.render(&rel, &source, false))
-                .collect::<Vec<_>>()
-                .join("");
+            let renderer = dae_lang::Renderer::new(&rel, &source, false);
+            let msg: String = diags.iter().map(|d| renderer.render(d)).collect();
             quote_spanned!(span=> ::core::compile_error!(#msg);)
         }
     }
@@ -81,9 +78,8 @@ pub fn compile_file_to_out_dir(path: impl AsRef<Path>) -> Result<PathBuf, String
         .map_err(|e| format!("cannot read `{}`: {e}", path.display()))?;
     let name = path.display().to_string();
     let models = dae_lang::compile_source(&source).map_err(|ds| {
-        ds.iter()
-            .map(|d| d.render(&name, &source, false))
-            .collect::<String>()
+        let renderer = dae_lang::Renderer::new(&name, &source, false);
+        ds.iter().map(|d| renderer.render(d)).collect::<String>()
     })?;
     let code: String = models.iter().map(emit_rust).collect::<Vec<_>>().join("\n");
     let stem = path

@@ -45,5 +45,5 @@ mod rust;
 mod tokens;
 
 pub use expand::{compile_file_to_out_dir, expand_dae, expand_dae_file};
-pub use rust::{emit_rust, field_name, generate};
+pub use rust::{emit_rust, generate, rust_ident};
 pub use tokens::TokenSource;

@@ -17,22 +17,167 @@ use dae_lang::CompiledModel;
 use dae_lang::tape::{BinaryOp, Instr, Operand, Tape, UnaryOp};
 use dae_lang::{Func, VarRef};
 
-/// Rust keywords that cannot name a field as they are; such parameters get a trailing
-/// underscore (`type` -> `type_`).
-const RUST_KEYWORDS: &[&str] = &[
-    "as", "async", "await", "break", "const", "continue", "crate", "do", "dyn", "else", "enum",
-    "extern", "false", "final", "fn", "for", "gen", "if", "impl", "in", "let", "loop", "macro",
-    "match", "mod", "move", "mut", "override", "priv", "pub", "ref", "return", "self", "Self",
-    "static", "struct", "super", "trait", "true", "try", "type", "typeof", "unsafe", "unsized",
-    "use", "virtual", "where", "while", "yield", "abstract", "become", "box",
+/// Names a model or a parameter must not take as they are in the generated code: every
+/// Rust keyword of every edition (strict, reserved and weak ones), the primitive types,
+/// the names of the standard prelude (types, traits, variants, functions, derive macros),
+/// and the crates and items the generated code names (`core`, `std`, `dae_runtime`,
+/// `Model`). A struct named `f64` would shadow the type in every `f64` the code writes, one
+/// named `Option` the prelude's in the user's module, one named `TryInto` the trait that
+/// `try_into()` needs.
+const RESERVED: &[&str] = &[
+    // Strict keywords (2015 to 2024).
+    "as",
+    "async",
+    "await",
+    "break",
+    "const",
+    "continue",
+    "crate",
+    "dyn",
+    "else",
+    "enum",
+    "extern",
+    "false",
+    "fn",
+    "for",
+    "if",
+    "impl",
+    "in",
+    "let",
+    "loop",
+    "match",
+    "mod",
+    "move",
+    "mut",
+    "pub",
+    "ref",
+    "return",
+    "self",
+    "Self",
+    "static",
+    "struct",
+    "super",
+    "trait",
+    "true",
+    "type",
+    "unsafe",
+    "use",
+    "where",
+    "while",
+    // Reserved keywords.
+    "abstract",
+    "become",
+    "box",
+    "do",
+    "final",
+    "gen",
+    "macro",
+    "override",
+    "priv",
+    "try",
+    "typeof",
+    "unsized",
+    "virtual",
+    "yield",
+    // Weak keywords.
+    "macro_rules",
+    "raw",
+    "safe",
+    "union",
+    // Primitive types.
+    "bool",
+    "char",
+    "str",
+    "f16",
+    "f32",
+    "f64",
+    "f128",
+    "i8",
+    "i16",
+    "i32",
+    "i64",
+    "i128",
+    "isize",
+    "u8",
+    "u16",
+    "u32",
+    "u64",
+    "u128",
+    "usize",
+    // The standard prelude (all editions).
+    "Copy",
+    "Send",
+    "Sized",
+    "Sync",
+    "Unpin",
+    "Drop",
+    "Fn",
+    "FnMut",
+    "FnOnce",
+    "AsyncFn",
+    "AsyncFnMut",
+    "AsyncFnOnce",
+    "drop",
+    "size_of",
+    "size_of_val",
+    "align_of",
+    "align_of_val",
+    "Box",
+    "ToOwned",
+    "Clone",
+    "PartialEq",
+    "PartialOrd",
+    "Eq",
+    "Ord",
+    "AsRef",
+    "AsMut",
+    "Into",
+    "From",
+    "TryFrom",
+    "TryInto",
+    "FromIterator",
+    "Default",
+    "Iterator",
+    "Extend",
+    "IntoIterator",
+    "DoubleEndedIterator",
+    "ExactSizeIterator",
+    "Option",
+    "Some",
+    "None",
+    "Result",
+    "Ok",
+    "Err",
+    "String",
+    "ToString",
+    "Vec",
+    "Future",
+    "IntoFuture",
+    "Debug",
+    "Hash",
+    // Crates and items the generated code names.
+    "core",
+    "std",
+    "alloc",
+    "dae_runtime",
+    "Model",
+    "panic",
 ];
 
-/// The Rust field name of a model parameter.
-pub fn field_name(param: &str) -> String {
-    if RUST_KEYWORDS.contains(&param) {
-        format!("{param}_")
+/// The Rust identifier of a model or parameter name (the type, or the field).
+///
+/// A name that is in the reserved list above, possibly followed by underscores, gets one
+/// more underscore: `type` -> `type_`, `type_` -> `type__`, `f64` -> `f64_`, `Self_` ->
+/// `Self__`; so does a name made of underscores only (`_` -> `__`). Other names are kept.
+/// The mapping is injective (two names never give one identifier: only a name whose stem
+/// is reserved changes, and it changes into a name with the same stem that was itself
+/// changed), and its result is never a reserved name (none of them ends with `_`).
+pub fn rust_ident(name: &str) -> String {
+    let stem = name.trim_end_matches('_');
+    if stem.is_empty() || RESERVED.contains(&stem) {
+        format!("{name}_")
     } else {
-        param.to_string()
+        name.to_string()
     }
 }
 
@@ -43,12 +188,12 @@ pub fn generate(model: &CompiledModel) -> TokenStream {
     if let Some(fam) = &model.family {
         return crate::family::generate_family(model, fam);
     }
-    let ty = format_ident!("{}", field_name(&model.name));
+    let ty = format_ident!("{}", rust_ident(&model.name));
     let name = &model.name;
     let fields: Vec<Ident> = model
         .params
         .iter()
-        .map(|(p, _)| format_ident!("{}", field_name(p)))
+        .map(|(p, _)| format_ident!("{}", rust_ident(p)))
         .collect();
     let defaults: Vec<Literal> = model
         .params
@@ -373,4 +518,61 @@ fn sliding_body(tape: &Tape, fields: &[Ident], nw: usize, m: usize) -> TokenStre
         }
     });
     quote!(#lets #(#stores)*)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashSet;
+
+    #[test]
+    fn rust_ident_keeps_plain_names_and_mangles_reserved_ones() {
+        for plain in [
+            "x", "Pendulum", "l1", "mu", "types", "_x", "x_", "v0", "selfish",
+        ] {
+            assert_eq!(rust_ident(plain), plain);
+        }
+        for (name, ident) in [
+            ("type", "type_"),
+            ("type_", "type__"),
+            ("Self", "Self_"),
+            ("Self_", "Self__"),
+            ("f64", "f64_"),
+            ("f64__", "f64___"),
+            ("_", "__"),
+            ("__", "___"),
+            ("Default", "Default_"),
+            ("Model", "Model_"),
+            ("core", "core_"),
+            ("gen", "gen_"),
+            ("macro_rules", "macro_rules_"),
+        ] {
+            assert_eq!(rust_ident(name), ident, "{name}");
+        }
+    }
+
+    #[test]
+    fn rust_ident_is_injective_and_never_reserved() {
+        // Every reserved name with zero to three trailing underscores, the all-underscore
+        // names, and plain names: all distinct after mangling, none reserved, all
+        // identifiers.
+        let mut names: Vec<String> = Vec::new();
+        for stem in RESERVED.iter().copied().chain(["", "x", "Pendulum"]) {
+            for k in 0..4 {
+                let name = format!("{stem}{}", "_".repeat(k));
+                if !name.is_empty() {
+                    names.push(name);
+                }
+            }
+        }
+        let mut seen = HashSet::new();
+        for n in &names {
+            let id = rust_ident(n);
+            assert!(!RESERVED.contains(&id.as_str()), "{n} -> {id}");
+            assert!(id != "_", "{n}");
+            assert!(seen.insert(id.clone()), "{n} -> {id} collides");
+            // A valid identifier (proc-macro2 panics on anything else).
+            let _ = Ident::new(&id, Span::call_site());
+        }
+    }
 }

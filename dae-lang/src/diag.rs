@@ -57,30 +57,77 @@ impl Diagnostic {
     /// assert!(text.contains("unknown name `y`"));
     /// ```
     pub fn render(&self, file_name: &str, source: &str, color: bool) -> String {
+        Renderer::new(file_name, source, color).render(self)
+    }
+}
+
+/// Renders diagnostics of one source text as [`Diagnostic::render`] does, with the index
+/// of the text's lines built once: rendering many diagnostics costs their number plus
+/// the length of the text, not their number times it.
+///
+/// ```
+/// let src = "model M {\n    state x = 0;\n    der(x) = y + w;\n}\n";
+/// let errors = dae_lang::check_source(src).unwrap_err();
+/// let renderer = dae_lang::Renderer::new("m.dae", src, false);
+/// let texts: Vec<String> = errors.iter().map(|d| renderer.render(d)).collect();
+/// assert!(texts[1].contains("m.dae:3:18"));
+/// ```
+pub struct Renderer<'a> {
+    file_name: &'a str,
+    /// The text as given (spans are byte offsets into it).
+    full: &'a str,
+    /// The text after a byte order mark, which is not shown.
+    shown: &'a str,
+    /// Bytes skipped at the start (3 after a byte order mark, else 0).
+    shift: usize,
+    lines: Source<&'a str>,
+    color: bool,
+}
+
+impl<'a> Renderer<'a> {
+    /// A renderer for diagnostics of `source`, a file called `file_name`; `color` adds
+    /// ANSI colours.
+    pub fn new(file_name: &'a str, source: &'a str, color: bool) -> Self {
+        // A byte order mark is not shown: render the text after it, spans moved back.
+        let shift = if source.starts_with('\u{feff}') { 3 } else { 0 };
+        let shown = &source[shift..];
+        Renderer {
+            file_name,
+            full: source,
+            shown,
+            shift,
+            lines: Source::from(shown),
+            color,
+        }
+    }
+
+    /// One diagnostic with its source context (see [`Diagnostic::render`]).
+    pub fn render(&self, d: &Diagnostic) -> String {
+        let (file_name, source, shift) = (self.file_name, self.shown, self.shift);
         let clamp = |s: Span| {
-            let end = floor_char_boundary(source, s.end.min(source.len()));
-            let start = floor_char_boundary(source, s.start.min(end));
+            let end = floor_char_boundary(source, s.end.saturating_sub(shift).min(source.len()));
+            let start = floor_char_boundary(source, s.start.saturating_sub(shift).min(end));
             start..end
         };
-        let primary = clamp(self.span);
+        let primary = clamp(d.span);
         let config = Config::default()
-            .with_color(color)
+            .with_color(self.color)
             .with_index_type(IndexType::Byte)
             .with_char_set(CharSet::Unicode);
         // ariadne starts a new snippet (with a misleading header) whenever a label lies
         // on an earlier line than the previous one; ordering labels by position keeps
         // all of them in one snippet.
         let mut labels: Vec<(std::ops::Range<usize>, &str, Color)> =
-            vec![(primary.clone(), &self.label, Color::Red)];
+            vec![(primary.clone(), &d.label, Color::Red)];
         labels.extend(
-            self.related
+            d.related
                 .iter()
                 .map(|(s, l)| (clamp(*s), l.as_str(), Color::Blue)),
         );
         labels.sort_by_key(|(r, _, _)| r.start);
         let mut report = Report::build(ReportKind::Error, (file_name, primary))
             .with_config(config)
-            .with_message(&self.message);
+            .with_message(&d.message);
         for (i, (range, label, color)) in labels.into_iter().enumerate() {
             report = report.with_label(
                 Label::new((file_name, range))
@@ -89,7 +136,7 @@ impl Diagnostic {
                     .with_order(i32::try_from(i).unwrap_or(i32::MAX)),
             );
         }
-        if let Some(hint) = &self.hint {
+        if let Some(hint) = &d.hint {
             report = report.with_help(hint);
         }
         let mut out = Vec::new();
@@ -97,11 +144,11 @@ impl Diagnostic {
         // one-line rendering rather than losing the error.
         if report
             .finish()
-            .write((file_name, Source::from(source)), &mut out)
+            .write((file_name, &self.lines), &mut out)
             .is_err()
         {
-            let (line, col) = line_col(source, self.span);
-            return format!("error: {}\n --> {file_name}:{line}:{col}\n", self.message);
+            let (line, col) = line_col(self.full, d.span);
+            return format!("error: {}\n --> {file_name}:{line}:{col}\n", d.message);
         }
         String::from_utf8_lossy(&out).into_owned()
     }
@@ -114,10 +161,17 @@ impl Diagnostic {
 pub fn line_col(source: &str, span: Span) -> (usize, usize) {
     let pos = floor_char_boundary(source, span.start.min(source.len()));
     let before = &source[..pos];
-    let line = before.matches('\n').count() + 1;
+    let line_no = before.matches('\n').count() + 1;
     let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-    let col = before[line_start..].chars().count() + 1;
-    (line, col)
+    // A byte order mark at the start of the text is not shown by editors: not a column.
+    let line = &before[line_start..];
+    let line = if line_start == 0 {
+        line.strip_prefix('\u{feff}').unwrap_or(line)
+    } else {
+        line
+    };
+    let col = line.chars().count() + 1;
+    (line_no, col)
 }
 
 /// The largest char boundary of `s` at or below `i` (`i <= s.len()`).
@@ -217,5 +271,17 @@ mod tests {
         let first = text.find("first").unwrap_or(usize::MAX);
         let second = text.find("second").unwrap_or(0);
         assert!(first < second, "labels in source order: {text}");
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_neither_shown_nor_counted() {
+        let src = "\u{feff}model M {\n    der(x) = y;\n}\n";
+        let d = Diagnostic::new("m", Span::new(9, 10), "the name");
+        let text = d.render("m.dae", src, false);
+        assert!(text.contains("m.dae:1:7"), "{text}");
+        assert!(!text.contains('\u{feff}'), "{text}");
+        let d = Diagnostic::new("m", Span::new(26, 27), "y");
+        assert!(d.render("m.dae", src, false).contains("m.dae:2:14"));
+        assert_eq!(line_col(src, Span::new(26, 27)), (2, 14));
     }
 }

@@ -82,12 +82,13 @@ mod ids;
 mod maps;
 mod syntax;
 
-pub use diag::{Diagnostic, line_col};
+pub use diag::{Diagnostic, Renderer, line_col};
 pub use func::Func;
 pub use ids::{
     AlgId, ArrayId, ConstraintId, InputId, LetId, MapId, ParamId, SetId, SizeId, StateId, VarRef,
 };
 pub use maps::MapTable;
+pub use syntax::MAX_SOURCE_BYTES;
 
 /// Parses a `.dae` source text into its syntax tree.
 pub fn parse(src: &str) -> Result<ast::File, Vec<Diagnostic>> {
@@ -159,9 +160,23 @@ pub fn analyze_source(src: &str) -> Result<Vec<(model::Model, Analysis)>, Vec<Di
 
 /// The whole pipeline for every model of a source text: parse, check, analyse (with
 /// default [`AnalysisOptions`]) and compile. All errors of all models are returned.
+///
+/// Each model's analysis (its symbolic expressions) is dropped as soon as its tapes are
+/// made, so that the memory held is that of the tapes, not of every derivation.
 pub fn compile_source(src: &str) -> Result<Vec<CompiledModel>, Vec<Diagnostic>> {
-    Ok(analyze_source(src)?
-        .into_iter()
-        .map(|(_, a)| a.compiled)
-        .collect())
+    let models = check_source(src)?;
+    let opts = AnalysisOptions::default();
+    let mut out = Vec::with_capacity(models.len());
+    let mut errors = Vec::new();
+    for m in models {
+        match analyze(&m, &opts) {
+            Ok(a) => out.push(a.compiled),
+            Err(mut e) => errors.append(&mut e),
+        }
+    }
+    if errors.is_empty() {
+        Ok(out)
+    } else {
+        Err(errors)
+    }
 }

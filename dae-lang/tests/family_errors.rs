@@ -92,9 +92,12 @@ fn unknown_set() {
 
 #[test]
 fn unknown_map() {
-    let src = chain(&EQUATIONS.replace("x[b[l]] - x[a[l]]", "x[c[l]] - x[a[l]]"));
-    let d = error_at(&src, "unknown map or family `c`", "c[l]", "let d");
-    assert!(d.hint.unwrap().contains("did you mean `a`?"));
+    // A two-letter typo: a one-letter name gets no suggestion (every one-letter name is
+    // one edit from it).
+    let src = chain(&EQUATIONS.replace("x[b[l]] - x[a[l]]", "x[bb[l]] - x[a[l]]"));
+    let d = error_at(&src, "unknown map or family `bb`", "bb[l]", "let d");
+    let h = d.hint.unwrap();
+    assert!(h.contains("did you mean `b`?"), "{h}");
 }
 
 #[test]

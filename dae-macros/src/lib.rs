@@ -11,7 +11,8 @@
 //!
 //! Each model becomes a public struct named after the model, whose public `f64` fields
 //! are the model's parameters (`Default` gives the declared values), implementing
-//! `dae_runtime::Model`. The whole compiler (parsing, checking, index analysis,
+//! `dae_runtime::Model`; a name that Rust reserves gets a trailing underscore (see
+//! `dae_codegen::rust_ident`). The whole compiler (parsing, checking, index analysis,
 //! symbolic differentiation) runs at compile time: the generated functions are
 //! straight-line arithmetic. Mistakes in a model are compile errors pointing at the
 //! offending tokens, with the compiler's hint.

@@ -17,15 +17,13 @@ pub(super) fn wname(c: &str, j: usize, index: usize) -> String {
 }
 
 impl Analysis {
-    /// The first `n` lets as abbreviations, skipping lets that are a bare leaf or number
-    /// (writing `x` for a let `a = x` would only obscure the text).
-    fn abbreviations(&self, n: usize) -> Vec<(Id, String)> {
+    /// The lets as abbreviations, skipping lets that are a bare leaf or number.
+    fn abbreviations(&self) -> Vec<(Id, String)> {
         let sym = &self.symbolic;
         sym.lets
             .iter()
             .zip(&sym.let_names)
-            .take(n)
-            .filter(|(id, _)| !sym.arena.children(**id).is_empty())
+            .filter(|(id, _)| is_abbreviated(&sym.arena, **id))
             .map(|(id, name)| (*id, name.clone()))
             .collect()
     }
@@ -67,7 +65,7 @@ impl Analysis {
             ids.extend(c.jacobian_row.iter().map(|(_, id)| *id));
             ids.extend([c.beta, c.s, c.alpha, c.alpha_hat]);
         }
-        let abbrev = self.abbreviations(sym.lets.len());
+        let abbrev = self.abbreviations();
         let mut printed = sym
             .arena
             .display_all_abbreviated(&ids, &sym.names, &abbrev)
@@ -99,14 +97,15 @@ impl Analysis {
         if !sym.lets.is_empty() {
             out.push_str("\n// definitions (the model's lets, in terms of earlier ones)\n");
         }
-        for (j, (&id, name)) in sym.lets.iter().zip(&sym.let_names).enumerate() {
-            let own: Vec<(Id, String)> = self
-                .abbreviations(j)
-                .into_iter()
-                .filter(|(a, _)| *a != id)
-                .collect();
-            let text = sym.arena.display_all_abbreviated(&[id], &sym.names, &own);
-            let _ = writeln!(out, "let {name} = {}", text[0]);
+        let defs: Vec<(Id, &str, bool)> = sym
+            .lets
+            .iter()
+            .zip(&sym.let_names)
+            .map(|(&id, name)| (id, name.as_str(), is_abbreviated(&sym.arena, id)))
+            .collect();
+        let texts = sym.arena.display_definitions(&defs, &sym.names);
+        for ((_, name, _), text) in defs.iter().zip(texts) {
+            let _ = writeln!(out, "let {name} = {text}");
         }
         for (i, (c, e)) in self.constraints.iter().zip(&sym.constraints).enumerate() {
             let r = c.index;
@@ -145,6 +144,12 @@ impl Analysis {
         }
         out
     }
+}
+
+/// Whether a let's name is written for its node: not for a bare leaf or number (writing
+/// `x` for a let `a = x` would only obscure the text).
+fn is_abbreviated(arena: &crate::sym::Arena, id: Id) -> bool {
+    !arena.children(id).is_empty()
 }
 
 /// A condition number with 7 significant digits: `6.854102` below 1e6, `3.162278e7` above.

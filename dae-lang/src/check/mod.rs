@@ -5,6 +5,7 @@
 //! run reports every error of a model; an expression in error is dropped (`None`)
 //! rather than reported again where it is used.
 
+mod domain;
 mod eval;
 mod family;
 mod lets;
@@ -62,14 +63,17 @@ struct Decls<'a> {
 /// construction-time forms) goes to the family checker; any other model is checked
 /// exactly as in version 1.
 pub(crate) fn check_model(m: &ModelAst) -> Result<Model, Vec<Diagnostic>> {
+    check_model_with(m, true)
+}
+
+/// Checks one model; `at_start`: with the values of the equations at the initial point
+/// (see `domain`). Without, only for tests of the syntax and the printer, whose
+/// expressions need not be defined at any particular point. A model that uses anything
+/// of version 2 goes to the family checker (with its own checks at the default sizes).
+pub(crate) fn check_model_with(m: &ModelAst, at_start: bool) -> Result<Model, Vec<Diagnostic>> {
     if family::uses_version_2(m) {
         return family::check_model(m);
     }
-    check_v1(m)
-}
-
-/// The version-1 checker.
-fn check_v1(m: &ModelAst) -> Result<Model, Vec<Diagnostic>> {
     let mut diags = Vec::new();
     if names::is_reserved(&m.name.name) {
         let (message, hint) = names::reserved_message(&m.name.name);
@@ -133,6 +137,21 @@ fn check_v1(m: &ModelAst) -> Result<Model, Vec<Diagnostic>> {
         diags.push(count_mismatch(m, decls.algs.len(), constraints.len()));
     }
 
+    if diags.is_empty() && at_start {
+        // Every operation of the equations at the initial point (see `domain`).
+        let at_start = |inits: &[Option<RExpr>]| -> Vec<Option<f64>> {
+            inits
+                .iter()
+                .map(|e| e.as_ref().and_then(|e| eval::eval(e, &values)))
+                .collect()
+        };
+        let start = domain::Start {
+            params: &values,
+            states: at_start(&state_inits),
+            algs: at_start(&alg_inits),
+        };
+        domain::check(m, &scope, start, &decls.lets, &let_order, &mut diags);
+    }
     if !diags.is_empty() {
         diags.sort_by_key(|d| d.span.start);
         return Err(diags);
@@ -215,6 +234,8 @@ fn declare<'a>(m: &'a ModelAst, diags: &mut Vec<Diagnostic>) -> (Scope<'a>, Decl
         ordered: Vec::new(),
         duplicated: HashSet::new(),
         model_name: &m.name.name,
+        suggestions: Default::default(),
+        function_suggestions: Default::default(),
     };
     let mut decls = Decls::default();
     for item in &m.items {

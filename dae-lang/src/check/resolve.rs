@@ -2,11 +2,12 @@
 //! parameter defaults use numbers and earlier parameters, initial values use numbers and
 //! parameters, and the equations (`let`, `der`, `constraint`) may use everything.
 
-use super::names::{KEYWORDS, suggest};
+use super::names::{KEYWORDS, Suggestions};
 use crate::ast::{Expr, ExprKind, Span};
 use crate::diag::Diagnostic;
 use crate::model::RExpr;
 use crate::{AlgId, Func, LetId, ParamId, StateId, VarRef};
+use std::cell::RefCell;
 use std::collections::{HashMap, HashSet};
 
 /// What a declared name is.
@@ -57,6 +58,10 @@ pub(super) struct Scope<'a> {
     /// Names declared more than once (already reported), to avoid follow-up errors.
     pub duplicated: HashSet<&'a str>,
     pub model_name: &'a str,
+    /// "Did you mean" among `ordered`, made at the first unknown name.
+    pub suggestions: RefCell<Option<Suggestions<'a>>>,
+    /// "Did you mean" among the built-in functions, made at the first unknown function.
+    pub function_suggestions: RefCell<Option<Suggestions<'static>>>,
 }
 
 /// How to call each function, for hints.
@@ -221,7 +226,12 @@ impl Scope<'_> {
             span,
             format!("not declared in model `{}`", self.model_name),
         );
-        match suggest(n, self.ordered.iter().copied()) {
+        let suggestion = self
+            .suggestions
+            .borrow_mut()
+            .get_or_insert_with(|| Suggestions::new(self.ordered.iter().copied()))
+            .suggest(n);
+        match suggestion {
             Some(s) => d.hint(format!("did you mean `{s}`?")),
             None => d.hint("declare it with `param`, `state`, `alg` or `let`"),
         }
@@ -286,7 +296,12 @@ impl Scope<'_> {
                 name_span,
                 "unknown function",
             );
-            match suggest(name, Func::ALL.map(Func::name)) {
+            let suggestion = self
+                .function_suggestions
+                .borrow_mut()
+                .get_or_insert_with(|| Suggestions::new(Func::ALL.map(Func::name)))
+                .suggest(name);
+            match suggestion {
                 Some(s) => d.hint(format!("did you mean `{s}`?")),
                 None => d.hint(
                     "the functions are sin cos tan asin acos atan sinh cosh tanh exp ln sqrt abs \

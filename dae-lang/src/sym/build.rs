@@ -18,7 +18,7 @@ use crate::model::MapKind;
 use crate::{AlgId, ConstraintId, Func, MapId, ParamId, StateId, VarRef};
 
 /// `v ^ e` for constant folding.
-fn pow_num(v: f64, e: f64) -> f64 {
+pub(super) fn pow_num(v: f64, e: f64) -> f64 {
     if e == 1.0 {
         v
     } else if e == -1.0 {
@@ -86,6 +86,11 @@ impl Arena {
         let mut rescale: Vec<(Factors, f64)> = Vec::new();
         for &(t, a) in terms {
             if a == 0.0 {
+                // `0 * t` is 0 under the contract, but NaN for a constant `t` that is not
+                // finite (IEEE `0 * inf`), and NaN plus anything is NaN.
+                if self.is_non_finite_constant(t) {
+                    return self.num(f64::NAN);
+                }
                 continue;
             }
             match self.node(t) {
@@ -107,9 +112,24 @@ impl Arena {
         let mut merged: Vec<(Id, Num)> = Vec::with_capacity(acc.len());
         for (t, a) in acc {
             match merged.last_mut() {
-                Some((t0, a0)) if *t0 == t => a0.0 += a,
+                Some((t0, a0)) if *t0 == t => {
+                    // `a inf + b inf` is `(a + b) inf` only for `a`, `b` of one sign:
+                    // `inf - inf` is NaN, whatever the coefficients.
+                    if a0.0.signum() != a.signum() && self.is_non_finite_constant(t) {
+                        return self.num(f64::NAN);
+                    }
+                    a0.0 += a
+                }
                 _ => merged.push((t, Num(a))),
             }
+        }
+        // `t - t` is 0 under the contract, but `inf - inf` is NaN: a constant term that
+        // is not finite is never cancelled.
+        if merged
+            .iter()
+            .any(|(t, a)| a.0 == 0.0 && self.is_non_finite_constant(*t))
+        {
+            return self.num(f64::NAN);
         }
         merged.retain(|(_, a)| a.0 != 0.0);
         match merged.as_slice() {
@@ -146,7 +166,14 @@ impl Arena {
                 // A power of a constant that is not finite (`(-1)^0.5`, `0^-1`) stays a
                 // factor, so that constants in the arena are finite where the input is.
                 Node::Const(v) if pow_num(v.0, e).is_finite() => c *= pow_num(v.0, e),
-                Node::Mul(c2, fs) if Self::distributes(c2.0, fs, e) => {
+                // A constant that is not finite stays whole: `((-1)^-0.5)^2` is NaN, its
+                // distributed `(-1)^-1` is not.
+                _ if self.is_non_finite_constant(b) => acc.push((b, e)),
+                // Distributed only if the coefficient's power is finite: `(2x)^1e16` keeps
+                // its factor rather than becoming `inf * x^1e16`.
+                Node::Mul(c2, fs)
+                    if Self::distributes(c2.0, fs, e) && pow_num(c2.0, e).is_finite() =>
+                {
                     c *= pow_num(c2.0, e);
                     acc.extend(fs.iter().map(|(b2, e2)| (*b2, e2.0 * e)));
                 }
@@ -161,20 +188,39 @@ impl Arena {
             }
         }
         if c == 0.0 {
-            return self.num(0.0);
+            // `x * 0` is 0 under the contract, but `0 * inf` and `0 * NaN` are NaN: a
+            // constant factor that is not finite is not dropped.
+            let non_finite = acc
+                .iter()
+                .any(|&(b, e)| self.constant(b).is_some_and(|v| !pow_num(v, e).is_finite()));
+            return self.num(if non_finite { f64::NAN } else { 0.0 });
         }
         acc.sort_by_key(|(b, _)| *b);
         let mut merged: Vec<(Id, Num)> = Vec::with_capacity(acc.len());
         for (b, e) in acc {
             match merged.last_mut() {
-                Some((b0, e0)) if *b0 == b => e0.0 += e,
+                Some((b0, e0)) if *b0 == b => {
+                    // `x^a * x^b = x^(a + b)` under the contract, but for a constant `x`
+                    // that is 0, infinite or NaN and exponents of opposite signs IEEE
+                    // gives `0 * inf`, NaN (`x/x` included).
+                    if e0.0.signum() != e.signum()
+                        && self.constant(b).is_some_and(|v| v == 0.0 || !v.is_finite())
+                    {
+                        return self.num(f64::NAN);
+                    }
+                    e0.0 += e
+                }
                 _ => merged.push((b, Num(e))),
             }
         }
         merged.retain(|(_, e)| e.0 != 0.0);
         // Merging can make a kept product base distributable (`p^0.5 * p^0.5 = p^1`).
         let again = merged.iter().any(|(b, e)| match self.node(*b) {
-            Node::Mul(c2, fs) => Self::distributes(c2.0, fs, e.0),
+            Node::Mul(c2, fs) => {
+                !self.is_non_finite_constant(*b)
+                    && Self::distributes(c2.0, fs, e.0)
+                    && pow_num(c2.0, e.0).is_finite()
+            }
             Node::Const(v) => pow_num(v.0, e.0).is_finite(),
             _ => false,
         });

@@ -25,6 +25,15 @@
 //! `x^0.5 * x^0.5 = x` turn a NaN into a number, and `1/(x*0)` is `+inf` where the
 //! unsimplified `1/(-0)` is `-inf`. Signed zeros are not kept (`-0.0` is stored as `0.0`); the only finite
 //! function that tells them apart is `atan2` on its branch cut (`y = -0`, `x < 0`).
+//!
+//! Constants are the exception: an expression without leaves is folded as IEEE 754
+//! evaluates it (`0/0`, `0 * (1/0)`, `(1/0) - (1/0)` and `(1/0)/(1/0)` are NaN), and a rule
+//! that would drop, cancel or regroup a constant sub-expression that is not finite is not
+//! applied (the arena keeps the value of every constant node). Two representation
+//! choices remain visible at infinities only: signed zeros (above), and `x^0.5`, which
+//! is evaluated as `sqrt(x)` (NaN at `x = -inf`, where IEEE's `pow` gives `inf`). The
+//! checker makes the contract hold where the compiler looks: every operation of a model's
+//! equations must have a finite value at the initial point (`check/domain.rs`).
 //! [`Arena::unsimplified`] builds an arena with all of this switched off
 //! (hash-consing stays), for measuring what the simplifier buys.
 //!
@@ -83,13 +92,22 @@ impl Id {
     }
 }
 
-/// A finite or non-finite `f64` compared and hashed by its bits (`-0.0` is stored as `0.0`).
+/// A finite or non-finite `f64` compared and hashed by its bits (`-0.0` is stored as
+/// `0.0`, every NaN as `f64::NAN`).
 #[derive(Clone, Copy, Debug)]
 pub struct Num(pub f64);
 
 impl Num {
+    /// `-0.0` as `0.0`, and every NaN as the one `f64::NAN` (NaNs computed at run time
+    /// may carry other bits), so that equal values are one node.
     fn norm(v: f64) -> Num {
-        Num(if v == 0.0 { 0.0 } else { v })
+        Num(if v == 0.0 {
+            0.0
+        } else if v.is_nan() {
+            f64::NAN
+        } else {
+            v
+        })
     }
 }
 
@@ -199,6 +217,10 @@ pub struct Arena {
     nodes: Vec<Node>,
     deps: Vec<u8>,
     ctx: Vec<Option<SetId>>,
+    /// The value of each node without leaves (a constant expression), as IEEE 754
+    /// evaluates it; unused for the others. What the simplifier asks before it drops a
+    /// constant sub-expression (see `build.rs`).
+    values: Vec<f64>,
     memo: HashMap<Node, Id>,
     simplify: bool,
     leaf_sets: LeafSets,
@@ -218,6 +240,7 @@ impl Arena {
             nodes: Vec::new(),
             deps: Vec::new(),
             ctx: Vec::new(),
+            values: Vec::new(),
             memo: HashMap::new(),
             simplify: true,
             leaf_sets: LeafSets::default(),
@@ -316,7 +339,13 @@ impl Arena {
             Node::Var(v) => dep::of(*v),
             Node::Add(_, ts) | Node::Mul(_, ts) => ts.iter().fold(0, |d, (t, _)| d | self.deps(*t)),
             Node::Pow(a, b) | Node::F2(_, a, b) => self.deps(*a) | self.deps(*b),
-            Node::F1(_, a) | Node::Gather(_, a) | Node::Sum(_, a) => self.deps(*a),
+            Node::F1(_, a) | Node::Gather(_, a) => self.deps(*a),
+            // A sum of a constant depends on the instance (how many elements meet the
+            // element at hand), like a size: never a constant expression to fold.
+            Node::Sum(_, a) => match self.deps(*a) {
+                0 => dep::PARAM,
+                d => d,
+            },
         };
         let ctx = match &node {
             Node::Const(_) => None,
@@ -329,12 +358,49 @@ impl Arena {
                 c
             }
         };
+        let value = if d == 0 {
+            self.constant_value(&node)
+        } else {
+            f64::NAN
+        };
         let id = Id(u32::try_from(self.nodes.len()).expect("arena holds fewer than 2^32 nodes"));
         self.nodes.push(node.clone());
         self.deps.push(d);
         self.ctx.push(ctx);
+        self.values.push(value);
         self.memo.insert(node, id);
         id
+    }
+
+    /// The value of a node whose children are all constants (given their values).
+    fn constant_value(&self, node: &Node) -> f64 {
+        let v = |id: &Id| self.values[id.index()];
+        match node {
+            Node::Const(c) => c.0,
+            Node::Var(_) => f64::NAN,
+            Node::Add(c, ts) => ts.iter().fold(c.0, |s, (t, a)| s + a.0 * v(t)),
+            Node::Mul(c, fs) => fs
+                .iter()
+                .fold(c.0, |p, (b, e)| p * build::pow_num(v(b), e.0)),
+            Node::Pow(a, b) => v(a).powf(v(b)),
+            Node::F1(f, a) => f.apply1(v(a)),
+            Node::F2(f, a, b) => f.apply2(v(a), v(b)),
+            // A gather of a constant is the constant (`Arena::gather` never makes one); a
+            // sum is never constant (see `intern`).
+            Node::Gather(_, a) => v(a),
+            Node::Sum(..) => f64::NAN,
+        }
+    }
+
+    /// Whether the node is a constant expression whose value is not finite (`1/0`,
+    /// `ln(-1)`): a sub-expression the simplifier must not drop.
+    pub(crate) fn is_non_finite_constant(&self, id: Id) -> bool {
+        self.deps(id) == 0 && !self.values[id.index()].is_finite()
+    }
+
+    /// The value of a constant expression (a node without leaves), `None` for others.
+    pub(crate) fn constant(&self, id: Id) -> Option<f64> {
+        (self.deps(id) == 0).then(|| self.values[id.index()])
     }
 
     /// The children of a node, in order.

@@ -145,6 +145,69 @@ fn exact_reciprocal(v: f64) -> Option<f64> {
     (r > 1.0 && r < 1e15 && r.fract() == 0.0 && 1.0 / r == v).then_some(r)
 }
 
+/// Names written in place of nodes (a model's `let`s), added one at a time.
+#[derive(Default)]
+pub(super) struct Abbreviations {
+    /// Node -> the name written for it (the latest added for that node).
+    names: HashMap<Id, String>,
+    /// Abbreviations that are a power of one base, `name = base^e0` (a let `l =
+    /// sqrt(x^2 + y^2)`), by base: a factor `base^e` with an integer `e/e0` prints as
+    /// `name^(e/e0)` (for a positive integer `e/e0`), so `(x^2 + y^2)^1.5` reads `l^3`.
+    /// Needed because a power of a let merges into the surrounding product and the let's
+    /// own node disappears. Per base the latest root added, and the latest one before it
+    /// with another node (what is used when the latest is the expression being defined).
+    roots: HashMap<Id, (Root, Option<Root>)>,
+}
+
+/// `name = base^e0`, the abbreviation's own node being `node`.
+#[derive(Clone)]
+struct Root {
+    name: String,
+    e0: f64,
+    node: Id,
+}
+
+#[cfg(test)]
+thread_local! {
+    /// Entries made by the printer on this thread (abbreviations added, pieces memoised):
+    /// the printer's work, for the tests that it is linear.
+    pub(crate) static ENTRIES: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// Counts one entry made by the printer (tests only).
+fn count_entry() {
+    #[cfg(test)]
+    ENTRIES.with(|e| e.set(e.get() + 1));
+}
+
+impl Abbreviations {
+    /// Writes `name` for node `id` from now on.
+    pub(super) fn add(&mut self, arena: &Arena, id: Id, name: &str) {
+        count_entry();
+        self.names.insert(id, name.to_string());
+        if let Node::Mul(c, fs) = arena.node(id) {
+            if c.0 == 1.0 && fs.len() == 1 {
+                let root = Root {
+                    name: name.to_string(),
+                    e0: fs[0].1.0,
+                    node: id,
+                };
+                match self.roots.get_mut(&fs[0].0) {
+                    Some((latest, before)) => {
+                        if latest.node != id {
+                            *before = Some(latest.clone());
+                        }
+                        *latest = root;
+                    }
+                    None => {
+                        self.roots.insert(fs[0].0, (root, None));
+                    }
+                }
+            }
+        }
+    }
+}
+
 pub(super) struct Printer<'a> {
     pub(super) arena: &'a Arena,
     pub(super) names: &'a Names,
@@ -152,14 +215,9 @@ pub(super) struct Printer<'a> {
     pub(super) memo: HashMap<(Id, u32), Piece>,
     /// Nodes written by name (a model's `let`s): `d.x` prints `d[l].x` in the context of
     /// `l`.
-    pub(super) abbrev: HashMap<Id, String>,
-    /// Abbreviations that are a power of one base, `name = base^e0` (a let `l =
-    /// sqrt(x^2 + y^2)`), by base: a factor `base^e` with an integer `e/e0` prints as
-    /// `name^(e/e0)` (for a positive integer `e/e0`), so `(x^2 + y^2)^1.5` reads `l^3`.
-    /// Needed because a power of a let
-    /// merges into the surrounding product and the let's own node disappears. The value
-    /// is the abbreviated node and `e0`.
-    pub(super) roots: HashMap<Id, (Id, f64)>,
+    pub(super) abbrev: Abbreviations,
+    /// The node being defined: never written as its own abbreviation.
+    pub(super) defining: Option<Id>,
     /// The element name bound to each set (family models).
     pub(super) env: Vec<String>,
     /// Interned bindings, for the memo.
@@ -168,14 +226,14 @@ pub(super) struct Printer<'a> {
 
 impl Printer<'_> {
     pub(super) fn pr(&mut self, id: Id) -> Piece {
+        if Some(id) != self.defining {
+            if let Some(name) = self.abbrev.names.get(&id) {
+                return (self.at_element(name, self.arena.ctx(id)), Kind::Atom);
+            }
+        }
         let key = self.key(id);
         if let Some(p) = self.memo.get(&key) {
             return p.clone();
-        }
-        if let Some(name) = self.abbrev.get(&id) {
-            let p = (self.at_element(name, self.arena.ctx(id)), Kind::Atom);
-            self.memo.insert(key, p.clone());
-            return p;
         }
         let p = match self.arena.node(id) {
             Node::Const(v) => number(v.0),
@@ -195,6 +253,7 @@ impl Printer<'_> {
                 Kind::Atom,
             ),
         };
+        count_entry();
         self.memo.insert(key, p.clone());
         p
     }
@@ -273,10 +332,11 @@ impl Printer<'_> {
     /// The numerator factors in printing order: by id, except that a factor which is not a
     /// sum goes first when there is one (`2*mu*(a - b)` rather than `2*((a - b)*mu)`,
     /// which needs the brackets to read back to the same node).
+    /// (A NaN exponent, from a folded `0/0`, counts as the numerator's.)
     fn numerator(&self, fs: &[(Id, Num)]) -> Vec<(Id, f64)> {
         let mut num: Vec<(Id, f64)> = fs
             .iter()
-            .filter(|(_, e)| e.0 >= 0.0)
+            .filter(|(_, e)| e.0 >= 0.0 || e.0.is_nan())
             .map(|(b, e)| (*b, e.0))
             .collect();
         if let Some(p) = num.iter().position(|&(b, e)| !self.is_sum_factor(b, e)) {
@@ -287,10 +347,17 @@ impl Printer<'_> {
     }
 
     fn factor(&mut self, b: Id, e: f64) -> Piece {
-        if let Some(&(node, e0)) = self.roots.get(&b) {
+        let root = self.abbrev.roots.get(&b).and_then(|(latest, before)| {
+            if Some(latest.node) != self.defining {
+                Some(latest)
+            } else {
+                before.as_ref()
+            }
+        });
+        if let Some(Root { name, e0, node }) = root.cloned() {
             let k = e / e0;
             if k.fract() == 0.0 && k > 0.0 && k < 1e6 {
-                let name = self.pr(node).0;
+                let name = self.at_element(&name, self.arena.ctx(node));
                 return if k == 1.0 {
                     (name, Kind::Atom)
                 } else {
@@ -310,7 +377,7 @@ impl Printer<'_> {
 
     fn product(&mut self, c: f64, fs: &[(Id, Num)]) -> Piece {
         let mag = c.abs();
-        let has_num = fs.iter().any(|(_, e)| e.0 >= 0.0);
+        let has_num = fs.iter().any(|(_, e)| e.0 >= 0.0 || e.0.is_nan());
         let mut coef = None;
         let mut den: Vec<String> = Vec::new();
         // `x/3` for a coefficient 1/3, unless a sum is in the denominator: `x/(3*(a + b))`
@@ -382,7 +449,7 @@ impl Arena {
     /// The expression in the `.dae` language's syntax (shared sub-expressions are written
     /// out in full each time they occur).
     pub fn display(&self, id: Id, names: &Names) -> String {
-        Printer::new(self, names).pr(id).0
+        self.display_all(&[id], names).swap_remove(0)
     }
 
     /// Several expressions printed with one memo (faster than repeated [`Arena::display`]).
@@ -399,5 +466,23 @@ impl Arena {
         abbrev: &[(Id, String)],
     ) -> Vec<String> {
         self.display_in(ids, names, abbrev, &[])
+    }
+
+    /// Definitions `(node, name, abbreviate)` in order, each written in terms of the
+    /// earlier ones whose `abbreviate` is true (never in terms of itself). Linear in the
+    /// size of the text: the abbreviations grow by one per definition, each definition
+    /// is printed with a memo of its own.
+    pub fn display_definitions(&self, defs: &[(Id, &str, bool)], names: &Names) -> Vec<String> {
+        let mut p = Printer::new(self, names);
+        let mut out = Vec::with_capacity(defs.len());
+        for &(id, name, abbreviate) in defs {
+            p.defining = Some(id);
+            p.memo = HashMap::new();
+            out.push(p.pr(id).0);
+            if abbreviate {
+                p.abbrev.add(self, id, name);
+            }
+        }
+        out
     }
 }

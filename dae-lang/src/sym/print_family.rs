@@ -9,7 +9,7 @@
 
 use std::collections::HashMap;
 
-use super::print::{Kind, Names, Piece, Printer, number, wrap};
+use super::print::{Abbreviations, Kind, Names, Piece, Printer, number, wrap};
 use super::{Arena, Id};
 use crate::ast::{BinOp, LogicOp};
 use crate::model::{IntOp, MapKind, Model, RExpr};
@@ -72,8 +72,8 @@ impl<'a> Printer<'a> {
             arena,
             names,
             memo: HashMap::new(),
-            abbrev: HashMap::new(),
-            roots: HashMap::new(),
+            abbrev: Abbreviations::default(),
+            defining: None,
             env,
             bindings: HashMap::new(),
         }
@@ -211,16 +211,9 @@ impl Arena {
         bind: &[(SetId, String)],
     ) -> Vec<String> {
         let mut p = Printer::new(self, names);
-        p.abbrev = abbrev.iter().cloned().collect();
-        p.roots = abbrev
-            .iter()
-            .filter_map(|(id, _)| match self.node(*id) {
-                super::Node::Mul(c, fs) if c.0 == 1.0 && fs.len() == 1 => {
-                    Some((fs[0].0, (*id, fs[0].1.0)))
-                }
-                _ => None,
-            })
-            .collect();
+        for (id, name) in abbrev {
+            p.abbrev.add(self, *id, name);
+        }
         for (s, n) in bind {
             if let Some(slot) = p.env.get_mut(s.index()) {
                 *slot = n.clone();

@@ -16,6 +16,11 @@ use parser::DaeParser;
 pub(crate) use parser::Rule;
 use pest::Parser as _;
 
+/// Longest source text accepted, in bytes (16 MiB): far above any model written by hand
+/// or generated for the families of the language, and a bound on the work and memory of
+/// every later stage.
+pub const MAX_SOURCE_BYTES: usize = 16 * 1024 * 1024;
+
 /// Deepest nesting of parentheses, brackets, calls, `^` chains and `if`/`sum` forms
 /// accepted (see [`too_deep`]).
 /// The parser and the tree builder recurse through several frames per level; 64 levels
@@ -28,6 +33,20 @@ pub(crate) const MAX_DEPTH: usize = 256;
 
 /// Parses a whole `.dae` source text.
 pub(crate) fn parse(src: &str) -> Result<File, Vec<Diagnostic>> {
+    if src.len() > MAX_SOURCE_BYTES {
+        return Err(vec![too_long(src)]);
+    }
+    // A UTF-8 byte order mark, which some editors write at the start of a file, is read
+    // as white space: three spaces in its place keep every byte offset (every span)
+    // the same as in `src`.
+    let without_bom;
+    let src = match src.strip_prefix('\u{feff}') {
+        Some(rest) => {
+            without_bom = format!("   {rest}");
+            without_bom.as_str()
+        }
+        None => src,
+    };
     if let Some(at) = too_deep(src) {
         return Err(vec![
             Diagnostic::new(
@@ -51,6 +70,24 @@ pub(crate) fn parse(src: &str) -> Result<File, Vec<Diagnostic>> {
     }
 }
 
+/// The error for a source text longer than [`MAX_SOURCE_BYTES`], at the first byte past
+/// the limit.
+fn too_long(src: &str) -> Diagnostic {
+    let mut at = MAX_SOURCE_BYTES;
+    while !src.is_char_boundary(at) {
+        at -= 1;
+    }
+    Diagnostic::new(
+        format!(
+            "the source text is {} bytes long, more than the limit of 16 MiB ({MAX_SOURCE_BYTES} bytes)",
+            src.len()
+        ),
+        Span::new(at, at + 1),
+        "the limit is reached here",
+    )
+    .hint("split the models over several files")
+}
+
 /// The place where the nesting of parentheses and `^` first exceeds [`MAX_NESTING`],
 /// found by a scan of the text before parsing.
 ///
@@ -65,7 +102,9 @@ fn too_deep(src: &str) -> Option<Span> {
     let bytes = src.as_bytes();
     // For each open parenthesis level, the `^` counted so far in its current chain.
     let mut pows: Vec<usize> = vec![0];
-    let mut depth = 1usize; // sum over levels of (1 + pows)
+    // The levels open: one per open parenthesis (a call's included) and one per `^` of
+    // the current chains. `((x))` is 2 levels, `2^2^x` is 2, `sin(2^x)` is 2.
+    let mut depth = 0usize;
     let mut prev = b' '; // previous significant byte
     let mut keyword_levels = 0usize; // `if` and `sum` seen in the current item
     let mut i = 0;

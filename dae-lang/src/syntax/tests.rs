@@ -409,11 +409,12 @@ fn deep_nesting_is_an_error_not_a_crash() {
         )
     };
     let sum = |n: usize| format!("model M {{ der(x) = {}1; }}", "1 + ".repeat(n));
-    // Within the limits: accepted. (63 levels plus the expression itself make 64.)
+    // Within the limits: accepted. 64 levels, as docs/language.md says.
     for src in [
-        deep("(", ")", 63),
-        deep("sin(", ")", 63),
-        deep("2^", "", 63),
+        deep("(", ")", 64),
+        deep("sin(", ")", 64),
+        deep("2^", "", 64),
+        deep("(2^", ")", 32),
         deep("-", "", 250),
         sum(250),
     ] {
@@ -429,12 +430,14 @@ fn deep_nesting_is_an_error_not_a_crash() {
     );
     // Beyond: exactly one diagnostic, at the place the limit is crossed.
     for (src, col) in [
-        (deep("(", ")", 64), 83),
-        (deep("sin(", ")", 5000), 275),
-        (deep("2^", "", 3000), 147),
-        (deep("(2^", ")", 40), 115),
-        // The sign of an exponent does not end a chain of `^`.
-        (deep("2^1e-1^", "", 100), 19 + 7 * 32),
+        // The 65th `(`, at column 20 + 64.
+        (deep("(", ")", 65), 84),
+        (deep("sin(", ")", 5000), 20 + 4 * 64 + 3),
+        (deep("2^", "", 3000), 20 + 2 * 64 + 1),
+        // `(2^` is two levels: the 33rd `(` is the 65th level.
+        (deep("(2^", ")", 40), 20 + 3 * 32),
+        // The sign of an exponent does not end a chain of `^`: the 65th `^`.
+        (deep("2^1e-1^", "", 100), 21 + 7 * 32),
     ] {
         let d = parse(&src).unwrap_err();
         assert_eq!(d.len(), 1, "{d:?}");
@@ -460,4 +463,39 @@ fn deep_nesting_is_an_error_not_a_crash() {
         "(".repeat(100)
     );
     assert!(parse(&commented).is_ok());
+}
+
+#[test]
+fn a_byte_order_mark_at_the_start_is_skipped() {
+    let src = "\u{feff}model M {\n  state x = 1;\n  der(x) = -x;\n}\n";
+    let file = parse(src).expect("a BOM is not an error");
+    assert_eq!(file.models[0].name.name, "M");
+    // Spans stay byte offsets into the text as given; columns do not count the BOM,
+    // which editors do not show.
+    let name = file.models[0].name.span;
+    assert_eq!(&src[name.start..name.end], "M");
+    assert_eq!(line_col(src, name), (1, 7));
+    let bad = "\u{feff}model M { state x = 1 }";
+    let d = parse(bad).unwrap_err();
+    assert_eq!(line_col(bad, d[0].span), (1, 23), "{d:?}");
+    // Anywhere else it is a character the language does not have.
+    assert!(parse("model M {\u{feff} state x = 1; der(x) = -x; }").is_err());
+}
+
+#[test]
+fn a_source_longer_than_the_limit_is_one_error() {
+    use super::MAX_SOURCE_BYTES;
+    assert_eq!(MAX_SOURCE_BYTES, 16 * 1024 * 1024);
+    let model = "model M { state x = 1; der(x) = -x; }\n";
+    let mut src = model.to_string();
+    src.push_str(&" ".repeat(MAX_SOURCE_BYTES - src.len()));
+    assert!(parse(&src).is_ok(), "exactly the limit is accepted");
+    src.push(' ');
+    let d = parse(&src).unwrap_err();
+    assert_eq!(d.len(), 1);
+    assert_eq!(
+        d[0].message,
+        "the source text is 16777217 bytes long, more than the limit of 16 MiB (16777216 bytes)"
+    );
+    assert_eq!(d[0].span, Span::new(MAX_SOURCE_BYTES, MAX_SOURCE_BYTES + 1));
 }

@@ -1,0 +1,20 @@
+//! The particle benchmark of docs/particles.md: scenes C1-C4, every method through the
+//! [`dae_particles::Backend`] seam, the metrics, the CSV, the charts and the pictures.
+
+mod charts;
+mod pictures;
+mod report;
+mod run;
+mod scenes;
+
+pub use charts::{Line, loglog, ratio_chart, size_line, strain_chart};
+pub use pictures::{Capture, strain_colour, write_pictures};
+pub use report::{
+    CSV_COLUMNS, bound_held, cheapest, cheapest_table, fitted_exponent, stability_table,
+    write_particles_csv,
+};
+pub use run::{
+    FrameObserver, MethodSpec, PILOT_SAFETY, ParticleRecord, dbsmc_settings, drive_scene,
+    index_one, particle_pilot, run_particle_method,
+};
+pub use scenes::{Grab, ParticleScene, c1, c2, c3, c4};

@@ -1,0 +1,393 @@
+//! One run of one method on one scene: frames through the scene runner, the scene's
+//! grab, the metrics of docs/particles.md (worst strain, cost per frame, counts,
+//! position error, energy drift), a wall-clock budget.
+
+use std::time::{Duration, Instant};
+
+use dae_particles::{Backend, Counters, Dbsmc, FRAME, ParticleModel, Scene};
+use dae_runtime::{
+    AlphaChoice, ConstraintSpec, GainChoice, Integrator, LayerBound, Model, MuSearch, Settings,
+    SolverChoice, design,
+};
+
+use super::scenes::ParticleScene;
+use crate::{IndexOneParticles, PilotBounds, Xpbd};
+
+/// A method and its setting.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MethodSpec {
+    /// DBSMC with layers `eps_rel * L0` per link, designed from pilot bounds.
+    Dbsmc {
+        /// Relative layer (strain bound).
+        eps: f64,
+        /// The `J_s` solver.
+        solver: SolverChoice,
+        /// The integrator of the states between updates.
+        integrator: Integrator,
+    },
+    /// XPBD small steps: `k` substeps of one iteration per frame.
+    XpbdSubsteps(u32),
+    /// XPBD: one step of `n` iterations per frame.
+    XpbdIterations(u32),
+    /// The index-1 method with this many RK4 steps per frame.
+    IndexOne(u32),
+}
+
+impl MethodSpec {
+    /// The method's name in reports.
+    pub fn method(&self) -> String {
+        match self {
+            MethodSpec::Dbsmc {
+                solver, integrator, ..
+            } => {
+                let mut name = String::from("dbsmc");
+                if *integrator == Integrator::Euler {
+                    name += "-euler";
+                }
+                if *solver != SolverChoice::Auto {
+                    name += &format!("-{solver}");
+                }
+                name
+            }
+            MethodSpec::XpbdSubsteps(_) => "xpbd-substeps".into(),
+            MethodSpec::XpbdIterations(_) => "xpbd-iterations".into(),
+            MethodSpec::IndexOne(_) => "index1-rk4".into(),
+        }
+    }
+    /// The setting, e.g. `k=20`.
+    pub fn knob(&self) -> String {
+        match self {
+            MethodSpec::Dbsmc { eps, .. } => format!("eps={eps:e}"),
+            MethodSpec::XpbdSubsteps(k) => format!("k={k}"),
+            MethodSpec::XpbdIterations(n) => format!("n={n}"),
+            MethodSpec::IndexOne(s) => format!("steps/frame={s}"),
+        }
+    }
+}
+
+/// One row of `particles.csv`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParticleRecord {
+    /// Scene id (`C1` ... `C4`).
+    pub scene: String,
+    /// Scene variant.
+    pub variant: String,
+    /// Number of links.
+    pub size: usize,
+    /// The scene's parameter (C1: end-mass ratio).
+    pub param: f64,
+    /// Method name.
+    pub method: String,
+    /// Method setting.
+    pub knob: String,
+    /// The strain bound (DBSMC only).
+    pub eps: Option<f64>,
+    /// Largest `|L - L0| / L0` over all links and frames run.
+    pub worst_strain: f64,
+    /// Mean and largest wall time per frame (ms).
+    pub ms_mean: f64,
+    /// Largest wall time of a frame (ms).
+    pub ms_max: f64,
+    /// Frames run.
+    pub frames: u64,
+    /// Frames of the scene.
+    pub frames_total: u64,
+    /// `ok`, `budget` (stopped after the wall-clock budget), `failed: ...`.
+    pub status: String,
+    /// Work counters.
+    pub counters: Counters,
+    /// Distance of the tracked particle from the reference at t = 1 s (m), if known.
+    pub pos_err: Option<f64>,
+    /// `(E(end) - E(0)) / (M g 1 m)` for conservative scenes.
+    pub energy_drift: Option<f64>,
+    /// The DBSMC design's guaranteed period `T_min` (s).
+    pub t_min: Option<f64>,
+    /// The DBSMC step (s).
+    pub step: Option<f64>,
+}
+
+impl ParticleRecord {
+    /// Whether the whole scene ran.
+    pub fn complete(&self) -> bool {
+        self.status == "ok"
+    }
+}
+
+/// What [`drive_scene`] observes at each frame: the frame number and positions.
+pub type FrameObserver<'a> = &'a mut dyn FnMut(u64, &[[f64; 3]]);
+
+/// Run `backend` on `scene` for its duration, calling `observe` after every frame
+/// (outside the timed part). A run stops early (status `budget`, with the frames it
+/// ran measured) once it has spent `budget`, or a tenth of it while the projected time
+/// of the whole scene exceeds `budget`.
+pub fn drive_scene<B: Backend>(
+    scene: &ParticleScene,
+    spec: &MethodSpec,
+    backend: B,
+    budget: Duration,
+    reference: Option<&[f64; 3]>,
+    observe: Option<FrameObserver<'_>>,
+) -> ParticleRecord {
+    let frames_total = (scene.duration / FRAME).round() as u64;
+    let mut rec = blank(scene, spec);
+    rec.status = "ok".into();
+    let sys = &scene.system;
+    let n = sys.n_particles();
+    let (mut x, mut v) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
+    backend.positions(&mut x);
+    backend.velocities(&mut v);
+    let e0 = sys.energy(&x, &v);
+    let mut sc = match Scene::new(sys, backend) {
+        Ok(s) => s,
+        Err(e) => {
+            rec.status = format!("failed: {e}");
+            return rec;
+        }
+    };
+    let mut observe = observe;
+    if let Some(obs) = observe.as_mut() {
+        obs(0, sc.positions());
+    }
+    let (mut sum, mut max) = (0.0f64, 0.0f64);
+    let clock = Instant::now();
+    let grab_frame = scene.grab.map(|g| (g.at / FRAME).round() as u64);
+    let release_frame = scene.grab.map(|g| (g.release / FRAME).round() as u64);
+    for f in 1..=frames_total {
+        if Some(f - 1) == grab_frame {
+            let g = scene.grab.expect("grab frame implies a grab");
+            if let Err(e) = sc.grab(g.particle, g.offset, g.duration) {
+                rec.status = format!("failed: grab: {e}");
+                break;
+            }
+        }
+        if Some(f - 1) == release_frame {
+            let g = scene.grab.expect("release frame implies a grab");
+            if let Err(e) = sc.release(g.particle) {
+                rec.status = format!("failed: release: {e}");
+                break;
+            }
+        }
+        match sc.step() {
+            Ok(frame) => {
+                sum += frame.wall;
+                max = max.max(frame.wall);
+                rec.frames = f;
+            }
+            Err(e) => {
+                rec.status = format!("failed: {e}");
+                break;
+            }
+        }
+        if let Some(obs) = observe.as_mut() {
+            obs(f, sc.positions());
+        }
+        if f == 60 {
+            if let Some(r) = reference {
+                rec.pos_err = Some(dae_particles::distance(sc.positions()[scene.tracked], *r));
+            }
+        }
+        // After a probe of a tenth of the budget, stop a run whose projected total
+        // would exceed the budget: it is measured, not completed.
+        let spent = clock.elapsed();
+        let projected = spent.as_secs_f64() * frames_total as f64 / f as f64;
+        if f < frames_total
+            && (spent > budget || (spent > budget / 10 && projected > budget.as_secs_f64()))
+        {
+            rec.status = "budget".into();
+            break;
+        }
+    }
+    rec.worst_strain = sc.worst_strain().strain;
+    if rec.frames > 0 {
+        rec.ms_mean = 1e3 * sum / rec.frames as f64;
+        rec.ms_max = 1e3 * max;
+    }
+    rec.counters = sc.backend().counters();
+    if scene.conservative && rec.complete() {
+        sc.backend().positions(&mut x);
+        sc.backend().velocities(&mut v);
+        let scale = sys.free_mass() * 9.81;
+        rec.energy_drift = Some((sys.energy(&x, &v) - e0) / scale);
+    }
+    rec
+}
+
+/// The index-1 method on the scene's particle model (errors as a failed record).
+pub fn index_one(
+    scene: &ParticleScene,
+    steps_per_frame: u32,
+) -> Result<IndexOneParticles<ParticleModel>, String> {
+    let model = ParticleModel::new(&scene.system).map_err(|e| e.to_string())?;
+    IndexOneParticles::new(model, steps_per_frame, SolverChoice::Auto)
+}
+
+/// Pilot bounds of every constraint from an index-1 run of the scene at
+/// `steps_per_frame` (the whole scene, or as much as `budget` allows: the record says
+/// how many frames), and that run's record.
+pub fn particle_pilot(
+    scene: &ParticleScene,
+    steps_per_frame: u32,
+    budget: Duration,
+) -> Result<(PilotBounds, ParticleRecord), String> {
+    let spec = MethodSpec::IndexOne(steps_per_frame);
+    let mut backend = index_one(scene, steps_per_frame)?.track_bounds();
+    let rec = drive_scene(scene, &spec, &mut backend, budget, None, None);
+    if !(rec.complete() || rec.status == "budget") {
+        return Err(format!("pilot {}: {}", spec.knob(), rec.status));
+    }
+    let bounds = backend
+        .bounds()
+        .cloned()
+        .ok_or("pilot produced no bounds")?;
+    Ok((bounds, rec))
+}
+
+/// Safety factor on the pilot bounds before designing.
+pub const PILOT_SAFETY: f64 = 2.0;
+
+/// A DBSMC configuration designed from pilot bounds: per link `eps_i = eps L0_i`, the
+/// exact `alpha` (one `beta` evaluation per update, so that the gain has no `|beta|` to
+/// cover, T 3.17), the sufficient crossing gain `k_i = mu_i^3 M_i / 2 + 4 eps_i / mu_i`
+/// (T 4.4) with `mu_i` maximising `T_i^min` (T 3.14), `M_i` the pilot's drift bound
+/// (at least a hundredth of the largest) times [`PILOT_SAFETY`], monitoring, and the step `h = 0.2 min_i eps_i / k_i` rounded
+/// down to divide the frame (the crossing overshoot `|s'| h` small against the layer).
+/// Returns the settings and the design's guaranteed period `T_min`.
+pub fn dbsmc_settings(
+    model: &ParticleModel,
+    bounds: &PilotBounds,
+    eps: f64,
+    solver: SolverChoice,
+) -> Result<(Settings, f64), String> {
+    use dae_particles::ParticleDae;
+    let m = model.n_constraints();
+    let m_max = bounds.drift.iter().copied().fold(0.0, f64::max);
+    let specs: Vec<ConstraintSpec> = (0..m)
+        .map(|i| ConstraintSpec {
+            r: 3,
+            eps: eps * model.rest_length(i),
+            // A link whose pilot saw almost no drift (quiet in the piloted frames) gets
+            // a hundredth of the largest: without a floor T_min(mu) has no interior
+            // maximum, and the link may move later.
+            m: PILOT_SAFETY * bounds.drift[i].max(1e-2 * m_max).max(1e-300),
+            // The exact alpha leaves no beta for the gain to cover (T 3.17).
+            beta_abs: 0.0,
+            layer: LayerBound::General,
+        })
+        .collect();
+    let search = MuSearch {
+        lo: 1e-9,
+        hi: 10.0,
+        scan_points: 201,
+        ln_tol: 1e-6,
+    };
+    let d = design(&specs, GainChoice::Sufficient, &search).map_err(|e| format!("design: {e}"))?;
+    let mu: Vec<f64> = d.constraints.iter().map(|c| c.mu).collect();
+    // A gain of 0 (a link whose pilot saw beta = 0) would leave s adrift: floor it.
+    let kmax = d.constraints.iter().map(|c| c.k).fold(0.0, f64::max);
+    let k: Vec<f64> = d
+        .constraints
+        .iter()
+        .map(|c| c.k.max(1e-3 * kmax).max(1e-12))
+        .collect();
+    let h_layer = (0..m)
+        .map(|i| 0.2 * specs[i].eps / k[i])
+        .fold(f64::INFINITY, f64::min);
+    let per_frame = (FRAME / h_layer.min(FRAME)).ceil().max(1.0);
+    let settings = Settings::new(specs.iter().map(|s| s.eps).collect(), mu, k)
+        .step(FRAME / per_frame)
+        .solver(solver)
+        .alpha(AlphaChoice::Exact);
+    Ok((settings, d.t_min))
+}
+
+/// Build the backend of `spec` for `scene` (DBSMC needs the pilot bounds).
+pub fn run_particle_method(
+    scene: &ParticleScene,
+    spec: &MethodSpec,
+    bounds: Option<&PilotBounds>,
+    budget: Duration,
+    reference: Option<&[f64; 3]>,
+    observe: Option<FrameObserver<'_>>,
+) -> ParticleRecord {
+    let failed = |reason: String| {
+        let mut r = blank(scene, spec);
+        r.status = format!("failed: {reason}");
+        r
+    };
+    match *spec {
+        MethodSpec::XpbdSubsteps(k) => match Xpbd::new(&scene.system, k, 1) {
+            Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
+            Err(e) => failed(e),
+        },
+        MethodSpec::XpbdIterations(n) => match Xpbd::new(&scene.system, 1, n) {
+            Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
+            Err(e) => failed(e),
+        },
+        MethodSpec::IndexOne(s) => match index_one(scene, s) {
+            Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
+            Err(e) => failed(e),
+        },
+        MethodSpec::Dbsmc {
+            eps,
+            solver,
+            integrator,
+        } => {
+            let Some(bounds) = bounds else {
+                return failed("no pilot bounds for the design".into());
+            };
+            let model = match ParticleModel::new(&scene.system) {
+                Ok(m) => m,
+                Err(e) => return failed(e.to_string()),
+            };
+            let (settings, t_min) = match dbsmc_settings(&model, bounds, eps, solver) {
+                Ok((s, t)) => (s.integrator(integrator), t),
+                Err(e) => return failed(e),
+            };
+            let step = settings.step;
+            match Dbsmc::new(
+                model,
+                settings,
+                &format!("{} {}", spec.method(), spec.knob()),
+            ) {
+                Ok(b) => {
+                    let mut r = drive_scene(scene, spec, b, budget, reference, observe);
+                    r.t_min = Some(t_min);
+                    r.step = Some(step);
+                    r
+                }
+                Err(e) => {
+                    let mut r = failed(e.to_string());
+                    r.t_min = Some(t_min);
+                    r.step = Some(step);
+                    r
+                }
+            }
+        }
+    }
+}
+
+fn blank(scene: &ParticleScene, spec: &MethodSpec) -> ParticleRecord {
+    ParticleRecord {
+        scene: scene.id.to_string(),
+        variant: scene.variant.clone(),
+        size: scene.size(),
+        param: scene.param,
+        method: spec.method(),
+        knob: spec.knob(),
+        eps: match spec {
+            MethodSpec::Dbsmc { eps, .. } => Some(*eps),
+            _ => None,
+        },
+        worst_strain: f64::NAN,
+        ms_mean: f64::NAN,
+        ms_max: f64::NAN,
+        frames: 0,
+        frames_total: (scene.duration / FRAME).round() as u64,
+        status: String::new(),
+        counters: Counters::default(),
+        pos_err: None,
+        energy_drift: None,
+        t_min: None,
+        step: None,
+    }
+}

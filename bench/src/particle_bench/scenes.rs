@@ -1,0 +1,132 @@
+//! The scenes of the particle benchmark (C1-C4): a system, a duration, an optional
+//! grab, and what can be measured on it.
+
+use dae_particles::{GridPins, System, SystemError, chain, grid, grid_index, strands};
+
+/// A grab during a run (C4): at `at` the particle is grabbed where it is, moved by
+/// `offset` over `duration` on a smooth path, held, and released at `release`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Grab {
+    /// The particle.
+    pub particle: usize,
+    /// Time of the grab (s, on a frame boundary).
+    pub at: f64,
+    /// Displacement of the move (m).
+    pub offset: [f64; 3],
+    /// Duration of the move (s).
+    pub duration: f64,
+    /// Time of the release (s, on a frame boundary).
+    pub release: f64,
+}
+
+/// One scene of the benchmark.
+#[derive(Debug, Clone)]
+pub struct ParticleScene {
+    /// `C1` ... `C4`.
+    pub id: &'static str,
+    /// The variant, e.g. `N=100 r=1e2` or `W=32 (a)`.
+    pub variant: String,
+    /// The system.
+    pub system: System,
+    /// Simulated duration (s).
+    pub duration: f64,
+    /// The grab, if any.
+    pub grab: Option<Grab>,
+    /// Whether energy is conserved by the exact motion (no driven pin, no grab).
+    pub conservative: bool,
+    /// The particle whose position is compared with a reference (the free end or
+    /// corner).
+    pub tracked: usize,
+    /// The scene's parameter for charts (C1: end-mass ratio; NaN otherwise).
+    pub param: f64,
+}
+
+impl ParticleScene {
+    /// Number of links.
+    pub fn size(&self) -> usize {
+        self.system.links().len()
+    }
+    /// `id` and variant, e.g. `C1 N=100 r=1e2`.
+    pub fn title(&self) -> String {
+        format!("{} {}", self.id, self.variant)
+    }
+    /// A file-name stem, e.g. `c1_n100_r1e2`.
+    pub fn stem(&self) -> String {
+        let mut s = format!("{}_{}", self.id, self.variant).to_lowercase();
+        s.retain(|c| c.is_ascii_alphanumeric() || c == '_' || c == ' ');
+        s.replace(' ', "_")
+    }
+}
+
+fn ratio_label(r: f64) -> String {
+    if r == 1.0 {
+        "1".into()
+    } else {
+        format!("1e{}", r.log10().round())
+    }
+}
+
+/// C1: chain of `n` links with end-mass ratio `ratio`, 5 s.
+pub fn c1(n: usize, ratio: f64) -> Result<ParticleScene, SystemError> {
+    Ok(ParticleScene {
+        id: "C1",
+        variant: format!("N={n} r={}", ratio_label(ratio)),
+        system: chain(n, ratio)?,
+        duration: 5.0,
+        grab: None,
+        conservative: true,
+        tracked: n,
+        param: ratio,
+    })
+}
+
+/// C2: `s` strands of `n` links on the swaying head, 5 s.
+pub fn c2(s: usize, n: usize) -> Result<ParticleScene, SystemError> {
+    Ok(ParticleScene {
+        id: "C2",
+        variant: format!("{s}x{n}"),
+        system: strands(s, n)?,
+        duration: 5.0,
+        grab: None,
+        conservative: false,
+        tracked: n,
+        param: f64::NAN,
+    })
+}
+
+/// C3: a `w x w` cloth pinned as `pins` says (with shear diagonals if `shear`), 5 s.
+pub fn c3(w: usize, pins: GridPins, shear: bool) -> Result<ParticleScene, SystemError> {
+    let tag = match pins {
+        GridPins::Corners => "a",
+        GridPins::Edge => "b",
+        GridPins::CornersHeavy => "c",
+    };
+    Ok(ParticleScene {
+        id: "C3",
+        variant: format!("W={w} ({tag}){}", if shear { " shear" } else { "" }),
+        system: grid(w, pins, shear)?,
+        duration: 5.0,
+        grab: None,
+        conservative: true,
+        tracked: grid_index(w, 0, 0),
+        param: f64::NAN,
+    })
+}
+
+/// C4: C3(a) at `w`, the middle particle of the near edge grabbed at 1 s, moved 0.3 m
+/// along `+x` and `+z` over 0.5 s, held, released at 2.5 s; 5 s.
+pub fn c4(w: usize) -> Result<ParticleScene, SystemError> {
+    let mut s = c3(w, GridPins::Corners, false)?;
+    s.id = "C4";
+    s.variant = format!("W={w}");
+    s.conservative = false;
+    s.grab = Some(Grab {
+        particle: grid_index(w, w / 2, 0),
+        at: 1.0,
+        offset: [0.3, 0.0, 0.3],
+        duration: 0.5,
+        release: 2.5,
+    });
+    s.tracked = grid_index(w, w / 2, 0);
+    Ok(s)
+}

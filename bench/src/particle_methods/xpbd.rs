@@ -1,0 +1,196 @@
+//! XPBD with zero compliance (Macklin, Mueller, Chentanez 2016), written from the
+//! paper, in its two usual settings: "small steps" (`k` substeps of one Gauss-Seidel
+//! iteration each, Macklin et al. 2019) and one step of `n` iterations.
+//!
+//! Per substep of length `h` (the frame split into `k` equal substeps):
+//!
+//! ```text
+//! v += h g,  x_prev = x,  x += h v           (free particles; pinned: x = pin(t + h))
+//! n times, for each link (a, b) in order:     C = |x_b - x_a| - L0,  n = (x_b - x_a)/|.|
+//!     dlambda = (-C - alpha~ lambda) / (w_a + w_b + alpha~)     with alpha~ = alpha / h^2 = 0
+//!     x_a -= w_a dlambda n,   x_b += w_b dlambda n               (w = inverse mass, 0 pinned)
+//! v = (x - x_prev) / h
+//! ```
+//!
+//! With zero compliance `alpha~ = 0` and the multiplier `lambda` drops out of the
+//! update (XPBD reduces to PBD's projection); it is not stored. No damping, no
+//! velocity pass.
+
+use dae_particles::{Backend, BackendError, Counters, Kinematics, Pin, System};
+
+/// XPBD with zero compliance (module docs): `substeps` per frame of 1/60 s, each with
+/// `iterations` Gauss-Seidel sweeps over the links.
+#[derive(Debug, Clone)]
+pub struct Xpbd {
+    substeps: u32,
+    iterations: u32,
+    t: f64,
+    x: Vec<[f64; 3]>,
+    v: Vec<[f64; 3]>,
+    x_prev: Vec<[f64; 3]>,
+    /// Velocity before the last substep, for the acceleration a grab continues.
+    v_prev: Vec<[f64; 3]>,
+    h_last: f64,
+    mass: Vec<f64>,
+    inv_mass: Vec<f64>,
+    pins: Vec<Option<Pin>>,
+    links: Vec<(usize, usize, f64)>,
+    gravity: [f64; 3],
+    counters: Counters,
+}
+
+impl Xpbd {
+    /// XPBD on `system` with `substeps` per frame and `iterations` per substep (both
+    /// at least 1).
+    pub fn new(system: &System, substeps: u32, iterations: u32) -> Result<Self, String> {
+        if substeps == 0 || iterations == 0 {
+            return Err(format!(
+                "xpbd needs substeps >= 1 and iterations >= 1, got {substeps} and {iterations}"
+            ));
+        }
+        let n = system.n_particles();
+        Ok(Self {
+            substeps,
+            iterations,
+            t: 0.0,
+            x: system.positions().to_vec(),
+            v: system.velocities().to_vec(),
+            x_prev: system.positions().to_vec(),
+            v_prev: system.velocities().to_vec(),
+            h_last: 0.0,
+            mass: system.masses().to_vec(),
+            inv_mass: (0..n)
+                .map(|k| {
+                    if system.pins()[k].is_some() {
+                        0.0
+                    } else {
+                        1.0 / system.masses()[k]
+                    }
+                })
+                .collect(),
+            pins: system.pins().to_vec(),
+            links: system.links().iter().map(|l| (l.a, l.b, l.rest)).collect(),
+            gravity: system.gravity(),
+            counters: Counters::default(),
+        })
+    }
+
+    fn substep(&mut self, h: f64) {
+        let t1 = self.t + h;
+        self.v_prev.copy_from_slice(&self.v);
+        for k in 0..self.x.len() {
+            self.x_prev[k] = self.x[k];
+            match &self.pins[k] {
+                Some(pin) => self.x[k] = pin.at(t1).pos,
+                None => {
+                    for i in 0..3 {
+                        self.v[k][i] += h * self.gravity[i];
+                        self.x[k][i] += h * self.v[k][i];
+                    }
+                }
+            }
+        }
+        for _ in 0..self.iterations {
+            for &(a, b, rest) in &self.links {
+                let (wa, wb) = (self.inv_mass[a], self.inv_mass[b]);
+                let w = wa + wb;
+                if w == 0.0 {
+                    continue;
+                }
+                let (pa, pb) = (self.x[a], self.x[b]);
+                let d = [pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]];
+                let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                if len == 0.0 {
+                    continue;
+                }
+                // dlambda = -C / (w_a + w_b); the step along n = d / len.
+                let s = (len - rest) / (w * len);
+                for (i, di) in d.iter().enumerate() {
+                    self.x[a][i] += wa * s * di;
+                    self.x[b][i] -= wb * s * di;
+                }
+            }
+        }
+        let inv_h = 1.0 / h;
+        for k in 0..self.x.len() {
+            for i in 0..3 {
+                self.v[k][i] = (self.x[k][i] - self.x_prev[k][i]) * inv_h;
+            }
+        }
+        self.t = t1;
+        self.h_last = h;
+        self.counters.steps += 1;
+        self.counters.iterations += self.iterations as u64;
+    }
+}
+
+impl Backend for Xpbd {
+    fn name(&self) -> String {
+        format!("xpbd k={} n={}", self.substeps, self.iterations)
+    }
+    fn n_particles(&self) -> usize {
+        self.x.len()
+    }
+    fn time(&self) -> f64 {
+        self.t
+    }
+    fn advance_to(&mut self, t: f64) -> Result<(), BackendError> {
+        let span = t - self.t;
+        // Substeps of 1/(60 k) s, as many as fit (at least one).
+        let n = ((span * 60.0 * self.substeps as f64) - 1e-9)
+            .ceil()
+            .max(1.0) as u64;
+        let h = span / n as f64;
+        for _ in 0..n {
+            self.substep(h);
+        }
+        self.t = t;
+        if let Some(k) = self.x.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
+            return Err(BackendError {
+                method: self.name(),
+                t,
+                reason: format!("particle {k} has a non-finite position"),
+            });
+        }
+        Ok(())
+    }
+    fn positions(&self, out: &mut [[f64; 3]]) {
+        out.copy_from_slice(&self.x);
+    }
+    fn velocities(&self, out: &mut [[f64; 3]]) {
+        out.copy_from_slice(&self.v);
+    }
+    fn particle(&self, k: usize) -> Kinematics {
+        let mut acc = [0.0; 3];
+        if self.h_last > 0.0 {
+            for (i, a) in acc.iter_mut().enumerate() {
+                *a = (self.v[k][i] - self.v_prev[k][i]) / self.h_last;
+            }
+        }
+        Kinematics {
+            pos: self.x[k],
+            vel: self.v[k],
+            acc,
+            jerk: [0.0; 3],
+        }
+    }
+    fn set_pin(&mut self, k: usize, pin: Option<Pin>) -> Result<(), BackendError> {
+        if k >= self.x.len() {
+            return Err(BackendError {
+                method: self.name(),
+                t: self.t,
+                reason: format!("particle {k} does not exist"),
+            });
+        }
+        self.inv_mass[k] = if pin.is_some() {
+            0.0
+        } else {
+            1.0 / self.mass[k]
+        };
+        self.pins[k] = pin;
+        Ok(())
+    }
+    fn counters(&self) -> Counters {
+        self.counters
+    }
+}

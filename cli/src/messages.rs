@@ -1,0 +1,143 @@
+//! Errors of the design and of the pilot runs in the words of the command line: the
+//! flags the user gave and the constraints by their names, instead of the runtime's field
+//! names (`t_end`, `gains`, `k_c`) and positions ("constraint 0").
+
+use crate::Reported;
+use dae_runtime::{DesignError, Model, PilotError, PilotRunError, SimError};
+
+/// A number as a person writes it: `1e300` rather than 301 digits, `0.5` as it is.
+pub(crate) fn number(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-4..1e6).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
+/// Checks that a flag's value is finite and `> 0`.
+pub(crate) fn positive(flag: &str, value: f64) -> Result<(), Reported> {
+    check(value.is_finite() && value > 0.0, || {
+        format!("{flag} must be a finite number > 0, got {}", number(value))
+    })
+}
+
+/// Checks that a flag's value is finite and `>= min`.
+pub(crate) fn at_least(flag: &str, value: f64, min: f64) -> Result<(), Reported> {
+    check(value.is_finite() && value >= min, || {
+        format!(
+            "{flag} must be a finite number >= {min}, got {}",
+            number(value)
+        )
+    })
+}
+
+/// Checks that every value of a list flag is finite and `> 0`.
+pub(crate) fn all_positive(flag: &str, values: &[f64]) -> Result<(), Reported> {
+    match values.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+        Some(v) => check(false, || {
+            format!("{flag} must be finite numbers > 0, got {}", number(*v))
+        }),
+        None => Ok(()),
+    }
+}
+
+/// `Ok` if `ok`, else the message on stderr.
+pub(crate) fn check(ok: bool, message: impl FnOnce() -> String) -> Result<(), Reported> {
+    if ok {
+        Ok(())
+    } else {
+        eprintln!("error: {}", message());
+        Err(Reported)
+    }
+}
+
+/// The flag a quantity of a [`DesignError`] comes from, if the user gave it.
+fn flag_of(name: &str) -> Option<&'static str> {
+    match name {
+        "eps" => Some("--eps"),
+        "M" => Some("--m"),
+        "|beta|" => Some("--beta"),
+        _ => None,
+    }
+}
+
+/// A design error of one constraint, `name` being how the constraint is called (`None`
+/// without a model: the constraint of `--index`, `--beta`, `--m`).
+pub(crate) fn design_error(e: &DesignError, name: Option<&str>) -> String {
+    match e {
+        DesignError::NotPositive { name: q, value } if flag_of(q).is_some() => {
+            let flag = flag_of(q).unwrap_or_default();
+            format!("{flag} must be a finite number > 0, got {value}")
+        }
+        DesignError::Negative { name: q, value } if flag_of(q).is_some() => {
+            let flag = flag_of(q).unwrap_or_default();
+            format!("{flag} must be a finite number >= 0, got {value}")
+        }
+        DesignError::BadIndex { r, max } => format!("--index must be in 1..={max}, got {r}"),
+        DesignError::IndexNotSupported { formula, r } => match name {
+            Some(c) => format!(
+                "--bound index3 {formula} holds for index 3 only, and `{c}` has index {r}; \
+                 use --bound general"
+            ),
+            None => format!(
+                "--bound index3 {formula} holds for index 3 only, got --index {r}; use --bound \
+                 general"
+            ),
+        },
+        DesignError::Constraint { source, .. } => design_error(source, name),
+        DesignError::NoInteriorMaximum { .. } => format!(
+            "{e}\n  hint: the guaranteed period has no best mu for these pilot bounds (little or \
+             no drift was measured); give --mu and let the gains be designed"
+        ),
+        other => other.to_string(),
+    }
+}
+
+/// A failed automatic design (pilot runs, estimates, design) of `model`.
+pub(crate) fn pilot_run_error(model: &dyn Model, e: &PilotRunError) -> String {
+    let constraint = |i: usize| {
+        if i < model.n_constraints() {
+            model.constraint_name(i).to_string()
+        } else {
+            format!("#{}", i + 1)
+        }
+    };
+    match e {
+        PilotRunError::Sim(SimError::Settings { field, reason }) => {
+            let flag = match *field {
+                "t_end" => "--pilot",
+                "eps" => "--eps",
+                "mu" => "--pilot-mu",
+                "gains" => "--pilot-gain",
+                "step" => "--step",
+                "settle" => "--settle",
+                other => other,
+            };
+            format!("pilot run: {flag}: {reason}")
+        }
+        PilotRunError::Sim(sim) => format!("pilot run failed: {sim}"),
+        PilotRunError::Pilot(PilotError::NoDriftData { constraint: i }) => format!(
+            "the pilot run gave no drift data for constraint `{}`: no interval after --settle \
+             had two samples at distinct times; lengthen --pilot or shorten --settle",
+            constraint(*i)
+        ),
+        PilotRunError::Pilot(PilotError::NonFinite {
+            what,
+            t,
+            constraint: Some(i),
+        }) => format!(
+            "the pilot run gave a non-finite {what} at t = {t} for constraint `{}`",
+            constraint(*i)
+        ),
+        PilotRunError::Pilot(PilotError::BadSafety(s)) => {
+            format!("--safety must be a finite number >= 1, got {s}")
+        }
+        PilotRunError::Pilot(p) => format!("pilot estimate failed: {p}"),
+        PilotRunError::Design(DesignError::Constraint { index, source }) => {
+            let c = constraint(*index);
+            format!("constraint `{c}`: {}", design_error(source, Some(&c)))
+        }
+        PilotRunError::Design(d) => format!("design failed: {}", design_error(d, None)),
+        other => other.to_string(),
+    }
+}

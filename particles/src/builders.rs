@@ -1,0 +1,301 @@
+//! The scenes' builders: a chain (C1), hair strands on a swaying head (C2), a cloth grid
+//! pinned three ways (C3, and C4's cloth). Every builder starts at rest, on the
+//! constraint manifold (every link at its rest length), with [`GRAVITY`].
+
+use crate::motion::{Pin, Sway};
+use crate::system::{GRAVITY, System, SystemError};
+
+fn need(what: &'static str, value: f64, ok: bool, need: &'static str) -> Result<(), SystemError> {
+    if ok {
+        Ok(())
+    } else {
+        Err(SystemError::Invalid { what, value, need })
+    }
+}
+
+/// C1: a chain of `links` links, total length 1 m, particle mass `0.1 / links` kg, the
+/// top particle (0) pinned at the origin, released horizontal (along `+x`) at rest; the
+/// end particle (`links`) is `end_mass_ratio` times heavier than the others.
+pub fn chain(links: usize, end_mass_ratio: f64) -> Result<System, SystemError> {
+    need("links", links as f64, links >= 1, ">= 1")?;
+    need(
+        "end_mass_ratio",
+        end_mass_ratio,
+        end_mass_ratio.is_finite() && end_mass_ratio > 0.0,
+        "finite and > 0",
+    )?;
+    let len = 1.0 / links as f64;
+    let m = 0.1 / links as f64;
+    let positions = (0..=links).map(|k| [k as f64 * len, 0.0, 0.0]).collect();
+    let mut masses = vec![m; links + 1];
+    masses[links] = m * end_mass_ratio;
+    let edges: Vec<(usize, usize)> = (0..links).map(|k| (k, k + 1)).collect();
+    System::from_edges(positions, masses, &edges)?.with_fixed(0)
+}
+
+/// Radius of C2's head (m).
+pub const HEAD_RADIUS: f64 = 0.1;
+/// Length of a C2 strand (m).
+pub const STRAND_LENGTH: f64 = 0.3;
+/// Mass of a C2 strand particle (kg). With equal masses along a strand and gravity the
+/// only force, the motion does not depend on it.
+pub const STRAND_PARTICLE_MASS: f64 = 1e-3;
+
+/// C2: `strands` strands of `links` links, [`STRAND_LENGTH`] each, rooted on a head
+/// (sphere of [`HEAD_RADIUS`] centred at the origin) that sways 0.2 m along `x` at 1 Hz
+/// ([`Sway`]: `x = 0.1 (1 - cos 2 pi t)`, starting at rest).
+///
+/// Roots are spread evenly (a Fibonacci spiral) over the cap within 100 degrees of the
+/// top; each strand starts straight along the outward normal at its root, at rest.
+/// Particle `s (links + 1) + j` is particle `j` of strand `s` (`j = 0`: the root,
+/// pinned to the head).
+pub fn strands(strands: usize, links: usize) -> Result<System, SystemError> {
+    need("strands", strands as f64, strands >= 1, ">= 1")?;
+    need("links", links as f64, links >= 1, ">= 1")?;
+    let per = links + 1;
+    let cos_max = 100f64.to_radians().cos();
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let mut positions = Vec::with_capacity(strands * per);
+    let mut roots = Vec::with_capacity(strands);
+    for s in 0..strands {
+        let z = 1.0 - (1.0 - cos_max) * (s as f64 + 0.5) / strands as f64;
+        let rho = (1.0 - z * z).max(0.0).sqrt();
+        let phi = golden * s as f64;
+        let n = [rho * phi.cos(), rho * phi.sin(), z];
+        roots.push(positions.len());
+        for j in 0..per {
+            let r = HEAD_RADIUS + STRAND_LENGTH * j as f64 / links as f64;
+            positions.push([r * n[0], r * n[1], r * n[2]]);
+        }
+    }
+    let edges: Vec<(usize, usize)> = (0..strands)
+        .flat_map(|s| (0..links).map(move |j| (s * per + j, s * per + j + 1)))
+        .collect();
+    let mut sys = System::from_edges(positions, vec![STRAND_PARTICLE_MASS; strands * per], &edges)?;
+    for root in roots {
+        let base = sys.positions()[root];
+        sys = sys.with_pin(
+            root,
+            Pin::moving(Sway {
+                base,
+                travel: [0.2, 0.0, 0.0],
+                frequency: 1.0,
+            }),
+        )?;
+    }
+    Ok(sys.with_gravity(GRAVITY))
+}
+
+/// How a C3 cloth is held.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GridPins {
+    /// (a) the two far corners (`y = 1`).
+    Corners,
+    /// (b) the whole far edge.
+    Edge,
+    /// (c) as (a), with the near corner at the origin 100 times heavier.
+    CornersHeavy,
+}
+
+/// Index of the grid particle at column `ix` (along `x`) and row `iy` (along `y`).
+pub fn grid_index(w: usize, ix: usize, iy: usize) -> usize {
+    iy * w + ix
+}
+
+/// Slack of the far edge between two pinned corners ([`GridPins::Corners`] and
+/// [`GridPins::CornersHeavy`]): its arc is this much longer than the 1 m between the
+/// corners.
+///
+/// Without it the edge is a straight run of rigid links between two fixed points: its
+/// `w - 1` links have `w - 2` free particles between them, so their rows of `J_Omega`
+/// are dependent (the tension along a taut straight line is undetermined) and no
+/// transverse load can be carried without infinite tension. Every method that solves
+/// for the tensions (DBSMC, the index-1 method) rejects that configuration; with this
+/// slack the edge starts as a circular arc sagging `sqrt(3 slack / 8)` (1.9 cm) below
+/// the plane.
+pub const FAR_EDGE_SLACK: f64 = 1e-3;
+
+/// C3: a `w x w` cloth on `[0, 1]^2` at `z = 0`, total mass 0.5 kg, structural links
+/// between neighbours along `x` and along `y` (`2 w (w - 1)` links), with `shear` the
+/// two diagonals of every cell as well (`2 (w - 1)^2` more, listed after the structural
+/// ones), held as `pins` says. Particle [`grid_index`]`(w, ix, iy)` starts at
+/// `(ix, iy) / (w - 1)`, except that with two pinned corners the far edge (`iy = w - 1`)
+/// sags on an arc [`FAR_EDGE_SLACK`] longer than the distance between them (the rest
+/// lengths are the initial distances, so the start is on the constraint manifold).
+pub fn grid(w: usize, pins: GridPins, shear: bool) -> Result<System, SystemError> {
+    need("w", w as f64, w >= 2, ">= 2")?;
+    let h = 1.0 / (w - 1) as f64;
+    let mut positions = Vec::with_capacity(w * w);
+    for iy in 0..w {
+        for ix in 0..w {
+            positions.push([ix as f64 * h, iy as f64 * h, 0.0]);
+        }
+    }
+    if pins != GridPins::Edge {
+        // Half-angle phi of the arc: phi / sin(phi) = 1 + slack, by Newton from the
+        // small-angle value.
+        let target = 1.0 + FAR_EDGE_SLACK;
+        let mut phi = (6.0 * FAR_EDGE_SLACK).sqrt();
+        for _ in 0..20 {
+            let f = phi / phi.sin() - target;
+            let df = (phi.sin() - phi * phi.cos()) / (phi.sin() * phi.sin());
+            phi -= f / df;
+        }
+        let radius = 0.5 / phi.sin();
+        for ix in 0..w {
+            let theta = -phi + 2.0 * phi * ix as f64 / (w - 1) as f64;
+            let p = &mut positions[grid_index(w, ix, w - 1)];
+            p[0] = 0.5 + radius * theta.sin();
+            p[2] = -radius * (theta.cos() - phi.cos());
+        }
+    }
+    let at = |ix, iy| grid_index(w, ix, iy);
+    let mut edges =
+        Vec::with_capacity(2 * w * (w - 1) + if shear { 2 * (w - 1) * (w - 1) } else { 0 });
+    for iy in 0..w {
+        for ix in 0..w {
+            if ix + 1 < w {
+                edges.push((at(ix, iy), at(ix + 1, iy)));
+            }
+            if iy + 1 < w {
+                edges.push((at(ix, iy), at(ix, iy + 1)));
+            }
+        }
+    }
+    if shear {
+        for iy in 0..w - 1 {
+            for ix in 0..w - 1 {
+                edges.push((at(ix, iy), at(ix + 1, iy + 1)));
+                edges.push((at(ix + 1, iy), at(ix, iy + 1)));
+            }
+        }
+    }
+    let m = 0.5 / (w * w) as f64;
+    let mut sys = System::from_edges(positions, vec![m; w * w], &edges)?;
+    let far = w - 1;
+    match pins {
+        GridPins::Corners | GridPins::CornersHeavy => {
+            sys = sys.with_fixed(at(0, far))?.with_fixed(at(far, far))?;
+        }
+        GridPins::Edge => {
+            for ix in 0..w {
+                sys = sys.with_fixed(at(ix, far))?;
+            }
+        }
+    }
+    if pins == GridPins::CornersHeavy {
+        sys = sys.with_mass(at(0, 0), 100.0 * m)?;
+    }
+    Ok(sys)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::system::distance;
+
+    fn rest_lengths_hold(s: &System) {
+        for l in s.links() {
+            let d = distance(s.positions()[l.a], s.positions()[l.b]);
+            assert!((d - l.rest).abs() < 1e-14, "{l:?}: {d}");
+        }
+    }
+
+    #[test]
+    fn chain_counts_masses_pins_and_rest_lengths() {
+        for (n, ratio) in [(10, 1.0), (100, 1e2), (1000, 1e4)] {
+            let s = chain(n, ratio).unwrap();
+            assert_eq!((s.n_particles(), s.links().len()), (n + 1, n));
+            let m = 0.1 / n as f64;
+            assert!(s.masses()[1..n].iter().all(|&x| x == m));
+            assert_eq!(s.masses()[n], m * ratio);
+            assert!(s.pins()[0].is_some() && s.pins()[1..].iter().all(|p| p.is_none()));
+            assert_eq!(s.pins()[0].as_ref().unwrap().at(3.0).pos, [0.0; 3]);
+            let total: f64 = s.links().iter().map(|l| l.rest).sum();
+            assert!((total - 1.0).abs() < 1e-12);
+            assert_eq!(s.positions()[n], [1.0 * (n as f64) / n as f64, 0.0, 0.0]);
+            rest_lengths_hold(&s);
+        }
+        assert!(chain(0, 1.0).is_err() && chain(3, 0.0).is_err());
+    }
+
+    #[test]
+    fn strands_hang_from_roots_on_the_head_that_sway() {
+        let s = strands(100, 32).unwrap();
+        assert_eq!((s.n_particles(), s.links().len()), (3300, 3200));
+        let pins: Vec<usize> = (0..s.n_particles())
+            .filter(|&k| s.pins()[k].is_some())
+            .collect();
+        assert_eq!(pins, (0..100).map(|i| 33 * i).collect::<Vec<_>>());
+        for &r in &pins {
+            let p = s.positions()[r];
+            assert!((distance(p, [0.0; 3]) - HEAD_RADIUS).abs() < 1e-14);
+            assert!(p[2] >= 100f64.to_radians().cos() * HEAD_RADIUS - 1e-12);
+            let k = s.pins()[r].as_ref().unwrap().at(0.5);
+            assert!(
+                (k.pos[0] - p[0] - 0.2).abs() < 1e-12,
+                "half a period: +0.2 m in x"
+            );
+        }
+        for strand in 0..100 {
+            let len: f64 = s.links()[32 * strand..32 * (strand + 1)]
+                .iter()
+                .map(|l| l.rest)
+                .sum();
+            assert!((len - STRAND_LENGTH).abs() < 1e-12);
+        }
+        rest_lengths_hold(&s);
+    }
+
+    #[test]
+    fn the_far_edge_between_pinned_corners_has_its_slack() {
+        let w = 16;
+        let s = grid(w, GridPins::Corners, false).unwrap();
+        let edge: f64 = (0..w - 1)
+            .map(|ix| {
+                distance(
+                    s.positions()[grid_index(w, ix, w - 1)],
+                    s.positions()[grid_index(w, ix + 1, w - 1)],
+                )
+            })
+            .sum();
+        // The chords of the arc are a little shorter than the arc itself.
+        assert!((edge - 1.0 - FAR_EDGE_SLACK).abs() < 1e-5, "{edge}");
+        let mid = s.positions()[grid_index(w, w / 2, w - 1)];
+        assert!(
+            (mid[2] + (3.0 * FAR_EDGE_SLACK / 8.0).sqrt()).abs() < 1e-3,
+            "{mid:?}"
+        );
+        assert_eq!(s.positions()[grid_index(w, w - 1, w - 1)], [1.0, 1.0, 0.0]);
+    }
+
+    #[test]
+    fn grids_have_the_stated_links_mass_and_pins() {
+        let s = grid(64, GridPins::Corners, false).unwrap();
+        assert_eq!(s.links().len(), 8064);
+        let total: f64 = s.masses().iter().sum();
+        assert!((total - 0.5).abs() < 1e-12);
+        let pinned: Vec<usize> = (0..s.n_particles())
+            .filter(|&k| s.pins()[k].is_some())
+            .collect();
+        assert_eq!(pinned, vec![grid_index(64, 0, 63), grid_index(64, 63, 63)]);
+        let corner = s.positions()[grid_index(64, 63, 63)];
+        assert!(distance(corner, [1.0, 1.0, 0.0]) < 1e-12, "{corner:?}");
+        rest_lengths_hold(&s);
+
+        let e = grid(32, GridPins::Edge, false).unwrap();
+        let pinned: Vec<usize> = (0..e.n_particles())
+            .filter(|&k| e.pins()[k].is_some())
+            .collect();
+        assert_eq!(
+            pinned,
+            (0..32).map(|ix| grid_index(32, ix, 31)).collect::<Vec<_>>()
+        );
+
+        let c = grid(32, GridPins::CornersHeavy, true).unwrap();
+        assert_eq!(c.links().len(), 2 * 32 * 31 + 2 * 31 * 31);
+        assert_eq!(c.masses()[0], 100.0 * c.masses()[1]);
+        rest_lengths_hold(&c);
+        assert!(grid(1, GridPins::Edge, false).is_err());
+    }
+}
