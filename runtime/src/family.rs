@@ -8,7 +8,83 @@
 //! same for both (construction of an [`Instance`], names, parameters, inputs and the
 //! runtime's [`Model`](crate::Model) trait) is written once on top of it.
 
-use dae_lang::family::{Construction, Instance, Values};
+//!
+//! [`FamilyInstance`] is that common part: [`FamilyInstance::new`] constructs the model
+//! from a [`Spec`] (sizes, given sets and maps, scalar parameter overrides); the
+//! [`Interpreter`] is the back end that needs no compilation.
+//!
+//! # Names, parameters
+//!
+//! Names are built at run time, on first use: `x[3].y` (component `y` of element 3 of
+//! the state family `x`), `link[7]`, `g`, `pivot.x`. Lookups by name
+//! ([`FamilyInstance::param_index`], [`FamilyInstance::input_index`], ...) cost one pass
+//! over the declarations, not over the elements. Per-element parameters follow the
+//! scalar ones in the parameter vector; `set_param` changes the value the equations
+//! read. What construction computed from a parameter (per-element parameter values
+//! written as formulas of scalar ones, initial values) is not recomputed when it
+//! changes: give such a parameter in the [`Spec`] (`daec run --set m_end=10`).
+//!
+//! # Inputs
+//!
+//! An input (`input pin[p in P]: vec3 with 3 derivatives = ..`) is set by the caller
+//! during a run, one component of one element at a time, by its flat index
+//! ([`FamilyInstance::input_index`]): `set_input(i, t0, &[c0, c1, .., cK'])` with
+//! `K' <= K` (the declaration's derivative count; the derivatives not given are 0)
+//! makes input `i` the Taylor polynomial `q(t) = sum_k c_k (t - t0)^k / k!` until the
+//! next `set_input` of `i`. **Every evaluation at time `t` reads `q(t), q'(t), ..,
+//! q^(K)(t)`**: between two calls the polynomial is extrapolated, before `t0` as well
+//! as after (RK4 stages included). A caller that drives an input along a curve gives,
+//! at each of its own steps, the curve's value and derivatives there (with
+//! `Simulator::model_mut` between steps); a constant-acceleration hand is exact with
+//! `[x, v, a]`. An input never set keeps its declared default with zero derivatives.
+//! Only inputs with a nonzero derivative are re-evaluated when `t` changes.
+//!
+//! **Pinning.** In the example models a particle is pinned when its parameter
+//! `free[p]` is 0: it then sits at its input `pin[p]` (and the links at it see the
+//! input's derivatives, as their index 3 needs). Grabbing particle `p` during a run is
+//! `set_input` of the three components of `pin[p]` (its current position and velocity,
+//! say) followed by `set_param_named("free[p]", 0.0)`; releasing it is
+//! `set_param_named("free[p]", 1.0)` (after setting the state `x[p]`, `v[p]` to where
+//! the input was, if the particle should continue from there). Nothing is recompiled
+//! or reconstructed.
+//!
+//! # Example
+//!
+//! ```
+//! use dae_runtime::family::{FamilyInstance, Interpreter, Spec};
+//! use dae_runtime::Model;
+//!
+//! let src = std::fs::read_to_string(concat!(
+//!     env!("CARGO_MANIFEST_DIR"),
+//!     "/../examples/models/chain.dae"
+//! ))
+//! .unwrap();
+//! let compiled = dae_lang::compile_source(&src).unwrap().remove(0);
+//! let kernels = Interpreter::new(compiled).expect("a family model");
+//! let spec = Spec {
+//!     sizes: vec![("N".into(), 1000)],
+//!     ..Spec::default()
+//! };
+//! let mut chain = FamilyInstance::interpreted(kernels, &spec).unwrap();
+//! assert_eq!(chain.n_constraints(), 1000);
+//! assert_eq!(chain.state_name(3 * 7 + 1), "x[7].y");
+//! // Grab particle 7 where it starts: its input first, then the switch.
+//! for (c, x0) in ["x", "y", "z"].iter().zip([7.0 / 1000.0, 0.0, 0.0]) {
+//!     let i = chain.input_index(&format!("pin[7].{c}")).unwrap();
+//!     chain.set_input(i, 0.0, &[x0, 0.0, 0.0, 0.0]).unwrap();
+//! }
+//! chain.set_param_named("free[7]", 0.0).unwrap();
+//! ```
+
+mod inputs;
+mod instance;
+mod interpreter;
+mod names;
+
+pub use dae_lang::family::{ConstructError, Construction, Instance, Spec, Values};
+pub use inputs::InputError;
+pub use instance::{FamilyInstance, UnknownName};
+pub use interpreter::{Interpreter, InterpreterScratch};
 
 /// The four evaluation functions of a family model over an [`Instance`], the back end
 /// of a sized family model.
