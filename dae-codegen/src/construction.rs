@@ -2,7 +2,7 @@
 //! `construction_data()` returns, built from literals (no parsing or analysis at run
 //! time).
 //!
-//! The expression is a block that declares a few short helper functions (`bin`, `num`,
+//! The body declares a few short helper functions (`bin`, `num`,
 //! `size`, `sp`, `param_def`, ...) and then the value, so that the code stays small:
 //! one line for most declarations instead of a struct literal over several.
 
@@ -16,7 +16,8 @@ use dae_lang::model::{Family, MapKind, RExpr};
 use crate::family::lang;
 use crate::rust::{number, usize_lit};
 
-/// The [`Construction`] as a block expression (with `dae_lang` at [`lang`]).
+/// The [`Construction`] as the body of a function returning it (with `dae_lang` at
+/// [`lang`]).
 pub(crate) fn construction_expr(c: &Construction) -> TokenStream {
     let sizes = c.sizes.iter().map(|s| {
         let (name, default, span) = (&s.name, s.default, span(s.span));
@@ -95,7 +96,7 @@ pub(crate) fn construction_expr(c: &Construction) -> TokenStream {
         quote!(coupling(#(#ids),*))
     });
     let dl = lang();
-    quote! {{
+    quote! {
         use #dl as dl;
         use dl::ast::{BinOp as B, CmpOp as C, LogicOp as L, Span};
         use dl::model::{Family, IntOp as I, MapKind as K, RExpr as E};
@@ -183,7 +184,7 @@ pub(crate) fn construction_expr(c: &Construction) -> TokenStream {
             incidence: Vec::from([#(#incidence),*]),
             couplings: Vec::from([#(#couplings),*]),
         }
-    }}
+    }
 }
 
 fn opt(x: Option<impl quote::ToTokens>) -> TokenStream {

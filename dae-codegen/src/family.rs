@@ -37,8 +37,6 @@ use dae_lang::{CompiledModel, VarRef};
 use crate::construction::construction_expr;
 use crate::rust::{instr, number, rust_ident, slot, usize_lit};
 
-const WITH_FAMILY_INSTANCE: bool = false;
-
 /// The path of `dae-lang` as the runtime re-exports it (feature `families`).
 pub(crate) fn lang() -> TokenStream {
     quote!(::dae_runtime::__dae_lang)
@@ -89,25 +87,6 @@ pub(crate) fn generate_family(model: &CompiledModel, fam: &FamilyModel) -> Token
     let jacobian = program_body(&fam.jacobian, c, &[quote!(values)]);
     let beta = program_body(&fam.beta, c, &[quote!(beta)]);
     let construction = construction_expr(c);
-    // Until the runtime's sized family model is merged, the kernels alone.
-    let constructor = if WITH_FAMILY_INSTANCE {
-        quote! {
-            /// The model at the sizes of `spec` (defaults for what it does not give):
-            /// the runtime's sized family model over these kernels.
-            #[allow(clippy::new_ret_no_self)]
-            pub fn new(
-                spec: &#dl::family::Spec,
-            ) -> ::core::result::Result<
-                ::dae_runtime::family::FamilyInstance<#ty>,
-                #dl::family::ConstructError,
-            > {
-                ::dae_runtime::family::FamilyInstance::new(Self::kernels(), spec)
-            }
-
-        }
-    } else {
-        quote!()
-    };
 
     quote! {
         #[doc = #doc]
@@ -137,7 +116,19 @@ pub(crate) fn generate_family(model: &CompiledModel, fam: &FamilyModel) -> Token
                 Self { construction: Self::construction_data() }
             }
 
-            #constructor
+            /// The model at the sizes of `spec` (defaults for what it does not give):
+            /// the runtime's sized family model over these kernels, which implements
+            /// `dae_runtime::Model`.
+            #[allow(clippy::new_ret_no_self)]
+            pub fn new(
+                spec: &::dae_runtime::family::Spec,
+            ) -> ::core::result::Result<
+                ::dae_runtime::family::FamilyInstance<#ty>,
+                ::dae_runtime::family::ConstructError,
+            > {
+                ::dae_runtime::family::FamilyInstance::new(Self::kernels(), spec)
+                    .map(|m| m.with_name(#name))
+            }
 
             /// The model's construction data (sizes, sets, maps, declarations, couplings),
             /// as the compiler produced it.
