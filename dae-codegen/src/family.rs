@@ -82,6 +82,7 @@ pub(crate) fn generate_family(model: &CompiledModel, fam: &FamilyModel) -> Token
         })
         .collect();
 
+    let stride_check = stride_check(c);
     let rhs = program_body(&fam.rhs, c, &[quote!(dx)]);
     let sliding = program_body(&fam.sliding, c, &[quote!(w), quote!(s), quote!(alpha_hat)]);
     let jacobian = program_body(&fam.jacobian, c, &[quote!(values)]);
@@ -147,6 +148,7 @@ pub(crate) fn generate_family(model: &CompiledModel, fam: &FamilyModel) -> Token
             }
 
             fn scratch(&self, inst: &#dl::family::Instance) -> #scratch_ty {
+                #stride_check
                 #scratch_ty { #( #prog_names: #array_inits, )* }
             }
 
@@ -197,6 +199,67 @@ pub(crate) fn generate_family(model: &CompiledModel, fam: &FamilyModel) -> Token
             }
         }
     }
+}
+
+/// The check, once per instance, that the layout's strides are the ones compiled into
+/// the loops (they depend on declarations only, never on sizes).
+fn stride_check(c: &Construction) -> TokenStream {
+    let family = |f: dae_lang::model::Family, k: usize| if f.over.is_some() { k } else { 0 };
+    let dim = |f: dae_lang::model::Family| usize::from(f.dim.max(1));
+    let tables: [(&str, Vec<usize>); 6] = [
+        (
+            "params",
+            c.params
+                .iter()
+                .map(|d| family(d.family, dim(d.family)))
+                .collect(),
+        ),
+        (
+            "states",
+            c.states
+                .iter()
+                .map(|d| family(d.family, dim(d.family)))
+                .collect(),
+        ),
+        (
+            "algs",
+            c.algs
+                .iter()
+                .map(|d| family(d.family, dim(d.family)))
+                .collect(),
+        ),
+        (
+            "input_values",
+            c.inputs
+                .iter()
+                .map(|d| family(d.family, dim(d.family) * (usize::from(d.derivatives) + 1)))
+                .collect(),
+        ),
+        (
+            "rows",
+            c.constraints
+                .iter()
+                .map(|k| usize::from(k.over.is_some()))
+                .collect(),
+        ),
+        (
+            "w",
+            c.constraints
+                .iter()
+                .map(|k| if k.over.is_some() { k.index } else { 0 })
+                .collect(),
+        ),
+    ];
+    let checks = tables.iter().filter(|(_, v)| !v.is_empty()).map(|(table, strides)| {
+        let t = format_ident!("{table}");
+        let strides = strides.iter().map(|&k| usize_lit(k));
+        quote! {
+            for (slot, want) in inst.layout.#t.iter().zip([#(#strides),*]) {
+                assert_eq!(slot.stride, want, "the instance's layout is not the generated code's");
+            }
+        }
+    });
+    quote!(#(#checks)*)
 }
 
 /// What a program reads before its loops: the variables (a scalar one as its value, a
@@ -285,6 +348,35 @@ fn var_offset(v: VarRef) -> TokenStream {
     }
 }
 
+/// The distance between the slots of two consecutive elements of a family variable
+/// (what [`Layout`](dae_lang::family::Layout) gives: `dim` values per element, `K + 1`
+/// per component of an input with `K` derivatives; one row per element). A literal in
+/// the generated code; `Kernels::scratch` checks it against the instance's layout.
+fn var_stride(v: VarRef, c: &Construction) -> usize {
+    let dim = |f: dae_lang::model::Family| usize::from(f.dim.max(1));
+    match v {
+        VarRef::Param(i) => dim(c.params[i.index()].family),
+        VarRef::State(i) => dim(c.states[i.index()].family),
+        VarRef::Alg(i) => dim(c.algs[i.index()].family),
+        VarRef::Input(i, _) => {
+            let d = &c.inputs[i.index()];
+            dim(d.family) * (usize::from(d.derivatives) + 1)
+        }
+        VarRef::Mu(_) => 1,
+        VarRef::Time | VarRef::Elem(_) | VarRef::Size(_) => 0,
+    }
+}
+
+/// `stride * at`, without the multiplication when the stride is 1.
+fn scaled(stride: usize, at: TokenStream) -> TokenStream {
+    if stride == 1 {
+        at
+    } else {
+        let k = usize_lit(stride);
+        quote!(#k * #at)
+    }
+}
+
 /// `v` at element index `at` (an expression of type `usize`).
 fn read_var(v: VarRef, at: TokenStream, c: &Construction) -> TokenStream {
     match v {
@@ -297,7 +389,8 @@ fn read_var(v: VarRef, at: TokenStream, c: &Construction) -> TokenStream {
             let (vec, _, _) = var_source(v).expect("a variable read from a vector");
             let id = var_ident(v);
             let off = var_offset(v);
-            quote!(#vec[#id.offset + #id.stride * #at #off])
+            let step = scaled(var_stride(v, c), at);
+            quote!(#vec[#id + #step #off])
         }
     }
 }
@@ -362,7 +455,7 @@ fn program_body(p: &Program, c: &Construction, outs: &[TokenStream]) -> TokenStr
                 let id = var_ident(v);
                 if per_element(v, c) {
                     if slot_done.insert(id.clone()) {
-                        pre.push(quote!(let #id = inst.layout.#table[#i];));
+                        pre.push(quote!(let #id: usize = inst.layout.#table[#i].offset;));
                     }
                 } else {
                     let off = var_offset(v);
@@ -381,15 +474,15 @@ fn program_body(p: &Program, c: &Construction, outs: &[TokenStream]) -> TokenStr
         pre.push(match d {
             DestSlot::State(i) => {
                 let i = usize_lit(i);
-                quote!(let #id = inst.layout.states[#i];)
+                quote!(let #id: usize = inst.layout.states[#i].offset;)
             }
             DestSlot::W(k) => {
                 let k = usize_lit(k);
-                quote!(let #id = inst.layout.w[#k];)
+                quote!(let #id: usize = inst.layout.w[#k].offset;)
             }
             DestSlot::Row(k) => {
                 let k = usize_lit(k);
-                quote!(let #id = inst.layout.rows[#k];)
+                quote!(let #id: usize = inst.layout.rows[#k].offset;)
             }
         });
     }
@@ -428,7 +521,17 @@ fn program_body(p: &Program, c: &Construction, outs: &[TokenStream]) -> TokenStr
                         }
                         _ => quote!(),
                     };
-                    quote!(#out[#id.offset + #id.stride * e #j] = #val;)
+                    let stride = match d {
+                        Dest::Rhs(x) => usize::from(c.states[x.index()].family.dim.max(1)),
+                        Dest::W(k, _) => c.constraints[k.index()].index,
+                        Dest::S(_) | Dest::AlphaHat(_) | Dest::Beta(_) => 1,
+                    };
+                    let step = if g.over.is_some() {
+                        scaled(stride, quote!(e))
+                    } else {
+                        quote!(0)
+                    };
+                    quote!(#out[#id + #step #j] = #val;)
                 }
                 Sink::Store(a) => {
                     let id = array_ident(a.index());
@@ -449,7 +552,12 @@ fn program_body(p: &Program, c: &Construction, outs: &[TokenStream]) -> TokenStr
         match g.over {
             Some(s) => {
                 let s = usize_lit(s.index());
-                quote!(for e in 0..inst.set_sizes[#s] { #body })
+                let slices = loop_slices(g, p);
+                quote!({
+                    let n = inst.set_sizes[#s];
+                    #slices
+                    for e in 0..n { #body }
+                })
             }
             None => quote!({ let e = 0usize; #body }),
         }
@@ -500,6 +608,58 @@ fn program_body(p: &Program, c: &Construction, outs: &[TokenStream]) -> TokenStr
         #(#groups)*
         #(#entries)*
     }
+}
+
+/// Before a loop over `0..n`: the arrays this group reads or writes only at `e`, and the
+/// maps it reads at `e`, re-bound to their first `n` values, so that the compiler can
+/// drop the bounds checks of those accesses inside the loop.
+fn loop_slices(g: &dae_lang::family::Group, p: &Program) -> TokenStream {
+    let mut at_e: BTreeSet<usize> = BTreeSet::new();
+    let mut stored: BTreeSet<usize> = BTreeSet::new();
+    let mut through_map: BTreeSet<usize> = BTreeSet::new();
+    let mut maps: BTreeSet<usize> = BTreeSet::new();
+    let family = |a: usize| p.arrays[a].over.is_some();
+    for o in g.tape.operands() {
+        match o {
+            Operand::Array(a) if family(a.index()) => {
+                at_e.insert(a.index());
+            }
+            Operand::ArrayAt(a, m) => {
+                through_map.insert(a.index());
+                maps.insert(m.index());
+            }
+            Operand::Gather(_, m) => {
+                maps.insert(m.index());
+            }
+            _ => {}
+        }
+    }
+    for s in &g.sinks {
+        match *s {
+            Sink::Store(a) if family(a.index()) => {
+                at_e.insert(a.index());
+                stored.insert(a.index());
+            }
+            Sink::ScatterAdd(a, m) => {
+                through_map.insert(a.index());
+                maps.insert(m.index());
+            }
+            _ => {}
+        }
+    }
+    let arrays = at_e.difference(&through_map).map(|&a| {
+        let id = array_ident(a);
+        if stored.contains(&a) {
+            quote!(let #id = &mut #id[..n];)
+        } else {
+            quote!(let #id = &#id[..n];)
+        }
+    });
+    let maps = maps.iter().map(|&m| {
+        let id = map_ident(m);
+        quote!(let #id = &#id[..n];)
+    });
+    quote!(#(#arrays)* #(#maps)*)
 }
 
 /// An operand at the element `e` of the group at hand.
