@@ -161,7 +161,13 @@ fn runs_agree(f: &dyn Model, s: &dyn Model, map: &[Option<usize>], settings: Set
     for (u, v) in a.z_eq.iter().zip(&b.z_eq) {
         assert!(close(*u, *v, 1e-5), "z_eq {:?} vs {:?}", a.z_eq, b.z_eq);
     }
-    for (u, v) in a.max_abs_s.iter().zip(&b.max_abs_s) {
+    assert_eq!(a.max_abs_s.is_some(), b.max_abs_s.is_some());
+    for (u, v) in a
+        .max_abs_s
+        .iter()
+        .flatten()
+        .zip(b.max_abs_s.iter().flatten())
+    {
         assert!(
             close(*u, *v, 1e-3),
             "max |s| {:?} vs {:?}",
