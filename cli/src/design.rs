@@ -2,8 +2,8 @@
 //! (one constraint) or from a pilot run of a model (every constraint).
 
 use crate::pilot::{PilotArgs, design_json, per_constraint};
-use crate::{Reported, source};
-use dae_runtime::{ConstraintSpec, Model, MuSearch, Settings, optimise_mu};
+use crate::{Reported, family};
+use dae_runtime::{ConstraintSpec, MuSearch, Settings, optimise_mu};
 use serde_json::json;
 use std::path::PathBuf;
 
@@ -101,15 +101,16 @@ fn from_pilot(args: &Args, file: &std::path::Path) -> Result<(), Reported> {
         eprintln!("error: --index, --beta and --m are for a single constraint without a file");
         return Err(Reported);
     }
-    let model = source::interpreted(file, args.model.as_deref())?;
+    let model = family::runnable(file, args.model.as_deref(), &[], None)?;
+    let model = &*model;
     let m = model.n_constraints();
     let eps = per_constraint("--eps", &args.eps, m)?;
     let base = Settings::new(eps, vec![1.0; m], vec![1.0; m])
         .step(args.step)
         .t_end(duration)
         .settle(args.settle);
-    let a = args.pilot_args.auto_design(&model, &base, None, None)?;
-    let out = design_json(&model, &a);
+    let a = args.pilot_args.auto_design(model, &base, None, None)?;
+    let out = design_json(model, &a);
     if args.json {
         println!("{out}");
     } else {

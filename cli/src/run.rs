@@ -1,7 +1,8 @@
 //! `daec run FILE ...`: simulate a model with DBSMC on the interpreter.
 
+use crate::Reported;
+use crate::bounded::values_text;
 use crate::pilot::{PilotArgs, design_json, per_constraint};
-use crate::{Reported, source};
 use dae_runtime::{
     AlphaChoice, CsvSink, Decimate, Model, Policy, Reaching, Settings, SimError, Simulator,
     SolverChoice, Summary, Tee, Trace, plot_run,
@@ -22,6 +23,15 @@ pub(crate) struct Args {
     /// The model to run when the file holds several.
     #[arg(long)]
     model: Option<String>,
+    /// A size or a scalar parameter of the model: `--set N=1000 --set m_end=10`
+    /// (repeatable; for a version-1 model, its parameters).
+    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = crate::family::parse_assignment)]
+    set: Vec<(String, f64)>,
+    /// The sets and maps of a family model given at construction (`set P;`,
+    /// `map a[l in L] -> P;`): a file of `set NAME SIZE` lines and `edges SET: MAP ...`
+    /// blocks with one line per element (docs/language.md, "Topology files").
+    #[arg(long, value_name = "FILE")]
+    topology: Option<PathBuf>,
     /// End time (seconds; the run starts at 0).
     #[arg(long)]
     t_end: f64,
@@ -59,7 +69,7 @@ pub(crate) struct Args {
     #[command(flatten)]
     pilot_args: PilotArgs,
     /// Stream the trace to this CSV file (every step, or every k-th step so that at most
-    /// 200000 rows are written).
+    /// 200000 rows and 10^7 values are written).
     #[arg(long)]
     csv: Option<PathBuf>,
     /// Write the charts (sliding.svg, periods.svg, errors.svg) into this folder.
@@ -134,7 +144,13 @@ struct DesignInfo {
 }
 
 pub(crate) fn run(args: &Args) -> Result<(), Reported> {
-    let model = source::interpreted(&args.file, args.model.as_deref())?;
+    let model = crate::family::runnable(
+        &args.file,
+        args.model.as_deref(),
+        &args.set,
+        args.topology.as_deref(),
+    )?;
+    let model = &*model;
     let m = model.n_constraints();
     let eps = per_constraint("--eps", &args.eps, m)?;
     let policy = parse_policy(&args.policy)?;
@@ -183,22 +199,20 @@ pub(crate) fn run(args: &Args) -> Result<(), Reported> {
                     Some(k[0])
                 }
             };
-            let a = args
-                .pilot_args
-                .auto_design(&model, &pilot_base, mu, fixed)?;
+            let a = args.pilot_args.auto_design(model, &pilot_base, mu, fixed)?;
             settings.mu = a.design.constraints.iter().map(|c| c.mu).collect();
             settings.gains = a.design.constraints.iter().map(|c| c.k).collect();
             if fixed.is_some() && settings.alpha == AlphaChoice::Cheap {
-                warn_uncovered_beta(&model, &settings, &a);
+                warn_uncovered_beta(model, &settings, &a);
             }
             Some(DesignInfo {
-                json: design_json(&model, &a),
+                json: design_json(model, &a),
                 t_min: a.design.t_min,
             })
         }
     };
-    let summary = simulate(args, &model, settings.clone(), design.as_ref())?;
-    print_summary(args, &model, &settings, &summary, design.as_ref());
+    let summary = simulate(args, model, settings.clone(), design.as_ref())?;
+    print_summary(args, model, &settings, &summary, design.as_ref());
     Ok(())
 }
 
@@ -231,7 +245,7 @@ fn simulate(
     let steps = ((settings.t_end - settings.t_start) / settings.step)
         .ceil()
         .max(1.0) as u64;
-    let every = steps.div_ceil(MAX_ROWS).max(1);
+    let every = crate::bounded::trace_every(model, steps, MAX_ROWS);
     let csv = match &args.csv {
         None => None,
         Some(path) => match File::create(path) {
@@ -301,7 +315,7 @@ fn print_summary(
     design: Option<&DesignInfo>,
 ) {
     if args.json {
-        let v = json!({
+        let mut v = json!({
             "model": s.model,
             "constraints": s.constraints,
             "eps": settings.eps,
@@ -333,6 +347,7 @@ fn print_summary(
             "z_eq_final": s.z_eq,
             "wall_seconds": s.wall_time,
         });
+        crate::bounded::summarise(&mut v, model);
         println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
         return;
     }
@@ -342,8 +357,10 @@ fn print_summary(
         s.model, s.t_end, s.steps, s.updates, s.reaching_updates
     );
     println!(
-        "  mu = {:?}, gains = {:?}, eps = {:?}",
-        settings.mu, settings.gains, settings.eps
+        "  mu = {}, gains = {}, eps = {}",
+        values_text(&settings.mu),
+        values_text(&settings.gains),
+        values_text(&settings.eps)
     );
     if let Some(d) = design {
         println!("  design T_min = {}", d.t_min);
@@ -358,7 +375,15 @@ fn print_summary(
         opt(s.min_period),
         opt(s.mean_period)
     );
-    for (i, c) in s.constraints.iter().enumerate() {
+    let listed = crate::bounded::listed_constraints(&s.max_abs_s, &settings.eps);
+    if listed.len() < s.constraints.len() {
+        println!(
+            "  {} constraints; the {} with the largest max |s| / eps:",
+            s.constraints.len(),
+            listed.len()
+        );
+    }
+    for (i, c) in listed.iter().map(|&i| (i, &s.constraints[i])) {
         println!(
             "  {c}: max |s| = {:.6}, max |w| = {:.6}",
             s.max_abs_s[i], s.max_abs_w[i]
