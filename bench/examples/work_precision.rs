@@ -11,9 +11,10 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use dae_bench::{
-    Chain3, Chain5, CostAxis, DoublePendulum, DoublePendulum3D, ErrorAxis, Method, PlanarChain,
-    Record, Scene, StabilityRow, chain_scene, chart, designed_bounds, embedded_chain_scene,
-    largest_step_row, run_method, stability_row, vertical_plane_map, write_csv, write_table,
+    Chain3, Chain5, CostAxis, DbsmcStep, DoublePendulum, DoublePendulum3D, ErrorAxis, Method,
+    PlanarChain, Record, Scene, StabilityRow, chain_scene, chart, designed_bounds,
+    embedded_chain_scene, largest_step_row, run_method, stability_row, vertical_plane_map,
+    write_csv, write_table,
 };
 use dae_runtime::Model;
 
@@ -29,10 +30,14 @@ fn sweep<M: Model + ?Sized>(scene: &Scene<'_, M>) -> Vec<Method> {
     match designed_bounds(scene, 1e-3, 1e-3) {
         Ok(b) => {
             println!("  design bounds: |beta| {:.3?}, M {:.3?}", b.beta_abs, b.m);
-            for eps in [1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5] {
-                match b.dbsmc(eps, 1e-3) {
-                    Ok(m) => out.push(m),
-                    Err(e) => eprintln!("  design at eps = {eps}: {e}"),
+            // The same designs, integrated as now (error-controlled steps, located
+            // crossings) and as before (RK4 with the step rule, step-end crossings).
+            for step in [Some(DbsmcStep::Adaptive), None] {
+                for eps in [1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5] {
+                    match b.dbsmc(eps, step, 1e-3) {
+                        Ok(m) => out.push(m),
+                        Err(e) => eprintln!("  design at eps = {eps}: {e}"),
+                    }
                 }
             }
         }
@@ -46,7 +51,7 @@ fn sweep<M: Model + ?Sized>(scene: &Scene<'_, M>) -> Vec<Method> {
     }
     for mu in [0.02, 0.05, 0.1] {
         for eps in [1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5] {
-            out.push(scene.dbsmc(eps, mu, 1.5, 1e-3));
+            out.push(scene.dbsmc(eps, mu, 1.5));
         }
     }
     for h in [1e-3, 5e-4, 2e-4, 1e-4, 5e-5] {
@@ -72,7 +77,7 @@ fn work_precision<M: Model + ?Sized>(
         .collect();
     for r in &records {
         println!(
-            "  {:28} {:26} ok={:5} max|w|={:9.2e} pos_err={:9.2e} wall={:9.2e}s J={:8} f={:9}{}",
+            "  {:28} {:26} ok={:5} max|w|={:9.2e} pos_err={:9.2e} wall={:9.2e}s J={:8} f={:9} upd={:7}{}",
             r.line,
             r.knob,
             r.ok,
@@ -81,6 +86,7 @@ fn work_precision<M: Model + ?Sized>(
             r.wall,
             r.j_solves,
             r.f_evals,
+            r.updates,
             if r.ok {
                 String::new()
             } else {
@@ -131,7 +137,7 @@ fn work_precision<M: Model + ?Sized>(
 
 fn nominal<M: Model + ?Sized>(scene: &Scene<'_, M>) -> Vec<Method> {
     vec![
-        scene.dbsmc(TOL / 2.0, 0.05, 1.5, 1e-3),
+        scene.dbsmc(TOL / 2.0, 0.05, 1.5),
         Method::Spsm {
             eps: TOL / 2.0,
             mu: 0.05,

@@ -61,7 +61,7 @@
 //! let scene = chain_scene("dp", &model, &chain, &[h, h], 0.5)?;
 //! let r = run_method(&scene, &Method::IndexOne { mu: 0.05, step: 1e-3 }, 1);
 //! assert!(r.ok && r.pos_err < 1e-8 && r.max_w < 1e-8);
-//! let d = run_method(&scene, &scene.dbsmc(1e-3, 0.05, 1.5, 1e-3), 1);
+//! let d = run_method(&scene, &scene.dbsmc(1e-3, 0.05, 1.5), 1);
 //! assert!(d.ok && d.max_w < 2e-3);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
@@ -79,8 +79,8 @@ mod truth;
 pub use baseline::*;
 pub use generated::{Chain3, Chain5, DoublePendulum, DoublePendulum3D};
 pub use harness::{
-    BDF_MISSING, CostAxis, DesignedBounds, ErrorAxis, Method, Record, Scene, chart,
-    designed_bounds, pilot_beta_bound, run_method, write_csv,
+    BDF_MISSING, CostAxis, DbsmcStep, DesignedBounds, ErrorAxis, Method, Record, Scene, chart,
+    designed_bounds, pilot_beta_bound, run_method, step_rule, write_csv,
 };
 pub use particles::{Lcg, Particles};
 pub use scenes::{SceneError, TRUTH_TOL, chain_scene, embedded_chain_scene, vertical_plane_map};

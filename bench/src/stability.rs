@@ -8,7 +8,7 @@ use dae_runtime::{Layout, Model, Sample, Simulator, Sink};
 #[cfg(feature = "bdf")]
 use crate::baseline::{BdfSettings, bdf_index1};
 use crate::baseline::{IndexOneRk4, IndexOneSettings, largest_stable_step};
-use crate::harness::{Method, Scene, run_method};
+use crate::harness::{DbsmcStep, Method, Scene, run_method};
 
 /// A streaming, decimated record of the constraint error: the largest `|w_i|` (over all
 /// constraints) in consecutive time windows. Memory is one value per window, whatever
@@ -276,14 +276,19 @@ pub fn stability_row<M: Model + ?Sized>(
     }
 }
 
-/// The same method with another step (BDF has none and is returned unchanged).
+/// The same method with another fixed step (BDF has none and is returned unchanged);
+/// DBSMC then runs RK4 at that step, its crossings located as before (or at step ends
+/// if it used the step-end rule).
 pub fn with_step(method: &Method, h: f64) -> Method {
     let mut m = method.clone();
     match &mut m {
-        Method::Dbsmc { step, .. }
-        | Method::DbsmcDesigned { step, .. }
-        | Method::Spsm { step, .. }
-        | Method::IndexOne { step, .. } => *step = h,
+        Method::Dbsmc { step, .. } | Method::DbsmcDesigned { step, .. } => {
+            *step = match step {
+                DbsmcStep::StepEnd(_) => DbsmcStep::StepEnd(h),
+                _ => DbsmcStep::Located(h),
+            }
+        }
+        Method::Spsm { step, .. } | Method::IndexOne { step, .. } => *step = h,
         Method::Bdf { .. } => {}
     }
     m

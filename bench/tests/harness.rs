@@ -4,8 +4,8 @@ mod common;
 
 use common::Tracking;
 use dae_bench::{
-    Envelope, Method, Record, Scene, StabilityRow, Verdict, judge, run_method, write_csv,
-    write_table,
+    DbsmcStep, Envelope, Method, Record, Scene, StabilityRow, Verdict, judge, run_method,
+    write_csv, write_table,
 };
 
 fn tracking_scene(model: &Tracking, offset: f64) -> Scene<'_, Tracking> {
@@ -55,7 +55,7 @@ fn run_records_a_known_position_error_and_a_small_constraint_error() {
         &Method::Dbsmc {
             eps: 1e-3,
             mu: 0.1,
-            step: 1e-4,
+            step: DbsmcStep::Adaptive,
             gain_factor: 1.5,
         },
         1,
@@ -106,6 +106,7 @@ fn csv_has_the_header_and_one_line_per_record() {
         j_solves: 3,
         f_evals: 4,
         steps: 5,
+        updates: 6,
     };
     let mut out = Vec::new();
     write_csv(&[r.clone(), r], &mut out).unwrap();
@@ -113,9 +114,12 @@ fn csv_has_the_header_and_one_line_per_record() {
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(
         lines[0],
-        "scene,line,knob,ok,max_w,max_s,pos_err,wall_s,j_solves,f_evals,steps,error"
+        "scene,line,knob,ok,max_w,max_s,pos_err,wall_s,j_solves,f_evals,steps,updates,error"
     );
-    assert_eq!(lines[1], "s,l,h=1e-3,true,1e-3,2.5e-1,2e-4,5e-1,3,4,5,\"\"");
+    assert_eq!(
+        lines[1],
+        "s,l,h=1e-3,true,1e-3,2.5e-1,2e-4,5e-1,3,4,5,6,\"\""
+    );
     assert_eq!(lines.len(), 3);
 }
 
@@ -135,6 +139,7 @@ fn chart_draws_one_legend_entry_per_line_and_refuses_an_empty_set() {
         j_solves: 10,
         f_evals: 20,
         steps: 5,
+        updates: 3,
     };
     let records = [
         rec("alpha", 1e-3, 1e-4),

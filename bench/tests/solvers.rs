@@ -443,7 +443,7 @@ fn raised_gains_restore_the_condition_on_a_straight_chain_with_jacobi() {
         0
     );
     // And the motion stays in its layers.
-    for (i, s) in raised.max_abs_s.iter().enumerate() {
+    for (i, s) in raised.max_abs_s.as_ref().unwrap().iter().enumerate() {
         assert!(*s <= 1.1 * eps, "|s{}| = {s}", i + 1);
     }
 }

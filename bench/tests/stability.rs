@@ -14,7 +14,7 @@ fn dbsmc_envelope_stays_bounded_while_the_unstabilised_reduction_drifts() {
     let chain = PlanarChain::double_pendulum();
     let dae = DoublePendulum::default();
     let scene = chain_scene("dp", &dae, &chain, &[-FRAC_PI_2, -FRAC_PI_2], 20.0).unwrap();
-    let dbsmc = scene.dbsmc(5e-4, 0.05, 1.5, 1e-3);
+    let dbsmc = scene.dbsmc(5e-4, 0.05, 1.5);
     let (env, res) = envelope_run(&scene, &dbsmc, 0.5);
     assert_eq!(env.max_w.len(), 40, "one value per 0.5 s window");
     let (v, fig) = judge(&env, &res, 1e-3);
@@ -51,7 +51,7 @@ fn an_inconsistent_start_is_reached_by_dbsmc_and_not_repaired_without_stabilisat
         truth: Vec::new(),
         beta_bound: vec![71.4, 180.0],
     };
-    let (env, res) = envelope_run(&scene, &scene.dbsmc(5e-4, 0.05, 1.5, 1e-3), 0.05);
+    let (env, res) = envelope_run(&scene, &scene.dbsmc(5e-4, 0.05, 1.5), 0.05);
     assert_eq!(env.max_between(0.0, 0.01), 2.0, "starts with |w2| = 2");
     assert_eq!(judge(&env, &res, 1e-3).0, Verdict::Holds);
     let (env, res) = envelope_run(
@@ -107,7 +107,7 @@ fn designed_dbsmc_maximises_the_guaranteed_period_and_holds_its_layer() {
         "{bounds:?}"
     );
     let eps = 1e-2;
-    let method = bounds.dbsmc(eps, 1e-3).unwrap();
+    let method = bounds.dbsmc(eps, None, 1e-3).unwrap();
     let Method::DbsmcDesigned { mu, gains, .. } = &method else {
         panic!("not a designed method: {method:?}");
     };

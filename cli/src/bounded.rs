@@ -106,15 +106,13 @@ pub(crate) fn listed_constraints(max_abs_s: &[f64], eps: &[f64]) -> Vec<usize> {
     order
 }
 
-/// `[0.05, 0.05, ...]` as `0.05 (all 1000)` when every value is the same, else the list
-/// (up to [`TEXT_LINES_MAX`] values) or its range.
+/// A list of per-constraint values for the text summary: as is up to
+/// [`TEXT_LINES_MAX`] values; longer, `0.05 (all 1000)` when every value is the same,
+/// else its range.
 pub(crate) fn values_text(v: &[f64]) -> String {
     match v {
-        [] => "[]".into(),
-        [first, ..] if v.iter().all(|x| x == first) && v.len() > 1 => {
-            format!("{first} (all {})", v.len())
-        }
         _ if v.len() <= TEXT_LINES_MAX => format!("{v:?}"),
+        [first, ..] if v.iter().all(|x| x == first) => format!("{first} (all {})", v.len()),
         _ => {
             let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
             let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);

@@ -104,6 +104,30 @@ fn from_pilot(args: &Args, file: &std::path::Path) -> Result<(), Reported> {
     let model = family::runnable(file, args.model.as_deref(), &[], None)?;
     let model = &*model;
     let m = model.n_constraints();
+    if m == 0 {
+        // An ODE is a DAE without constraints: nothing to design, and it runs as is.
+        let note =
+            "no constraints: there is no mu or gain to design (`daec run` integrates it as an ODE)";
+        if args.json {
+            println!(
+                "{}",
+                json!({"model": model.name(), "constraints": [], "mu": [], "gain": [], "note": note})
+            );
+        } else {
+            println!("model {} has {note}", model.name());
+        }
+        return Ok(());
+    }
+    if !(duration.is_finite() && duration > 0.0) {
+        eprintln!("error: --pilot {duration}: must be a finite number > 0");
+        return Err(Reported);
+    }
+    if !(args.step.is_finite() && args.step > 0.0) {
+        eprintln!("error: --step {}: must be a finite number > 0", args.step);
+        return Err(Reported);
+    }
+    args.pilot_args
+        .check_work(duration, args.step, crate::run::MAX_STEPS)?;
     let eps = per_constraint("--eps", &args.eps, m)?;
     let base = Settings::new(eps, vec![1.0; m], vec![1.0; m])
         .step(args.step)

@@ -2,7 +2,8 @@
 //!
 //! Each subcommand lives in a module of its own; `main` only parses the arguments and
 //! maps the outcome to an exit status (0 success, 1 a user error, already reported on
-//! stderr; clap uses 2 for bad arguments).
+//! stderr; clap uses 2 for bad arguments; `daec run` adds 3 for a layer left after
+//! reaching and 4 for layers never reached).
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -42,7 +43,10 @@ enum Command {
     /// Parse, check and analyse a `.dae` file; print a summary of each model with the
     /// index of each constraint and the condition number of J_Omega.
     Check(check::Args),
-    /// Simulate a model with DBSMC on the interpreter.
+    /// Simulate a model with DBSMC on the interpreter. Exit status: 0 the layers held,
+    /// 1 an error, 2 bad arguments, 3 a layer was left after reaching, 4 the layers were
+    /// not reached by --t-end.
+    #[command(allow_negative_numbers = true)]
     Run(run::Args),
     /// Choose mu, gains and the guaranteed period from bounds or from a pilot run.
     Design(design::Args),
@@ -57,7 +61,12 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
         Command::Check(args) => check::run(&args),
-        Command::Run(args) => run::run(&args),
+        Command::Run(args) => {
+            return match run::run(&args) {
+                Ok(o) => ExitCode::from(o.code()),
+                Err(Reported) => ExitCode::FAILURE,
+            };
+        }
         Command::Design(args) => design::run(&args),
         Command::Derive(args) => derive::run(&args),
         Command::Emit(args) => emit::run(&args),

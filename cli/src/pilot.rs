@@ -5,8 +5,8 @@
 
 use crate::Reported;
 use dae_runtime::{
-    AutoDesign, AutoDesignOptions, DesignPass, GainChoice, LayerBound, Model, MuChoice, Settings,
-    auto_design,
+    AutoDesign, AutoDesignOptions, Crossing, DesignError, DesignPass, GainChoice, Integrator,
+    LayerBound, Model, MuChoice, PilotError, PilotRunError, Settings, auto_design,
 };
 use serde_json::json;
 
@@ -80,7 +80,40 @@ pub(crate) struct PilotArgs {
     pub(crate) safety: f64,
 }
 
+/// Most pilot -> design passes: each is a pilot run over the whole pilot duration, and
+/// the design settles in two or three.
+pub(crate) const MAX_PASSES: usize = 20;
+
 impl PilotArgs {
+    /// Refuse, before any work, more passes than [`MAX_PASSES`] or pilot runs that
+    /// together take more than `max_steps` fixed steps of `step` over `duration`.
+    pub(crate) fn check_work(
+        &self,
+        duration: f64,
+        step: f64,
+        max_steps: f64,
+    ) -> Result<(), Reported> {
+        if self.passes == 0 || self.passes > MAX_PASSES {
+            eprintln!(
+                "error: --passes {}: give 1 to {MAX_PASSES} (each pass is a pilot run of the whole --pilot duration; two or three settle the design)",
+                self.passes
+            );
+            return Err(Reported);
+        }
+        let steps = self.passes as f64 * duration / step;
+        if steps > max_steps {
+            eprintln!(
+                "error: {} pilot runs of {duration} s at a step of {step:e} are {steps:.3e} steps, more than the {max_steps:e} this command takes",
+                self.passes
+            );
+            eprintln!(
+                "  hint: a shorter --pilot, fewer --passes, or a larger --step for the pilots"
+            );
+            return Err(Reported);
+        }
+        Ok(())
+    }
+
     /// The automatic design of `model` with pilots under `base` (its eps, step, time
     /// span, settle time, policy and reaching rule are used). With `mu`, the surfaces are
     /// given and only the gains are designed; with `fixed_gain`, every pass (the pilots
@@ -93,7 +126,13 @@ impl PilotArgs {
         fixed_gain: Option<f64>,
     ) -> Result<AutoDesign, Reported> {
         let m = model.n_constraints();
-        let mut pilot = base.clone();
+        // The pilots run as the design procedure was built for: RK4 at the base's step
+        // with the thesis's step-end rule, so that every interval has dense samples for
+        // the drift bound M (error-controlled steps take about one per interval).
+        let mut pilot = base
+            .clone()
+            .integrator(Integrator::Rk4)
+            .crossing(Crossing::StepEnd);
         pilot.mu = vec![self.pilot_mu; m];
         pilot.gains = match fixed_gain.or(self.pilot_gain) {
             Some(k) => vec![k; m],
@@ -111,9 +150,45 @@ impl PilotArgs {
             mu: mu.map_or_else(MuChoice::default, MuChoice::Given),
         };
         auto_design(model, &base.eps, &pilot, &opts).map_err(|e| {
-            eprintln!("error: automatic design of `{}`: {e}", model.name());
+            eprintln!(
+                "error: automatic design of `{}`: {}",
+                model.name(),
+                design_error(model, &e)
+            );
             Reported
         })
+    }
+}
+
+/// A design error with constraints named as the user wrote them (the runtime numbers
+/// them).
+fn design_error(model: &dyn Model, e: &PilotRunError) -> String {
+    match e {
+        PilotRunError::Design(DesignError::Constraint { index, source }) => {
+            let hint = match source.as_ref() {
+                DesignError::NoInteriorMaximum { .. } => {
+                    "\n  hint: the guaranteed period has no best mu for these pilot bounds (little or no drift was measured); give --mu and let the gains be designed"
+                }
+                _ => "",
+            };
+            format!(
+                "design failed for constraint `{}`: {source}{hint}",
+                model.constraint_name(*index)
+            )
+        }
+        PilotRunError::Pilot(PilotError::NoDriftData { constraint }) => format!(
+            "pilot estimate failed: no drift data for constraint `{}` (no control interval had two samples after the reaching phase; a longer --pilot may help)",
+            model.constraint_name(*constraint)
+        ),
+        PilotRunError::Pilot(PilotError::NonFinite {
+            what,
+            t,
+            constraint: Some(c),
+        }) => format!(
+            "pilot estimate failed: non-finite {what} of constraint `{}` at t = {t}",
+            model.constraint_name(*c)
+        ),
+        other => other.to_string(),
     }
 }
 

@@ -1,19 +1,52 @@
 //! `daec run FILE ...`: simulate a model with DBSMC on the interpreter.
+//!
+//! With only `--t-end` and `--eps`, everything else is chosen: `mu` and the gains by
+//! the automatic design (pilot runs), the step by error control (Dormand-Prince 5(4),
+//! tolerance from the layers), crossings located inside the steps. The summary says
+//! what was chosen and whether the layer held; the exit status says it too
+//! ([`Outcome`]).
 
 use crate::Reported;
-use crate::bounded::values_text;
+use crate::bounded::{listed_constraints, values_text};
 use crate::pilot::{PilotArgs, design_json, per_constraint};
 use dae_runtime::{
-    AlphaChoice, CsvSink, Decimate, Model, Policy, Reaching, Settings, SimError, Simulator,
-    SolverChoice, Summary, Tee, Trace, plot_run,
+    AlphaChoice, Crossing, CsvSink, Decimate, Integrator, Model, NEAR_SINGULAR, Policy, Quantity,
+    Reaching, Settings, SimError, Simulator, SolverChoice, Summary, Tee, Trace, plot_run,
 };
 use serde_json::json;
 use std::fs::File;
 use std::io::{self, BufWriter};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Most rows written to `--csv` (and kept for `--plot`) before steps are decimated.
 const MAX_ROWS: u64 = 200_000;
+
+/// Most fixed steps a run (or all its pilot runs together) may take. The interpreted
+/// 3-D double pendulum takes about 2.5 us per RK4 step (README, Performance), so this
+/// is some four minutes of work; beyond it `daec run` refuses up front and says why.
+pub(crate) const MAX_STEPS: f64 = 1e8;
+
+/// How a run ended, and the exit status that says it (README, "What a run reports").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Outcome {
+    /// The layers were reached and held to the end (exit status 0).
+    Held,
+    /// A layer was left after reaching (exit status 3).
+    BoundLost,
+    /// The reaching phase did not finish by `--t-end` (exit status 4).
+    NotReached,
+}
+
+impl Outcome {
+    /// The process exit status of the outcome.
+    pub(crate) fn code(self) -> u8 {
+        match self {
+            Outcome::Held => 0,
+            Outcome::BoundLost => 3,
+            Outcome::NotReached => 4,
+        }
+    }
+}
 
 /// Arguments of `daec run`.
 #[derive(clap::Args)]
@@ -38,16 +71,36 @@ pub(crate) struct Args {
     /// Layer half-widths eps: one value for every constraint, or one per constraint.
     #[arg(long, value_delimiter = ',', required = true)]
     eps: Vec<f64>,
-    /// Surface time constants mu (like --eps), or `auto` (design from pilot runs).
-    #[arg(long)]
+    /// Surface time constants mu (like --eps), or `auto` (designed from pilot runs).
+    #[arg(long, default_value = "auto")]
     mu: String,
     /// Gains k (like --eps), or `auto` (from the design's gain choice, --gains).
-    #[arg(long)]
+    #[arg(long, default_value = "auto")]
     gain: String,
-    /// Integration step h (RK4).
-    #[arg(long, default_value_t = 1e-4)]
-    step: f64,
-    /// Update policy: `monitor`, `fixed:PERIOD` or `spsm`.
+    /// A fixed integration step (RK4, or --integrator euler) [default: steps chosen by
+    /// error control, see --integrator and --tol].
+    #[arg(long)]
+    step: Option<f64>,
+    /// Integrator: `dopri5` (Dormand-Prince 5(4), error-controlled; the default without
+    /// --step), `bs3` (Bogacki-Shampine 3(2), error-controlled), `rk4` (the default with
+    /// --step) or `euler`; the fixed-step ones use --step (1e-4 if not given).
+    #[arg(long, value_enum)]
+    integrator: Option<IntegratorArg>,
+    /// Tolerance of the error-controlled steps (rtol = atol) [default: 0.01 times the
+    /// smallest eps].
+    #[arg(long)]
+    tol: Option<f64>,
+    /// Longest error-controlled step [default: unlimited; the samples of --csv and
+    /// --plot are the steps' ends, about one per control interval, so give this for a
+    /// denser trace].
+    #[arg(long)]
+    max_step: Option<f64>,
+    /// How the update moment is found: `located` inside the step (the bound holds for
+    /// any step), or `step-end` (the thesis's rule, which overshoots by up to one step).
+    #[arg(long, value_enum, default_value = "located")]
+    crossing: CrossingArg,
+    /// Update policy: `monitor`, `fixed:PERIOD` or `spsm` (SPSM takes a fixed step,
+    /// --step or 1e-4).
     #[arg(long, default_value = "monitor")]
     policy: String,
     /// Reaching phase rule.
@@ -63,7 +116,7 @@ pub(crate) struct Args {
     /// Fail if the reaching phase takes longer than this many seconds.
     #[arg(long)]
     reaching_limit: Option<f64>,
-    /// Duration of the pilot runs of `--mu auto` / `--gain auto` [default: --t-end].
+    /// Duration of the pilot runs of the automatic design [default: --t-end].
     #[arg(long)]
     pilot: Option<f64>,
     #[command(flatten)]
@@ -88,6 +141,26 @@ pub(crate) struct Args {
 
 fn parse_solver(text: &str) -> Result<SolverChoice, String> {
     text.parse()
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum IntegratorArg {
+    /// Dormand-Prince 5(4) with error control.
+    Dopri5,
+    /// Bogacki-Shampine 3(2) with error control.
+    Bs3,
+    /// Classical Runge-Kutta with the fixed --step.
+    Rk4,
+    /// Explicit Euler with the fixed --step.
+    Euler,
+}
+
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum CrossingArg {
+    /// Located inside the step (the step is cut there).
+    Located,
+    /// Noticed at the end of the step (the thesis's rule).
+    StepEnd,
 }
 
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
@@ -128,12 +201,56 @@ fn parse_policy(text: &str) -> Result<Policy, Reported> {
         "monitor" => Ok(Policy::Monitor),
         "spsm" => Ok(Policy::Spsm),
         _ => match text.strip_prefix("fixed:").map(str::parse::<f64>) {
-            Some(Ok(p)) => Ok(Policy::Fixed(p)),
+            Some(Ok(p)) if p > 0.0 && p.is_finite() => Ok(Policy::Fixed(p)),
+            Some(Ok(p)) => {
+                eprintln!("error: --policy fixed:{p}: the period must be finite and > 0");
+                Err(Reported)
+            }
             _ => {
                 eprintln!("error: --policy `{text}`: expected `monitor`, `fixed:PERIOD` or `spsm`");
                 Err(Reported)
             }
         },
+    }
+}
+
+/// A user-given number that must be finite and positive (or non-negative).
+fn check_number(flag: &str, value: f64, zero_ok: bool) -> Result<(), Reported> {
+    let ok = value.is_finite() && (value > 0.0 || (zero_ok && value == 0.0));
+    if ok {
+        return Ok(());
+    }
+    let need = if zero_ok { ">= 0" } else { "> 0" };
+    eprintln!("error: {flag} {value}: must be a finite number {need}");
+    Err(Reported)
+}
+
+/// The chosen integration: the integrator, its fixed step (if any) and whether each
+/// was given or chosen.
+struct Integration {
+    integrator: Integrator,
+    step: f64,
+    fixed: bool,
+    chosen: bool,
+}
+
+fn integration(args: &Args, policy: Policy) -> Integration {
+    let choice = match (args.integrator, args.step, policy) {
+        (Some(i), _, _) => i,
+        (None, Some(_), _) | (None, None, Policy::Spsm) => IntegratorArg::Rk4,
+        (None, None, _) => IntegratorArg::Dopri5,
+    };
+    let integrator = match choice {
+        IntegratorArg::Dopri5 => Integrator::DormandPrince,
+        IntegratorArg::Bs3 => Integrator::BogackiShampine,
+        IntegratorArg::Rk4 => Integrator::Rk4,
+        IntegratorArg::Euler => Integrator::Euler,
+    };
+    Integration {
+        integrator,
+        step: args.step.unwrap_or(1e-4),
+        fixed: !integrator.is_adaptive(),
+        chosen: args.integrator.is_none() && args.step.is_none(),
     }
 }
 
@@ -143,19 +260,124 @@ struct DesignInfo {
     t_min: f64,
 }
 
-pub(crate) fn run(args: &Args) -> Result<(), Reported> {
-    let model = crate::family::runnable(
+/// The settings' field names as the flags a user wrote.
+fn flag(field: &str) -> &str {
+    match field {
+        "eps" => "--eps",
+        "mu" => "--mu",
+        "gains" => "--gain",
+        "step" => "--step",
+        "t_end" => "--t-end",
+        "settle" => "--settle",
+        "reaching_limit" => "--reaching-limit",
+        "policy" => "--policy",
+        "tolerance" => "--tol",
+        "max_step" => "--max-step",
+        "crossing" => "--crossing",
+        "integrator" => "--integrator",
+        "solver" => "--solver",
+        other => other,
+    }
+}
+
+/// Check everything the user gave before any work: numbers, the outputs, and the
+/// amount of work of fixed steps.
+fn check_args(args: &Args, integration: &Integration, m: usize) -> Result<(), Reported> {
+    check_number("--t-end", args.t_end, false)?;
+    for &e in &args.eps {
+        check_number("--eps", e, false)?;
+    }
+    check_number("--settle", args.settle, true)?;
+    for (flag, v) in [
+        ("--step", args.step),
+        ("--tol", args.tol),
+        ("--max-step", args.max_step),
+        ("--reaching-limit", args.reaching_limit),
+        ("--pilot", args.pilot),
+    ] {
+        if let Some(v) = v {
+            check_number(flag, v, false)?;
+        }
+    }
+    if integration.fixed && (args.tol.is_some() || args.max_step.is_some()) {
+        eprintln!(
+            "error: --tol and --max-step are for the error-controlled steps (--integrator dopri5 or bs3), not a fixed --step"
+        );
+        return Err(Reported);
+    }
+    if !integration.fixed && args.step.is_some() {
+        eprintln!(
+            "error: --step is a fixed step; the error-controlled integrators take --tol and --max-step"
+        );
+        return Err(Reported);
+    }
+    if integration.fixed {
+        let steps = args.t_end / integration.step;
+        if steps > MAX_STEPS {
+            eprintln!(
+                "error: --t-end {} with --step {:e} is {steps:.3e} steps, more than the {MAX_STEPS:e} this command takes (some minutes of work)",
+                args.t_end, integration.step
+            );
+            eprintln!(
+                "  hint: leave out --step (the step is then chosen by error control), or give a larger one"
+            );
+            return Err(Reported);
+        }
+    }
+    if m > 0 && (args.mu.trim() == "auto" || args.gain.trim() == "auto") {
+        args.pilot_args.check_work(
+            args.pilot.unwrap_or(args.t_end),
+            integration.step,
+            MAX_STEPS,
+        )?;
+    }
+    check_outputs(args.csv.as_deref(), args.plot.as_deref())
+}
+
+/// The output files and folders are created (and the folder written to) before the run,
+/// so that a run is never lost to an output that cannot be written.
+fn check_outputs(csv: Option<&Path>, plot: Option<&Path>) -> Result<(), Reported> {
+    if let Some(dir) = plot {
+        let probe = dir.join(".daec-write-test");
+        let written = std::fs::create_dir_all(dir).and_then(|()| std::fs::write(&probe, b""));
+        let _ = std::fs::remove_file(&probe);
+        if let Err(e) = written {
+            eprintln!("error: --plot `{}` cannot be written: {e}", dir.display());
+            return Err(Reported);
+        }
+    }
+    if let Some(path) = csv {
+        // Created again (truncated) by the run; this only finds the error early.
+        if let Err(e) = File::create(path) {
+            eprintln!("error: cannot create `{}`: {e}", path.display());
+            return Err(Reported);
+        }
+    }
+    Ok(())
+}
+
+pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
+    let boxed = crate::family::runnable(
         &args.file,
         args.model.as_deref(),
         &args.set,
         args.topology.as_deref(),
     )?;
-    let model = &*model;
+    let model: &dyn Model = &*boxed;
     let m = model.n_constraints();
-    let eps = per_constraint("--eps", &args.eps, m)?;
     let policy = parse_policy(&args.policy)?;
+    let integ = integration(args, policy);
+    check_args(args, &integ, m)?;
+    let eps = per_constraint("--eps", &args.eps, m)?;
+    let crossing = match args.crossing {
+        CrossingArg::Located => Crossing::default(),
+        CrossingArg::StepEnd => Crossing::StepEnd,
+    };
     let mut settings = Settings::new(eps.clone(), vec![1.0; m], vec![1.0; m])
-        .step(args.step)
+        .step(integ.step)
+        .integrator(integ.integrator)
+        .crossing(crossing)
+        .max_steps(MAX_STEPS as u64)
         .t_end(args.t_end)
         .settle(args.settle)
         .solver(args.solver)
@@ -171,14 +393,27 @@ pub(crate) fn run(args: &Args) -> Result<(), Reported> {
     if let Some(l) = args.reaching_limit {
         settings = settings.reaching_limit(l);
     }
+    if let Some(tol) = args.tol {
+        settings = settings.tolerance(tol, tol);
+    }
+    if let Some(h) = args.max_step {
+        settings = settings.max_step(h);
+    }
     let mu = auto_or_list("--mu", &args.mu)?;
     let gain = auto_or_list("--gain", &args.gain)?;
+    for (what, list) in [("--mu", &mu), ("--gain", &gain)] {
+        for &v in list.iter().flatten() {
+            check_number(what, v, false)?;
+        }
+    }
+    // The pilots run RK4 at --step (1e-4 by default), see PilotArgs::auto_design.
     let pilot_base = settings
         .clone()
         .t_end(args.pilot.unwrap_or(args.t_end))
         .policy(Policy::Monitor)
         .alpha(AlphaChoice::Cheap);
     let design = match (mu, gain) {
+        _ if m == 0 => None,
         (Some(mu), Some(k)) => {
             settings.mu = per_constraint("--mu", &mu, m)?;
             settings.gains = per_constraint("--gain", &k, m)?;
@@ -193,7 +428,7 @@ pub(crate) fn run(args: &Args) -> Result<(), Reported> {
                 Some(k) => {
                     let k = per_constraint("--gain", &k, m)?;
                     if k.iter().any(|v| *v != k[0]) {
-                        eprintln!("error: --mu auto takes one --gain value (or `auto`)");
+                        eprintln!("error: with --mu auto, give one --gain value (or `auto`)");
                         return Err(Reported);
                     }
                     Some(k[0])
@@ -212,8 +447,24 @@ pub(crate) fn run(args: &Args) -> Result<(), Reported> {
         }
     };
     let summary = simulate(args, model, settings.clone(), design.as_ref())?;
-    print_summary(args, model, &settings, &summary, design.as_ref());
-    Ok(())
+    let outcome = if !summary.bound_held() && summary.reaching_time.is_none() {
+        Outcome::NotReached
+    } else if summary.bound_loss.is_some() {
+        Outcome::BoundLost
+    } else {
+        Outcome::Held
+    };
+    let report = Report {
+        args,
+        model,
+        settings: &settings,
+        summary: &summary,
+        design: design.as_ref(),
+        integration: &integ,
+        outcome,
+    };
+    report.print();
+    Ok(outcome)
 }
 
 /// A fixed gain with the cheap alpha_hat must still cover the neglected `mu^(r-1) |beta|`
@@ -242,10 +493,19 @@ fn simulate(
     settings: Settings,
     design: Option<&DesignInfo>,
 ) -> Result<Summary, Reported> {
-    let steps = ((settings.t_end - settings.t_start) / settings.step)
-        .ceil()
-        .max(1.0) as u64;
-    let every = crate::bounded::trace_every(model, steps, MAX_ROWS);
+    // Decimation from the number of fixed steps (error-controlled runs take about one
+    // step per control interval, or at least t_end / max_step).
+    let h = if settings.integrator.is_adaptive() {
+        settings.max_step
+    } else {
+        settings.step
+    };
+    let steps = ((settings.t_end - settings.t_start) / h).ceil();
+    let every = if steps.is_finite() {
+        crate::bounded::trace_every(model, steps as u64, MAX_ROWS)
+    } else {
+        1
+    };
     let csv = match &args.csv {
         None => None,
         Some(path) => match File::create(path) {
@@ -263,13 +523,18 @@ fn simulate(
     // Each output keeps its own decimation (both are `None` without --csv and --plot).
     let mut sink = Tee(csv, trace);
     let mut sim = Simulator::new(model, settings.clone()).map_err(|e| {
-        eprintln!("error: {e}");
+        match &e {
+            SimError::Settings { field, reason } => {
+                eprintln!("error: {}: {reason}", flag(field))
+            }
+            e => eprintln!("error: {e}"),
+        }
         Reported
     })?;
     let summary = match sim.run(&mut sink) {
         Ok(s) => s,
         Err(e) => {
-            report_failure(model, &e);
+            report_failure(model, &settings, args.step.is_some(), &e);
             if let Some(c) = sink.0.take() {
                 // The rows up to the failure stay in the file.
                 if let Err(e) = io::Write::flush(&mut c.into_inner().into_inner()) {
@@ -289,42 +554,187 @@ fn simulate(
     Ok(summary)
 }
 
-fn report_failure(model: &dyn Model, e: &SimError) {
+fn report_failure(model: &dyn Model, settings: &Settings, fixed_step: bool, e: &SimError) {
     eprintln!("error: simulation of `{}` failed: {e}", model.name());
     let hint = match e {
+        SimError::NonFinite {
+            value, kind, name, ..
+        } if value.is_nan() => {
+            let what = match kind {
+                Quantity::State => "state",
+                Quantity::Algebraic => "algebraic unknown",
+                Quantity::Control => "control rate of",
+                Quantity::Sliding => "sliding variable of",
+                Quantity::Residual => "residual of",
+            };
+            format!(
+                "{what} `{name}` is NaN, not infinite: an expression was evaluated outside its domain (sqrt or ln of a negative number, 0/0, or inf - inf after an overflow), which is not necessarily a divergence; check the expressions the model evaluates with the values near this time"
+            )
+        }
         SimError::NonFinite { .. } => {
-            "the motion diverged: try a smaller --step, smaller gains or a larger --mu"
+            let mut tries = Vec::new();
+            if fixed_step {
+                tries.push("a smaller --step");
+            } else {
+                tries.push("a smaller --tol");
+            }
+            tries.push("smaller gains");
+            // A larger mu only helps while mu is moderate (mu^(r-1) scales J_s).
+            if settings.mu.iter().all(|&m| m < 1.0) {
+                tries.push("a larger --mu");
+            }
+            format!("the motion diverged: try {}", tries.join(", "))
         }
         SimError::SingularJacobian { .. } => {
-            "J_Omega lost rank here: the algebraic unknowns no longer determine these constraints"
+            "J_Omega lost rank here: the algebraic unknowns no longer determine these constraints".into()
         }
-        SimError::ReachingTimeout { .. } => "increase the gains or the layers",
-        SimError::SolverFailed { .. } => "choose another --solver (dense always applies)",
-        _ => "",
+        SimError::ReachingTimeout { .. } => "increase the gains or the layers".into(),
+        SimError::SolverFailed { .. } => "choose another --solver (dense always applies)".into(),
+        SimError::StepLimit { .. } | SimError::StepUnderflow { .. } => {
+            "the step control could not go on: a larger --tol, or a fixed --step to see where the motion goes".into()
+        }
+        _ => String::new(),
     };
     if !hint.is_empty() {
         eprintln!("  hint: {hint}");
     }
 }
 
-fn print_summary(
-    args: &Args,
-    model: &dyn Model,
-    settings: &Settings,
-    s: &Summary,
-    design: Option<&DesignInfo>,
-) {
-    if args.json {
-        let mut v = json!({
+/// Everything the summary reports.
+struct Report<'a> {
+    args: &'a Args,
+    model: &'a dyn Model,
+    settings: &'a Settings,
+    summary: &'a Summary,
+    design: Option<&'a DesignInfo>,
+    integration: &'a Integration,
+    outcome: Outcome,
+}
+
+impl Report<'_> {
+    fn print(&self) {
+        if let Some(line) = self.loud_line() {
+            // On stderr too, so that a script reading stdout (or a user reading only
+            // the end) cannot miss it.
+            eprintln!("error: {line}");
+        }
+        if self.args.json {
+            let mut v = self.json();
+            crate::bounded::summarise(&mut v, self.model);
+            println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
+        } else {
+            self.text();
+        }
+    }
+
+    /// The line that says the run did not keep its promise.
+    fn loud_line(&self) -> Option<String> {
+        let s = self.summary;
+        match self.outcome {
+            Outcome::Held => None,
+            Outcome::NotReached => Some(format!(
+                "the layers were not reached by t = {}: the reaching phase did not finish (exit status 4)",
+                s.t_end
+            )),
+            Outcome::BoundLost => {
+                let l = s.bound_loss.as_ref()?;
+                let mut line = format!(
+                    "BOUND LOST: `{}` left its layer at t = {:.6} after reaching; max |s|/eps = {:.4} (`{}`, at t = {:.6}); {} step(s), {:.4e} s outside",
+                    l.first_constraint,
+                    l.first_time,
+                    l.worst_ratio,
+                    l.worst_constraint,
+                    l.worst_time,
+                    l.steps_outside,
+                    l.time_outside
+                );
+                if let Some(ns) = &l.near_singular {
+                    line.push_str(&format!(
+                        "; J_s was nearly singular at t = {:.6} (pivot ratio {:.2e} < {NEAR_SINGULAR:e})",
+                        ns.t, ns.pivot_ratio
+                    ));
+                }
+                line.push_str(" (exit status 3)");
+                Some(line)
+            }
+        }
+    }
+
+    fn integrator_name(&self) -> String {
+        let st = self.settings;
+        match st.integrator {
+            Integrator::DormandPrince | Integrator::BogackiShampine => {
+                let tol = st.effective_tolerance();
+                let name = if st.integrator == Integrator::DormandPrince {
+                    "Dormand-Prince 5(4)"
+                } else {
+                    "Bogacki-Shampine 3(2)"
+                };
+                let how = if st.tolerance.is_some() {
+                    ""
+                } else if st.eps.is_empty() {
+                    " (the default without constraints)"
+                } else {
+                    " (0.01 x the smallest eps)"
+                };
+                format!("{name}, tolerance {:e}{how}", tol.rtol)
+            }
+            Integrator::Rk4 => format!("RK4, fixed step {:e}", st.step),
+            Integrator::Euler => format!("Euler, fixed step {:e}", st.step),
+        }
+    }
+
+    fn crossing_name(&self) -> String {
+        match self.settings.crossing {
+            Crossing::Located { tol } => format!("located in the step (to {tol:e} of eps)"),
+            Crossing::StepEnd => "at step ends (thesis rule)".into(),
+        }
+    }
+
+    fn json(&self) -> serde_json::Value {
+        let (s, st, model) = (self.summary, self.settings, self.model);
+        let tol = st.effective_tolerance();
+        let given = |text: &str| {
+            if text.trim() == "auto" {
+                "designed"
+            } else {
+                "given"
+            }
+        };
+        json!({
             "model": s.model,
             "constraints": s.constraints,
-            "eps": settings.eps,
-            "mu": settings.mu,
-            "gain": settings.gains,
-            "design": design.map(|d| d.json.clone()),
+            "status": match self.outcome {
+                Outcome::Held => "held",
+                Outcome::BoundLost => "bound lost",
+                Outcome::NotReached => "not reached",
+            },
+            "exit_status": self.outcome.code(),
+            "eps": st.eps,
+            "mu": st.mu,
+            "gain": st.gains,
+            "chosen": {
+                "mu": if model.n_constraints() == 0 { "none" } else { given(&self.args.mu) },
+                "gain": if model.n_constraints() == 0 { "none" } else { given(&self.args.gain) },
+                "integrator": if self.integration.chosen { "chosen" } else { "given" },
+            },
+            "integrator": {
+                "name": format!("{:?}", st.integrator),
+                "adaptive": st.integrator.is_adaptive(),
+                "step": (!st.integrator.is_adaptive()).then_some(st.step),
+                "rtol": st.integrator.is_adaptive().then_some(tol.rtol),
+                "atol": st.integrator.is_adaptive().then_some(tol.atol),
+                "max_step": st.max_step.is_finite().then_some(st.max_step),
+                "crossing": self.crossing_name(),
+            },
+            "design": self.design.map(|d| d.json.clone()),
             "t_end": s.t_end,
             "steps": s.steps,
+            "rejected_steps": s.rejected_steps,
+            "located_crossings": s.located_crossings,
             "updates": s.updates,
+            "f_evals": s.f_evals,
+            "f_evals_per_update": s.f_evals as f64 / s.updates.max(1) as f64,
             "reaching_updates": s.reaching_updates,
             "reach_time": s.reaching_time,
             "stats_from": s.stats_from,
@@ -332,6 +742,10 @@ fn print_summary(
             "period_avg": s.mean_period,
             "max_abs_s": s.max_abs_s,
             "max_abs_w": s.max_abs_w,
+            "max_abs_s_seen": s.seen_max_abs_s,
+            "max_abs_w_seen": s.seen_max_abs_w,
+            "bound_loss": s.bound_loss,
+            "min_pivot_ratio": s.min_pivot_ratio.map(|(r, t)| json!({"ratio": r, "t": t})),
             "robustness_violations": s.robustness_violations,
             "solver": {
                 "name": s.solver.name,
@@ -345,58 +759,119 @@ fn print_summary(
             "x_final": s.x,
             "z_final": s.z,
             "z_eq_final": s.z_eq,
+            "z_star_final": s.z_star,
+            "s_final": s.s,
+            "w_final": s.w,
             "wall_seconds": s.wall_time,
-        });
-        crate::bounded::summarise(&mut v, model);
-        println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
-        return;
+        })
     }
-    let opt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.6}"));
-    println!(
-        "model {} to t = {}: {} steps, {} updates ({} while reaching)",
-        s.model, s.t_end, s.steps, s.updates, s.reaching_updates
-    );
-    println!(
-        "  mu = {}, gains = {}, eps = {}",
-        values_text(&settings.mu),
-        values_text(&settings.gains),
-        values_text(&settings.eps)
-    );
-    if let Some(d) = design {
-        println!("  design T_min = {}", d.t_min);
-    }
-    println!(
-        "  reaching time {}, statistics from {}",
-        opt(s.reaching_time),
-        opt(s.stats_from)
-    );
-    println!(
-        "  update period min {}, average {}",
-        opt(s.min_period),
-        opt(s.mean_period)
-    );
-    let listed = crate::bounded::listed_constraints(&s.max_abs_s, &settings.eps);
-    if listed.len() < s.constraints.len() {
+
+    fn text(&self) {
+        let (s, st) = (self.summary, self.settings);
+        if let Some(line) = self.loud_line() {
+            println!("{line}");
+        }
+        let opt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.6}"));
         println!(
-            "  {} constraints; the {} with the largest max |s| / eps:",
-            s.constraints.len(),
-            listed.len()
+            "model {} to t = {}: {} steps ({} rejected, {} cut at a crossing), {} updates ({} while reaching), {} f evaluations ({:.1} per update)",
+            s.model,
+            s.t_end,
+            s.steps,
+            s.rejected_steps,
+            s.located_crossings,
+            s.updates,
+            s.reaching_updates,
+            s.f_evals,
+            s.f_evals as f64 / s.updates.max(1) as f64
         );
-    }
-    for (i, c) in listed.iter().map(|&i| (i, &s.constraints[i])) {
+        let m = self.model.n_constraints();
+        if m == 0 {
+            println!("  no constraints: integrated as an ODE");
+        } else {
+            let how = |text: &str| {
+                if text.trim() == "auto" {
+                    "designed"
+                } else {
+                    "given"
+                }
+            };
+            println!(
+                "  mu = {} ({}), gains = {} ({}), eps = {}",
+                values_text(&st.mu),
+                how(&self.args.mu),
+                values_text(&st.gains),
+                how(&self.args.gain),
+                values_text(&st.eps)
+            );
+        }
         println!(
-            "  {c}: max |s| = {:.6}, max |w| = {:.6}",
-            s.max_abs_s[i], s.max_abs_w[i]
+            "  integrator {} ({}), crossings {}",
+            self.integrator_name(),
+            if self.integration.chosen {
+                "chosen"
+            } else {
+                "given"
+            },
+            self.crossing_name()
         );
+        if let Some(d) = self.design {
+            println!("  design T_min = {}", d.t_min);
+        }
+        let window = match (s.reaching_time, s.stats_from) {
+            _ if m == 0 => "none (no constraints)".to_string(),
+            (None, _) => "not reached".to_string(),
+            (Some(r), None) => format!(
+                "reached at {r:.6}; statistics window not entered (--settle {} reaches past the end)",
+                self.args.settle
+            ),
+            (Some(r), Some(f)) => format!("reached at {r:.6}, statistics from {f:.6}"),
+        };
+        println!("  layers {window}");
+        println!(
+            "  update period min {}, average {}",
+            opt(s.min_period),
+            opt(s.mean_period)
+        );
+        let listed = listed_constraints(s.max_abs_s.as_ref().unwrap_or(&s.seen_max_abs_s), &st.eps);
+        if listed.len() < m {
+            println!(
+                "  {m} constraints; the {} with the largest max |s| / eps:",
+                listed.len()
+            );
+        }
+        for (i, c) in listed.iter().map(|&i| (i, &s.constraints[i])) {
+            match (&s.max_abs_s, &s.max_abs_w) {
+                (Some(ms), Some(mw)) => println!(
+                    "  {c}: max |s| = {:.6} ({:.4} eps), max |w| = {:.6}",
+                    ms[i],
+                    ms[i] / st.eps[i],
+                    mw[i]
+                ),
+                _ => println!(
+                    "  {c}: no statistics (window not entered); seen max |s| = {:.6}, max |w| = {:.6}; at the end s = {:.6}, w = {:.6}",
+                    s.seen_max_abs_s[i], s.seen_max_abs_w[i], s.s[i], s.w[i]
+                ),
+            }
+        }
+        if m == 0 {
+            println!("  final x = {}", values_text(&s.x));
+        } else {
+            println!(
+                "  final z = {}, z_eq = {}, z* = {}",
+                values_text(&s.z),
+                values_text(&s.z_eq),
+                values_text(&s.z_star)
+            );
+            println!(
+                "  solver {}: {} factorisations, {} solves, {} iterations, {} robustness failures",
+                s.solver.name,
+                s.solver.factorisations,
+                s.solver.solves,
+                s.solver.iterations,
+                s.robustness_violations
+                    .map_or("unchecked".to_string(), |v| v.to_string())
+            );
+        }
+        println!("  wall time {:.3} s", s.wall_time);
     }
-    println!(
-        "  solver {}: {} factorisations, {} solves, {} iterations, {} robustness failures",
-        s.solver.name,
-        s.solver.factorisations,
-        s.solver.solves,
-        s.solver.iterations,
-        s.robustness_violations
-            .map_or("unchecked".to_string(), |v| v.to_string())
-    );
-    println!("  wall time {:.3} s", s.wall_time);
 }

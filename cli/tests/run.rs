@@ -22,9 +22,13 @@ fn temp_dir() -> PathBuf {
 }
 
 fn json(o: &Output) -> serde_json::Value {
+    json_with_status(o, 0)
+}
+
+fn json_with_status(o: &Output, status: i32) -> serde_json::Value {
     assert_eq!(
         o.status.code(),
-        Some(0),
+        Some(status),
         "{}",
         String::from_utf8_lossy(&o.stderr)
     );
@@ -40,29 +44,39 @@ fn thesis_gains() -> String {
     format!("{},{}", 0.076f64.powi(2) * 1.3e3, 0.066f64.powi(2) * 2.3e3)
 }
 
-/// The generated code (dae_file!) gives, for this scene: 166 updates, min period 0.0187,
-/// mean 0.0240, max|s| 0.2015/0.2022, max|w| 0.090/0.048. The interpreter must agree.
+/// The generated code (dae_file!) gives, for this scene with the thesis's rule (RK4 at
+/// 1e-4, crossings noticed at step ends): 166 updates, min period 0.0187, mean 0.0240,
+/// max|s| 0.2015/0.2022, max|w| 0.090/0.048. The interpreter must agree.
 #[test]
 fn monitored_thesis_scene_matches_the_generated_code() {
     let gains = thesis_gains();
-    let v = json(&daec(&[
-        "run",
-        &pendulum(),
-        "--t-end",
-        "4",
-        "--eps",
-        "0.2",
-        "--mu",
-        "0.076,0.066",
-        "--gain",
-        &gains,
-        "--step",
-        "1e-4",
-        "--settle",
-        "1",
-        "--json",
-    ]));
+    // The thesis's rule overshoots the layer by 1.1 % (0.2022): a lost bound, exit 3.
+    let v = json_with_status(
+        &daec(&[
+            "run",
+            &pendulum(),
+            "--t-end",
+            "4",
+            "--eps",
+            "0.2",
+            "--mu",
+            "0.076,0.066",
+            "--gain",
+            &gains,
+            "--step",
+            "1e-4",
+            "--crossing",
+            "step-end",
+            "--settle",
+            "1",
+            "--json",
+        ]),
+        3,
+    );
     assert_eq!(v["updates"], 166, "{v}");
+    let loss = &v["bound_loss"];
+    assert!((num(&loss["worst_ratio"]) - 1.0111).abs() < 1e-3, "{v}");
+    assert_eq!(loss["worst_constraint"], "link2", "{v}");
     assert!((num(&v["period_min"]) - 0.0187).abs() < 1e-4, "{v}");
     assert!((num(&v["period_avg"]) - 0.0240).abs() < 1e-4, "{v}");
     for (i, (s, w)) in [(0.2015, 0.090), (0.2022, 0.048)].iter().enumerate() {
@@ -122,6 +136,8 @@ fn csv_and_charts_are_written() {
         "0.076,0.066",
         "--gain",
         &gains,
+        "--step",
+        "1e-4",
         "--csv",
         csv.to_str().unwrap(),
         "--plot",
@@ -140,8 +156,20 @@ fn csv_and_charts_are_written() {
         header.starts_with("t,x.p1x,") && header.ends_with("w.link1,w.link2"),
         "{header}"
     );
-    // Every step of 0.5 s at h = 1e-4, plus the initial point.
-    assert_eq!(lines.count(), 5001);
+    // Every step of 0.5 s at h = 1e-4, plus the initial point, plus the steps cut at a
+    // located crossing (each cut restarts the grid of steps).
+    let summary = String::from_utf8_lossy(&o.stdout);
+    let cut: usize = summary
+        .split(" cut at a crossing")
+        .next()
+        .and_then(|s| s.rsplit(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("{summary}"));
+    let rows = lines.count();
+    assert!(
+        rows >= 5001 && rows <= 5001 + cut,
+        "{rows} rows, {cut} cuts"
+    );
     for chart in ["sliding.svg", "periods.svg", "errors.svg"] {
         let svg = std::fs::read_to_string(plots.join(chart)).unwrap();
         assert!(svg.starts_with("<svg") || svg.contains("<svg"), "{chart}");

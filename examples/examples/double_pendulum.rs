@@ -188,21 +188,24 @@ fn scene() -> Result<bool, Failure> {
         p(mon_110.mean_period)
     );
     let pair = |v: &[f64]| format!("{:.4} / {:.4}", v[0], v[1]);
+    // The window's maxima (NaN if the window was never entered).
+    let nan = [f64::NAN; 2];
+    let win = |v: &Option<Vec<f64>>| -> Vec<f64> { v.clone().unwrap_or(nan.to_vec()) };
     println!(
         "{:<34} {:>16} {:>16} {:>16} {:>16}",
         "monitored: max |s1| / |s2|",
         "0.2",
         "0.202",
-        pair(&mon_14.max_abs_s),
-        pair(&mon_110.max_abs_s)
+        pair(&win(&mon_14.max_abs_s)),
+        pair(&win(&mon_110.max_abs_s))
     );
     println!(
         "{:<34} {:>16} {:>16} {:>16} {:>16}",
         "monitored: max |w1| / |w2|",
         "-",
         "0.09",
-        pair(&mon_14.max_abs_w),
-        pair(&mon_110.max_abs_w)
+        pair(&win(&mon_14.max_abs_w)),
+        pair(&win(&mon_110.max_abs_w))
     );
     let ratio = |f: &Summary, m: &Summary| format!("{:.2}", f.updates as f64 / m.updates as f64);
     println!(
@@ -218,27 +221,27 @@ fn scene() -> Result<bool, Failure> {
         "fixed 0.005: max |s1| / |s2|",
         "0.06 / 0.08",
         "0.042 / 0.059",
-        pair(&fix_14.max_abs_s),
-        pair(&fix_110.max_abs_s)
+        pair(&win(&fix_14.max_abs_s)),
+        pair(&win(&fix_110.max_abs_s))
     );
     println!(
         "{:<34} {:>16} {:>16} {:>16} {:>16}",
         "fixed 0.005: max |w1| / |w2|",
         "-",
         "-",
-        pair(&fix_14.max_abs_w),
-        pair(&fix_110.max_abs_w)
+        pair(&win(&fix_14.max_abs_w)),
+        pair(&win(&fix_110.max_abs_w))
     );
     println!(
         "after reaching (t >= {:.4}) to 10 s: monitored max |s| = {}, min period {}, mean {}",
         full.stats_from.unwrap_or(f64::NAN),
-        pair(&full.max_abs_s),
+        pair(&win(&full.max_abs_s)),
         p(full.min_period),
         p(full.mean_period)
     );
 
     // The published bounds.
-    for (i, s) in full.max_abs_s.iter().enumerate() {
+    for (i, s) in win(&full.max_abs_s).iter().enumerate() {
         if *s > 1.02 * EPS {
             println!(
                 "VIOLATION: monitored |s{}| = {s} > 1.02 eps after reaching",
@@ -257,20 +260,20 @@ fn scene() -> Result<bool, Failure> {
     // The fixed-rate bound is checked where it is stated by the re-derivation, t in
     // [1, 4]; over [1, 10] the thesis's "about 0.06 / 0.08" is only reported.
     for (i, bound) in [0.06, 0.08].iter().enumerate() {
-        if fix_14.max_abs_s[i] > *bound {
+        if win(&fix_14.max_abs_s)[i] > *bound {
             println!(
                 "VIOLATION: fixed-rate |s{}| = {} > {bound} (t in [1, 4])",
                 i + 1,
-                fix_14.max_abs_s[i]
+                win(&fix_14.max_abs_s)[i]
             );
             ok = false;
         }
-        if fix_110.max_abs_s[i] > *bound {
+        if win(&fix_110.max_abs_s)[i] > *bound {
             println!(
                 "note: over t in [1, 10] the fixed-rate |s{}| reaches {:.4}, {:.1}% above the thesis's \"about {bound}\"",
                 i + 1,
-                fix_110.max_abs_s[i],
-                100.0 * (fix_110.max_abs_s[i] / bound - 1.0)
+                win(&fix_110.max_abs_s)[i],
+                100.0 * (win(&fix_110.max_abs_s)[i] / bound - 1.0)
             );
         }
     }

@@ -85,7 +85,7 @@ fn main() {
             s.wall_time * 1e3,
             s.steps,
             s.updates,
-            s.rhs_evals,
+            s.f_evals,
             s.min_period,
             s.mean_period
         );

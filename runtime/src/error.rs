@@ -61,7 +61,8 @@ pub enum SimError {
     },
     /// `J_s = diag(mu^(r-1)) J_Omega` could not be factored at a control update.
     #[error(
-        "singular J_s at t = {t}: constraints {names:?} have no independent pivot (the algebraic unknowns do not appear independently in their (r-1)-th derivatives)"
+        "singular J_s at t = {t}: constraints {} have no independent pivot (the algebraic unknowns do not appear independently in their (r-1)-th derivatives)",
+        quoted(names)
     )]
     SingularJacobian {
         /// Simulation time of the update.
@@ -85,7 +86,9 @@ pub enum SimError {
     },
     /// The reaching phase (all `|s_i| <= eps_i`) was not finished within the limit.
     #[error(
-        "reaching phase not finished after {limit} s (at t = {t}): constraints {names:?} still outside their layers, s = {s:?}"
+        "reaching phase not finished after {limit} s (at t = {t}): {} still outside {}, s = {s:?}",
+        quoted(names),
+        if names.len() == 1 { "its layer" } else { "their layers" }
     )]
     ReachingTimeout {
         /// The configured limit (duration from the start).
@@ -97,7 +100,49 @@ pub enum SimError {
         /// Their sliding variables.
         s: Vec<f64>,
     },
+    /// The run took more integration steps than
+    /// [`Settings::max_steps`](crate::Settings::max_steps).
+    #[error(
+        "step limit of {limit} steps reached at t = {t}: the step needed to meet the tolerance became very small (a stiff model, a state leaving the model's domain)"
+    )]
+    StepLimit {
+        /// The limit.
+        limit: u64,
+        /// Time reached.
+        t: f64,
+    },
+    /// The error control of an embedded pair drove the step below what the time can
+    /// resolve.
+    #[error(
+        "step size underflow at t = {t} (h = {h:e}): the error control cannot meet the tolerance (a stiff or non-smooth motion, or a tolerance below rounding)"
+    )]
+    StepUnderflow {
+        /// Time of the failed step.
+        t: f64,
+        /// The step that was too small.
+        h: f64,
+    },
+    /// [`Simulator::advance_to`](crate::Simulator::advance_to) was asked for a time
+    /// before the current one, or called after the run was finished.
+    #[error("cannot advance to t = {requested}: the run is at t = {now}{}", if *finished { " and finished (call start to run again)" } else { "" })]
+    Backwards {
+        /// The requested time.
+        requested: f64,
+        /// The current time.
+        now: f64,
+        /// Whether [`Simulator::finish`](crate::Simulator::finish) was called.
+        finished: bool,
+    },
     /// Writing to the trace sink failed.
     #[error("trace sink failed: {0}")]
     Sink(#[from] std::io::Error),
+}
+
+/// Names in backticks, joined by commas: `a`, `b`.
+fn quoted(names: &[String]) -> String {
+    names
+        .iter()
+        .map(|n| format!("`{n}`"))
+        .collect::<Vec<_>>()
+        .join(", ")
 }

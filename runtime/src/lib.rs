@@ -7,9 +7,11 @@
 //!
 //! # What the simulator does
 //!
-//! * **State.** `x` is integrated with a fixed step `h` ([`Integrator::Euler`] or
-//!   [`Integrator::Rk4`]). `z` is held by a zero-order hold of `v`: between updates
-//!   `z(t) = z_b + v (t - t_b)` exactly, also inside the RK4 stages.
+//! * **State.** `x` is integrated by an error-controlled embedded pair
+//!   ([`Integrator::DormandPrince`], [`Integrator::BogackiShampine`]) or with a fixed
+//!   step `h` ([`Integrator::Rk4`], the default of [`Settings::new`], or
+//!   [`Integrator::Euler`]). `z` is held by a zero-order hold of `v`: between updates
+//!   `z(t) = z_b + v (t - t_b)` exactly, also inside every stage.
 //! * **Control update.** `v = J_hat^{-1}(-alpha_hat - K sgn(s))` with
 //!   `J_s = diag(mu_i^(r_i-1)) J_Omega` from [`Model::jacobian_pattern`] and
 //!   [`Model::jacobian`], factored once per update by the solver of
@@ -17,35 +19,178 @@
 //!   below); a singular `J_s` is [`SimError::SingularJacobian`] naming the dependent
 //!   constraints and the time. `alpha_hat` is the cheap one from [`Model::sliding`] or
 //!   the exact `alpha_hat + mu^(r-1) beta` ([`AlphaChoice`]).
-//! * **When to update** ([`Policy`]): monitoring (after every step, as soon as some
-//!   `|s_i| >= eps_i` while moving outward), a fixed period, or SPSM (`sat(s/eps)` and `v`
-//!   recomputed at every stage, the continuous baseline).
+//! * **When to update** ([`Policy`]): monitoring (as soon as some `|s_i|` reaches
+//!   `eps_i` while moving outward, located inside the step, see below), a fixed period,
+//!   or SPSM (`sat(s/eps)` and `v` recomputed at every stage, the continuous baseline,
+//!   fixed steps only).
 //! * **Reaching phase** ([`Reaching`]): attracting surfaces or contracting layers while
 //!   the initial `s` is outside the layers; [`Settings::reaching_limit`] bounds its
 //!   duration ([`SimError::ReachingTimeout`]).
-//! * **`z_eq`.** `z` itself is a ramp that oscillates around the algebraic solution with
-//!   an amplitude set by the gains. The value to trust is
-//!   `z_eq = z - J_s^{-1} s(x, z)` (with the `J_s` factored at the last update): the `z`
-//!   that puts the state on `s = 0`, exact when `Omega` is affine in `z`. It is reported
-//!   in every trace sample and in the [`Summary`].
+//! * **A model without constraints** (`m = 0`) is an ODE: it is integrated the same way,
+//!   with no control.
 //!
-//! # How crossings are located, and what it costs
+//! # How crossings are located: the bound for any step
 //!
-//! Boundary crossings are detected once per step, at the step's end: an update happens
-//! at the end of the first step after which `|s_i| >= eps_i` and `s_i` moved outward
-//! over that step (`s_i (s_i - s_i,prev) > 0`: the derivative `s_i'` is estimated by the
-//! finite difference over the step, which needs no model call and includes the part
-//! `mu^(r-1) beta` that the cheap `alpha_hat` neglects). The crossing is not
-//! interpolated back into the step, so `s_i` can overshoot its layer by at most one step
-//! of motion, `|s_i'| h`; choose `h` so that this is small against `eps_i`. The cost per
-//! step is one [`Model::sliding`] evaluation plus `f` (1 for Euler, 4 for RK4); an update
-//! adds one [`Model::jacobian`], one factorisation, one solve and, with the exact alpha
-//! or robustness counting ([`Settings::check_robustness`]), one [`Model::beta`]. Each
-//! recorded sample adds one solve for `z_eq`.
+//! With [`Crossing::Located`] (the default) a step ends where a sliding variable asks for
+//! an update, whatever step the integrator (or the user) proposed:
 //!
-//! Checking only `|s_i| >= eps_i` (without "moving outward") would re-trigger on the step
-//! right after every update, while `s_i` is still outside but already turning back, and
-//! collapse the period to one step.
+//! 1. **Dense `s`.** At both ends of a step the simulator knows `s_i` and its exact
+//!    rate `s_i' = (J_s v + alpha)_i = alpha_hat_i + mu_i^(r_i-1) (J_Omega v + beta)_i`
+//!    (one [`Model::jacobian`] and one [`Model::beta`] per step's end, reused by an
+//!    update there). The cubic Hermite through these four numbers is split at its
+//!    extrema into monotone pieces; on each piece in order a layer boundary can be
+//!    crossed once, so the first outward crossing of `|s_i| = eps_i` is found exactly on
+//!    the cubic (Newton steps safeguarded by bisection), also when `s_i` leaves and
+//!    re-enters the layer within the step. The reaching rules are events of the same
+//!    kind: an outside variable that turns away from its surface (an extremum), and
+//!    for contracting layers the arrival at `s_i = 0` or at the far side of `eps_i,k`.
+//! 2. **True `s`.** The crossing is refined by Newton iterations on the true `s_i`
+//!    (one [`Model::sliding`] per iteration) along the integrator's dense output of `x`
+//!    (Dormand-Prince: its continuous extension of order 4; the others: the cubic
+//!    Hermite of `x` from `f` at both ends), with `z` on its ramp, until `|s_i|` is
+//!    within a quarter of the tolerance of `eps_i`.
+//! 3. **Cut.** The step is cut there: the embedded pairs take the dense output as the
+//!    new state, the fixed-step integrators integrate again from the step's start to
+//!    the cut. The cubic is rebuilt on the shortened step from the exact end values;
+//!    the step is accepted when its first event lies within `tol eps_i` of its end (in
+//!    `s`), otherwise it is cut again.
+//! 4. **Update** at the end of the step when some `|s_i| >= (1 - tol) eps_i` moves
+//!    outward by the exact `s'` (or an event says so).
+//!
+//! **Tolerance.** At every located crossing `|s_i| / eps_i` is within
+//! `[1 - tol, 1 + tol]`, `tol` = [`CROSSING_TOL`] = 1e-3 by default. Between crossings
+//! `|s_i| <= eps_i` holds up to the interpolation error of the cubic and the integration
+//! error of `x` within one step. Measured against an independent fine integration
+//! between the recorded samples (`runtime/tests/located.rs`: RK4 with steps from the
+//! old rule `h = 0.2 eps / max k` up to 100 times it, Dormand-Prince and
+//! Bogacki-Shampine at their default tolerance, on models of index 2, 3 and 4), the
+//! largest `|s_i|` after reaching stays below `1.01 eps_i`, the target the tests
+//! assert; in one run of the 18 cases the largest was `1.002 eps_i`, on a
+//! Bogacki-Shampine run of the double pendulum (`cargo test --release -p dae-runtime
+//! --test located -- --nocapture` prints every case). A layer counts as lost above
+//! `(1 + bound_tol) eps_i`
+//! ([`Settings::bound_tol`], [`BOUND_TOL`] = 1 %).
+//!
+//! Two refinements keep this cheap and safe. A step is aimed at most 1.3 times past the
+//! crossing that the current `s'` predicts, so the cut falls near the step's end, where
+//! the dense output is as accurate as the step, and one step usually spans a control
+//! interval; a fixed step given by the user is then the longest step. A variable that
+//! starts a step on its boundary and still moving outward (its gain too small for the
+//! crossing condition at that update) is watched at `(1 + tol)` times its `|s|`: it
+//! gets a fresh control each time it moves out by that fraction, as the step-end rule's
+//! update after every step gave it, and the integration cannot stall on events at the
+//! step's start.
+//!
+//! **Cost.** Per step: one [`Model::sliding`], [`Model::jacobian`] and [`Model::beta`]
+//! at its end and the integrator's `f` evaluations (Euler 1, RK4 4, Bogacki-Shampine 3,
+//! Dormand-Prince 6; each pair reuses its last stage as the next step's first, which
+//! holds across an update because `f` does not depend on `v`, but not after a cut: one
+//! more `f` there). Per located crossing: a few [`Model::sliding`] evaluations along the
+//! dense output, and for the fixed-step integrators one `f` for the end derivative and
+//! the step integrated again to the cut. Per update: one factorisation and one solve
+//! (`J_Omega` and `beta` of the step's end reused). Measured on the double pendulum of
+//! `docs/work-precision.md` at `eps = 1e-3` with the designed gains: 7.0 `f`
+//! evaluations per control update with Dormand-Prince against 33.9 with RK4 at the
+//! old rule's step, position error 2.83e-3 against 2.90e-3, `max |s| = 1.0002 eps`
+//! against `1.405 eps` (`cargo test --release -p dae-bench --test tension designed --
+//! --nocapture`).
+//!
+//! **The thesis's rule** ([`Crossing::StepEnd`]) is kept to reproduce its numbers: a
+//! crossing is noticed at the end of the step after which `|s_i| >= eps_i` and `s_i`
+//! moved outward over the step (by the finite difference `s_i - s_i,prev`), with no
+//! model call besides `sliding` per step, and `s_i` overshoots its layer by up to one
+//! step of motion, `|s_i'| h` (1.1 % in the thesis scene at `h = 1e-4`, which the
+//! summary therefore reports as a lost bound). Checking only `|s_i| >= eps_i` (without
+//! "moving outward") would re-trigger on the step right after every update, while `s_i`
+//! is still outside but already turning back, and collapse the period to one step.
+//!
+//! # Step control
+//!
+//! The embedded pairs accept a step when the RMS over the states of
+//! `err_i / (atol + rtol max(|x_i|, |x_i,new|))` is at most 1, and scale the next step by
+//! `0.9 err^(-1/q)` within `[0.2, 5]` (`q` = 5 for Dormand-Prince, 3 for
+//! Bogacki-Shampine; no growth right after a rejection); the first step comes from the
+//! sizes of `x`, `f` and one Euler step (Hairer, Norsett and Wanner, section II.4). The
+//! tolerance is [`Settings::tolerance`], or `rtol = atol = 0.01 min eps_i`
+//! ([`TOLERANCE_PER_EPS`]): a step's error then moves `s` by a small fraction of a
+//! crossing's tolerance (at `0.1 eps` the Bogacki-Shampine runs of `located.rs` overshoot
+//! to 1.05 eps between samples), and since steps are aimed at the next crossing anyway
+//! a tighter tolerance costs little (thesis scene, Dormand-Prince: 7.0 `f` per update
+//! at tolerances from 2e-2 to 1e-4, 10.9 at 1e-6). `z` is not part of the error
+//! estimate: its ramp is exact. Steps also end at [`Settings::max_step`], at the
+//! targets of [`Simulator::advance_to`], and under [`Policy::Fixed`] at the update
+//! times, so that the period itself is the step when the accuracy allows it. A step
+//! that produces a non-finite state is retried shorter (a large step can leave the
+//! model's domain where a smaller one does not) and reported ([`SimError::NonFinite`])
+//! when it keeps failing; a step that falls below what the time can resolve is
+//! [`SimError::StepUnderflow`], and [`Settings::max_steps`] bounds the work
+//! ([`SimError::StepLimit`]).
+//!
+//! # Which algebraic output to trust: `z`, `z_eq`, `z*`
+//!
+//! * `z` itself is the held ramp: it oscillates around the algebraic solution with an
+//!   amplitude set by the gains.
+//! * `z_eq = z - J_s^{-1} s(x, z)`, with the `J_s` factored at the last update: the `z`
+//!   that puts the state on the sliding surfaces `s = 0` (exact when `Omega` is affine
+//!   in `z` and `J_Omega` has not changed since the update).
+//! * `z* = z - J_Omega^{-1} Omega(t, x, z)`, with `Omega_i = w_i^(r_i - 1)` and
+//!   `J_Omega` at the current state (one exact factorisation and solve per recorded
+//!   sample): the `z` of the index-1 reduction `Omega = 0`, exact where `Omega` is
+//!   affine in `z` (one Newton step otherwise). Its error is that of the state alone.
+//!
+//! **Trust `z*`.** Largest errors against exact solutions (over `t >= 0.5`,
+//! Dormand-Prince at its default tolerance; `cargo test --release -p dae-runtime --test
+//! exact z_star -- --nocapture` and `cargo test --release -p dae-bench --test tension
+//! -- --nocapture`):
+//!
+//! | model | eps | `z` | `z_eq` | `z*` |
+//! |---|---|---|---|---|
+//! | index 4: `x1' = x2, x2' = x3, x3' = z, 0 = x1 - sin t` (`mu = 0.05`, `k = 20 eps`, exact alpha) | 1e-2 | 1.0e2 | 8.0e1 | 6.9e-15 |
+//! | | 1e-3 | 1.0e1 | 7.9e0 | 8.9e-16 |
+//! | | 1e-4 | 8.6e-1 | 3.2e-1 | 5.6e-17 |
+//! | index 2: `x' = z - x, 0 = x - sin t` (`mu = 0.05`, `k = 2`, exact alpha) | 1e-2 | 2.1e-1 | 8.3e-3 | 4.4e-4 |
+//! | | 1e-3 | 2.0e-2 | 7.1e-6 | 3.8e-7 |
+//! | | 1e-4 | 2.0e-3 | 3.8e-7 | 2.0e-8 |
+//! | double pendulum, link tensions at `t = 2` against the minimal-coordinate truth (`mu = 0.05`, `k = 1.5 mu^2 max abs(beta)`) | 1e-3 | 1.3e-2 | 6.2e-3 | 1.2e-3 |
+//! | | 1e-4 | 3.6e-3 | 5.5e-4 | 1.0e-4 |
+//! | | 1e-5 | 1.9e-4 | 5.3e-5 | 1.0e-5 |
+//!
+//! For the index-4 chain `Omega = z + cos t` does not depend on `x`, so `z*` is exact
+//! to rounding, while `z_eq - z = -s / mu^3` amplifies the layer (issue 12 measured
+//! `z_eq(3) = 1.32` against `-cos 3 = 0.990` at `eps = 1e-3`). For index 2
+//! `z* - z = -w`, bounded by `eps` (T 3.10) and in practice far below. For the
+//! pendulum `z*` is the tension of a rigid link at the simulated state (`w'' = 0`), so
+//! its error is the state's: first order in `eps`, five to ten times below `z_eq`'s.
+//!
+//! # A run in pieces
+//!
+//! [`Simulator::start`], [`Simulator::advance_to`] any number of times, and
+//! [`Simulator::finish`] (what [`Simulator::run`] does over `[t_start, t_end]`). The
+//! simulator owns its model ([`Model`] is implemented for `&T`, `&mut T` and `Box<T>`):
+//! between pieces [`Simulator::model_mut`] changes it (a parameter, a particle pinned
+//! or released; what was cached at the current point is evaluated again before the
+//! next step) and [`Simulator::request_update`] forces a control update at the current
+//! time. Steps end at every piece's target; the sample there is recorded once, when
+//! the run goes on (after a requested update) or finishes. A change that puts `s`
+//! outside its layers after reaching is reported as a lost bound (below).
+//!
+//! # When the bound is not kept
+//!
+//! A run does not stop when a layer is left after reaching: the trace goes on to the
+//! end and [`Summary::bound_loss`] ([`BoundLoss`]) records when and which constraint
+//! left first, the largest `|s_i| / eps_i` with its constraint and time, every
+//! constraint that left, and how many steps and how much time were spent beyond
+//! `(1 + bound_tol) eps_i` (on the dense `s` with located crossings). A nearly singular
+//! `J_s` is named there too: the pivots of every factorisation are compared with the
+//! largest seen in the run ([`LinearSolver::pivot_range`]; dense LU, sparse and tree
+//! factors, Jacobi and ILU(0) have pivots, the Gauss-Seidel and CG iterations do not),
+//! and a ratio below [`NEAR_SINGULAR`] (1e-3: the control `v`, and with it the drift
+//! bound `M` the gains were designed for, grow by its inverse) is reported with its
+//! time; the smallest ratio of every run is [`Summary::min_pivot_ratio`]. When the
+//! reaching phase does not finish by the end (or the settle time reaches past it) the
+//! window statistics are `None`, never zeros, and [`Summary::seen_max_abs_s`],
+//! [`Summary::seen_max_abs_w`] and the final [`Summary::s`], [`Summary::w`] say what the
+//! run did. [`Summary::bound_held`] is the one test of a kept promise.
 //!
 //! # Solving with `J_s`
 //!
@@ -119,7 +264,7 @@
 //!
 //! **`z` and `z_eq` with an approximate inverse.** `z` is still the held ramp: it
 //! oscillates around the algebraic solution `z*` with an amplitude set by the gains, so
-//! raised gains widen it. `z_eq = z - J_hat^{-1} s` is one quasi-Newton step towards the
+//! raised gains widen it (`z*` itself is always computed with an exact solver). `z_eq = z - J_hat^{-1} s` is one quasi-Newton step towards the
 //! `z` on `s = 0`: for `Omega` affine in `z`, `z_eq - z* = (I - J_hat^{-1} J_s)(z - z*)`,
 //! so it improves on `z` only as far as `J_hat` is good (`|I - J_hat^{-1} J_s| < 1`;
 //! for `jacobi` on a weakly dominant chain barely). The iterative solvers warm-start
@@ -132,8 +277,11 @@
 //! Samples go to a [`Sink`]: a [`Trace`] in memory, a [`CsvSink`] that streams, either
 //! wrapped in [`Decimate`] to keep every k-th step or a minimum time spacing, two of them
 //! at once with [`Tee`] (an `Option` of a sink is a sink that may be absent). Update
-//! times are always recorded. A failed run leaves the sink with everything up to the
-//! failure.
+//! times are always recorded. A sample is a step's end: with error-controlled steps
+//! about one per control interval (limit [`Settings::max_step`] for a denser trace).
+//! Each recorded sample costs one solve for `z_eq` and one factorisation of `J_Omega`
+//! for `z*`; a sink that reads neither says so ([`Sink::algebraic_outputs`]). A failed
+//! run leaves the sink with everything up to the failure.
 //!
 //! # Example
 //!
@@ -214,10 +362,13 @@ mod summary;
 mod trace;
 
 pub use error::{Quantity, SimError};
-pub use settings::{AlphaChoice, Initial, Integrator, Policy, Reaching, Settings};
+pub use settings::{
+    AlphaChoice, BOUND_TOL, CROSSING_TOL, Crossing, Initial, Integrator, Policy, Reaching,
+    Settings, TOLERANCE_PER_EPS, Tolerance,
+};
 pub use sim::Simulator;
 pub use solve::{
     DENSE_MAX, InverseKind, LinearSolver, SolveError, Solver, SolverChoice, SolverStats, mul_js,
 };
-pub use summary::{SolverSummary, Summary};
+pub use summary::{BoundLoss, NEAR_SINGULAR, NearSingular, SolverSummary, Summary};
 pub use trace::{CsvSink, Decimate, Layout, NoTrace, Sample, Sink, Tee, Trace};

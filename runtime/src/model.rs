@@ -63,6 +63,123 @@ pub trait Model {
     fn beta(&self, t: f64, x: &[f64], z: &[f64], beta: &mut [f64]);
 }
 
+/// Forwards every method, so that a simulator can borrow its model
+/// (`Simulator::new(&model, settings)`). Parameters cannot change through a shared
+/// reference: [`Model::set_param`] panics here; give the simulator the model by value
+/// (or as `&mut`) to change parameters between pieces of a run.
+impl<T: Model + ?Sized> Model for &T {
+    fn name(&self) -> &str {
+        (**self).name()
+    }
+    fn n_states(&self) -> usize {
+        (**self).n_states()
+    }
+    fn n_constraints(&self) -> usize {
+        (**self).n_constraints()
+    }
+    fn n_params(&self) -> usize {
+        (**self).n_params()
+    }
+    fn state_name(&self, i: usize) -> &str {
+        (**self).state_name(i)
+    }
+    fn alg_name(&self, i: usize) -> &str {
+        (**self).alg_name(i)
+    }
+    fn constraint_name(&self, i: usize) -> &str {
+        (**self).constraint_name(i)
+    }
+    fn param_name(&self, i: usize) -> &str {
+        (**self).param_name(i)
+    }
+    fn indices(&self) -> &[usize] {
+        (**self).indices()
+    }
+    fn param(&self, i: usize) -> f64 {
+        (**self).param(i)
+    }
+    fn set_param(&mut self, i: usize, _: f64) {
+        panic!(
+            "set_param({i}) on a model borrowed by shared reference: give the simulator the model by value or as &mut to change its parameters"
+        )
+    }
+    fn initial_state(&self, x: &mut [f64]) {
+        (**self).initial_state(x)
+    }
+    fn initial_alg(&self, z: &mut [f64]) {
+        (**self).initial_alg(z)
+    }
+    fn rhs(&self, t: f64, x: &[f64], z: &[f64], dx: &mut [f64]) {
+        (**self).rhs(t, x, z, dx)
+    }
+    fn sliding(
+        &self,
+        t: f64,
+        x: &[f64],
+        z: &[f64],
+        mu: &[f64],
+        w: &mut [f64],
+        s: &mut [f64],
+        alpha_hat: &mut [f64],
+    ) {
+        (**self).sliding(t, x, z, mu, w, s, alpha_hat)
+    }
+    fn jacobian_pattern(&self) -> &[(usize, usize)] {
+        (**self).jacobian_pattern()
+    }
+    fn jacobian(&self, t: f64, x: &[f64], z: &[f64], values: &mut [f64]) {
+        (**self).jacobian(t, x, z, values)
+    }
+    fn beta(&self, t: f64, x: &[f64], z: &[f64], beta: &mut [f64]) {
+        (**self).beta(t, x, z, beta)
+    }
+}
+
+macro_rules! forward_owned {
+    ($($ty:ty),*) => {$(
+        /// Forwards every method (parameters can change).
+        impl<T: Model + ?Sized> Model for $ty {
+            fn name(&self) -> &str { (**self).name() }
+            fn n_states(&self) -> usize { (**self).n_states() }
+            fn n_constraints(&self) -> usize { (**self).n_constraints() }
+            fn n_params(&self) -> usize { (**self).n_params() }
+            fn state_name(&self, i: usize) -> &str { (**self).state_name(i) }
+            fn alg_name(&self, i: usize) -> &str { (**self).alg_name(i) }
+            fn constraint_name(&self, i: usize) -> &str { (**self).constraint_name(i) }
+            fn param_name(&self, i: usize) -> &str { (**self).param_name(i) }
+            fn indices(&self) -> &[usize] { (**self).indices() }
+            fn param(&self, i: usize) -> f64 { (**self).param(i) }
+            fn set_param(&mut self, i: usize, value: f64) { (**self).set_param(i, value) }
+            fn initial_state(&self, x: &mut [f64]) { (**self).initial_state(x) }
+            fn initial_alg(&self, z: &mut [f64]) { (**self).initial_alg(z) }
+            fn rhs(&self, t: f64, x: &[f64], z: &[f64], dx: &mut [f64]) {
+                (**self).rhs(t, x, z, dx)
+            }
+            fn sliding(
+                &self,
+                t: f64,
+                x: &[f64],
+                z: &[f64],
+                mu: &[f64],
+                w: &mut [f64],
+                s: &mut [f64],
+                alpha_hat: &mut [f64],
+            ) {
+                (**self).sliding(t, x, z, mu, w, s, alpha_hat)
+            }
+            fn jacobian_pattern(&self) -> &[(usize, usize)] { (**self).jacobian_pattern() }
+            fn jacobian(&self, t: f64, x: &[f64], z: &[f64], values: &mut [f64]) {
+                (**self).jacobian(t, x, z, values)
+            }
+            fn beta(&self, t: f64, x: &[f64], z: &[f64], beta: &mut [f64]) {
+                (**self).beta(t, x, z, beta)
+            }
+        }
+    )*};
+}
+
+forward_owned!(&mut T, Box<T>);
+
 /// Offsets of each constraint's w-derivatives in the flat `w` array, plus the total
 /// length as the last element (`offsets.len() == m + 1`).
 pub fn w_offsets(indices: &[usize]) -> Vec<usize> {

@@ -5,13 +5,76 @@ use serde::{Deserialize, Serialize};
 use crate::{SimError, SolverChoice};
 
 /// How `x` (and, between updates, `z` along its exact ramp) is integrated over a step.
+///
+/// Inside every stage `z` follows its exact zero-order-hold ramp
+/// `z_b + v (t - t_b)` (evaluated as `z(t) + c h v`), whatever the integrator.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Integrator {
-    /// Explicit Euler, one `f` evaluation per step.
+    /// Explicit Euler with the fixed step [`Settings::step`], one `f` evaluation per
+    /// step.
     Euler,
-    /// Classical fourth-order Runge-Kutta, four `f` evaluations per step. Inside the
-    /// stages `z` follows its exact zero-order-hold ramp `z_b + v (t - t_b)`.
+    /// Classical fourth-order Runge-Kutta with the fixed step [`Settings::step`], four
+    /// `f` evaluations per step.
     Rk4,
+    /// The Dormand-Prince 5(4) pair with error control ([`Settings::tolerance`]): six
+    /// `f` evaluations per accepted step (the seventh is the next step's first), and a
+    /// free dense output of order 4 on which crossings are located.
+    DormandPrince,
+    /// The Bogacki-Shampine 3(2) pair with error control: three `f` evaluations per
+    /// accepted step, cubic Hermite dense output.
+    BogackiShampine,
+}
+
+impl Integrator {
+    /// Whether the step is chosen by an error estimate (the embedded pairs).
+    pub fn is_adaptive(self) -> bool {
+        matches!(self, Self::DormandPrince | Self::BogackiShampine)
+    }
+}
+
+/// Error tolerances of the embedded pairs: a step is accepted when the RMS over the
+/// states of `err_i / (atol + rtol max(|x_i|, |x_i,new|))` is at most 1.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Tolerance {
+    /// Relative tolerance.
+    pub rtol: f64,
+    /// Absolute tolerance.
+    pub atol: f64,
+}
+
+/// Factor between the smallest layer `eps_i` and the tolerance derived from it when
+/// [`Settings::tolerance`] is not given: `rtol = atol = TOLERANCE_PER_EPS * min eps_i`.
+/// Measured on the double pendulum (docs/work-precision.md): at this factor the position
+/// error stays that of the layer and one step usually spans a control interval.
+pub const TOLERANCE_PER_EPS: f64 = 0.01;
+
+/// How the monitoring policy and the reaching-phase rules find the moment to update.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Crossing {
+    /// Located inside the step (the default): a cubic Hermite of every `s_i` from `s`
+    /// and `s' = J_s v + alpha` at both ends of a step finds the first outward crossing
+    /// of a layer boundary (also an excursion that leaves and re-enters within the
+    /// step); the crossing is refined on the true `s` along the integrator's dense
+    /// output, the step is cut there (re-integrated to the crossing by the fixed-step
+    /// integrators) and the control updated. `|s_i|` then exceeds `eps_i` by at most
+    /// the relative tolerance `tol` at the updates, for any step.
+    Located {
+        /// Relative tolerance of the located crossing: `|s_i| / eps_i` in
+        /// `[1 - tol, 1 + tol]` at the update.
+        tol: f64,
+    },
+    /// Checked at the end of each step only (the thesis's rule, kept to reproduce its
+    /// numbers): `s_i` can overshoot its layer by one step of motion, `|s_i'| h`.
+    StepEnd,
+}
+
+/// Default relative tolerance of a located crossing.
+pub const CROSSING_TOL: f64 = 1e-3;
+
+impl Default for Crossing {
+    fn default() -> Self {
+        Crossing::Located { tol: CROSSING_TOL }
+    }
 }
 
 /// When the control `v` is recomputed.
@@ -78,10 +141,30 @@ pub struct Settings {
     /// Crossing margins `k_i^c >= 0` used when counting robustness violations
     /// (T 3.22); zero unless configured.
     pub crossing_margin: Vec<f64>,
-    /// Fixed integration step `h > 0`.
+    /// Integration step `h > 0` of the fixed-step integrators (Euler, RK4); the
+    /// embedded pairs ignore it (their first step is chosen from the tolerance).
     pub step: f64,
     /// Integrator for `x`.
     pub integrator: Integrator,
+    /// Tolerances of the embedded pairs; `None` derives them from the layers
+    /// ([`TOLERANCE_PER_EPS`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<Tolerance>,
+    /// Largest step of the embedded pairs (default: unlimited).
+    #[serde(default = "infinite")]
+    pub max_step: f64,
+    /// How crossings are found (located inside the step by default).
+    #[serde(default)]
+    pub crossing: Crossing,
+    /// Most integration steps (accepted and rejected) a run may take before it stops
+    /// with [`SimError::StepLimit`] (default: unlimited).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_steps: Option<u64>,
+    /// Relative excess of `|s_i|` over `eps_i` beyond which the layer counts as lost
+    /// after reaching ([`Summary::bound_loss`](crate::Summary::bound_loss)); default
+    /// [`BOUND_TOL`].
+    #[serde(default = "default_bound_tol")]
+    pub bound_tol: f64,
     /// Update policy.
     pub policy: Policy,
     /// Reaching-phase rule (monitoring only).
@@ -115,6 +198,19 @@ pub struct Settings {
     pub initial: Option<Initial>,
 }
 
+fn infinite() -> f64 {
+    f64::INFINITY
+}
+
+fn default_bound_tol() -> f64 {
+    BOUND_TOL
+}
+
+/// Default [`Settings::bound_tol`]: 1 %, ten times the default crossing tolerance
+/// [`CROSSING_TOL`], so that located crossings never count as a loss while any real
+/// excursion does.
+pub const BOUND_TOL: f64 = 0.01;
+
 /// A start point given from outside the model: `n` states and `m` algebraic values.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Initial {
@@ -126,8 +222,9 @@ pub struct Initial {
 
 impl Settings {
     /// Settings with the given layers, time constants and gains, and defaults: RK4 with
-    /// `h = 1e-4`, monitoring, attracting surfaces, cheap `alpha_hat`, `t` from 0 to 1,
-    /// no settle time, no reaching limit, zero crossing margins, robustness counting on.
+    /// `h = 1e-4`, crossings located inside the step, monitoring, attracting surfaces,
+    /// cheap `alpha_hat`, `t` from 0 to 1, no settle time, no reaching limit, zero
+    /// crossing margins, robustness counting on.
     pub fn new(eps: Vec<f64>, mu: Vec<f64>, gains: Vec<f64>) -> Self {
         let m = eps.len();
         Self {
@@ -137,6 +234,11 @@ impl Settings {
             crossing_margin: vec![0.0; m],
             step: 1e-4,
             integrator: Integrator::Rk4,
+            tolerance: None,
+            max_step: f64::INFINITY,
+            crossing: Crossing::default(),
+            max_steps: None,
+            bound_tol: BOUND_TOL,
             policy: Policy::Monitor,
             reaching: Reaching::AttractingSurfaces,
             alpha: AlphaChoice::Cheap,
@@ -159,6 +261,48 @@ impl Settings {
     pub fn integrator(mut self, integrator: Integrator) -> Self {
         self.integrator = integrator;
         self
+    }
+    /// Set the tolerances of the embedded pairs.
+    pub fn tolerance(mut self, rtol: f64, atol: f64) -> Self {
+        self.tolerance = Some(Tolerance { rtol, atol });
+        self
+    }
+    /// Set the largest step of the embedded pairs.
+    pub fn max_step(mut self, h: f64) -> Self {
+        self.max_step = h;
+        self
+    }
+    /// Choose how crossings are found.
+    pub fn crossing(mut self, crossing: Crossing) -> Self {
+        self.crossing = crossing;
+        self
+    }
+    /// Set the relative excess over `eps` that counts as a lost layer.
+    pub fn bound_tol(mut self, tol: f64) -> Self {
+        self.bound_tol = tol;
+        self
+    }
+    /// Stop a run with [`SimError::StepLimit`] after this many integration steps.
+    pub fn max_steps(mut self, n: u64) -> Self {
+        self.max_steps = Some(n);
+        self
+    }
+
+    /// The tolerances the embedded pairs use: the given ones, or
+    /// `rtol = atol = TOLERANCE_PER_EPS * min eps_i` (1e-3 without constraints).
+    pub fn effective_tolerance(&self) -> Tolerance {
+        self.tolerance.unwrap_or_else(|| {
+            let e = self.eps.iter().copied().fold(f64::INFINITY, f64::min);
+            let tol = if e.is_finite() {
+                TOLERANCE_PER_EPS * e
+            } else {
+                1e-3
+            };
+            Tolerance {
+                rtol: tol,
+                atol: tol,
+            }
+        })
     }
     /// Set the update policy.
     pub fn policy(mut self, policy: Policy) -> Self {
@@ -288,6 +432,39 @@ impl Settings {
                     "[{}, {}] is not a finite, non-empty interval",
                     self.t_start, self.t_end
                 ),
+            );
+        }
+        if let Some(tol) = self.tolerance {
+            if !(tol.rtol.is_finite() && tol.rtol >= 0.0 && tol.atol.is_finite() && tol.atol >= 0.0)
+                || tol.rtol + tol.atol <= 0.0
+            {
+                return bad(
+                    "tolerance",
+                    format!(
+                        "rtol {} and atol {} must be finite, >= 0 and not both 0",
+                        tol.rtol, tol.atol
+                    ),
+                );
+            }
+        }
+        if !(self.bound_tol >= 0.0 && self.bound_tol.is_finite()) {
+            return bad(
+                "bound_tol",
+                format!("{} must be finite and >= 0", self.bound_tol),
+            );
+        }
+        if self.max_step.is_nan() || self.max_step <= 0.0 {
+            return bad("max_step", format!("{} must be > 0", self.max_step));
+        }
+        if let Crossing::Located { tol } = self.crossing {
+            if !(tol > 0.0 && tol < 0.5) {
+                return bad("crossing", format!("tolerance {tol} must be in (0, 0.5)"));
+            }
+        }
+        if self.policy == Policy::Spsm && self.integrator.is_adaptive() {
+            return bad(
+                "integrator",
+                "SPSM is integrated with a fixed step: choose Euler or RK4".into(),
             );
         }
         if let Policy::Fixed(p) = self.policy {

@@ -26,10 +26,61 @@ pub struct SolverSummary {
     pub gain_raises: u64,
 }
 
+/// A layer left after the reaching phase: some `|s_i|` exceeded `(1 + tol) eps_i`
+/// ([`Settings::bound_tol`](crate::Settings::bound_tol)) after all `|s_i| <= eps_i`
+/// had held. The run continues to its end (the trace keeps everything); this record
+/// says when, where and by how much.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BoundLoss {
+    /// When the layer was first left (on the dense output of `s` with located
+    /// crossings; the start of the step that ended outside otherwise).
+    pub first_time: f64,
+    /// The constraint that left first, by name.
+    pub first_constraint: String,
+    /// The largest `|s_i| / eps_i` after reaching.
+    pub worst_ratio: f64,
+    /// The end of the step in which it was seen.
+    pub worst_time: f64,
+    /// The constraint of the worst ratio.
+    pub worst_constraint: String,
+    /// Every constraint that left its layer.
+    pub constraints: Vec<String>,
+    /// Integration steps during which some `|s_i|` was beyond its bound.
+    pub steps_outside: u64,
+    /// Time spent beyond the bound (on the dense output with located crossings, whole
+    /// steps otherwise).
+    pub time_outside: f64,
+    /// Set when `J_s` was nearly singular during the run (see [`NearSingular`]).
+    pub near_singular: Option<NearSingular>,
+}
+
+/// `J_s` nearly singular: the smallest pivot of a factorisation fell below
+/// [`NEAR_SINGULAR`] times the largest pivot seen in the run so far.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct NearSingular {
+    /// The smallest pivot ratio seen.
+    pub pivot_ratio: f64,
+    /// The time of that update.
+    pub t: f64,
+}
+
+/// Pivot ratio (smallest pivot of a factorisation of `J_s` over the largest pivot seen
+/// in the run so far) under which `J_s` counts as nearly singular. A ratio `r` means
+/// that the control `v = J_s^{-1}(...)` is about `1/r` times larger than it was for the
+/// same right-hand side earlier in the run, and with it the drift of `w^(r)` within an
+/// interval (`M`, which contains `J_Omega' v`) that the gains were designed for: a
+/// thousandfold increase is beyond any design margin. Measured on the model with
+/// `J_Omega = cos t` (README, issue 14): the layer is lost within updates of the ratio
+/// falling below it.
+pub const NEAR_SINGULAR: f64 = 1e-3;
+
 /// What a run did and how well the constraints were kept.
 ///
 /// "Window" statistics are taken from `stats_from = max(reaching time, t_start + settle)`
-/// to the end; periods count only intervals whose both ends lie in the window.
+/// to the end; periods count only intervals whose both ends lie in the window. When
+/// the window was never entered (the reaching phase did not finish, or the settle time
+/// reaches past the end) the window statistics are `None`, and `seen_max_abs_s`,
+/// `seen_max_abs_w` and the final `s`, `w` say what the run did.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Summary {
     /// Model name.
@@ -38,8 +89,12 @@ pub struct Summary {
     pub constraints: Vec<String>,
     /// Final time reached.
     pub t_end: f64,
-    /// Number of integration steps.
+    /// Number of accepted integration steps (a step cut at a crossing counts once).
     pub steps: u64,
+    /// Steps rejected by the error control of the embedded pairs.
+    pub rejected_steps: u64,
+    /// Steps cut short at a located crossing.
+    pub located_crossings: u64,
     /// Number of control updates (for SPSM: control evaluations, one per stage).
     pub updates: u64,
     /// Number of updates during the reaching phase.
@@ -52,10 +107,22 @@ pub struct Summary {
     pub min_period: Option<f64>,
     /// Average update period in the window.
     pub mean_period: Option<f64>,
-    /// Largest `|s_i|` in the window, per constraint.
-    pub max_abs_s: Vec<f64>,
-    /// Largest constraint residual `|w_i|` in the window, per constraint.
-    pub max_abs_w: Vec<f64>,
+    /// Largest `|s_i|` in the window, per constraint (on the dense output of `s` with
+    /// located crossings, at step ends otherwise); `None` if the window was never
+    /// entered.
+    pub max_abs_s: Option<Vec<f64>>,
+    /// Largest constraint residual `|w_i|` in the window (at step ends), per
+    /// constraint; `None` if the window was never entered.
+    pub max_abs_w: Option<Vec<f64>>,
+    /// Largest `|s_i|` over the whole run, the reaching phase included.
+    pub seen_max_abs_s: Vec<f64>,
+    /// Largest `|w_i|` over the whole run (at step ends).
+    pub seen_max_abs_w: Vec<f64>,
+    /// The layer left after reaching, if it was.
+    pub bound_loss: Option<BoundLoss>,
+    /// The smallest pivot ratio of `J_s` in the run and its time (see
+    /// [`NEAR_SINGULAR`]); `None` for solvers without pivots.
+    pub min_pivot_ratio: Option<(f64, f64)>,
     /// Number of (update, constraint) pairs in the window where the robustness condition
     /// (T 3.22) failed for the solver's `J_hat` (with an exact solver
     /// `k_i > |alpha_i - alpha_hat_i| + k_i^c`); `None` if not checked.
@@ -65,11 +132,14 @@ pub struct Summary {
     /// The gains at the end of the run: the configured ones, unless
     /// [`Settings::raise_gains`](crate::Settings::raise_gains) raised some.
     pub gains: Vec<f64>,
-    /// Evaluations of `f` ([`Model::rhs`](crate::Model::rhs)).
-    pub rhs_evals: u64,
+    /// Evaluations of `f` ([`Model::rhs`](crate::Model::rhs)), every stage, rejected
+    /// step and re-integration included.
+    pub f_evals: u64,
     /// Evaluations of [`Model::sliding`](crate::Model::sliding).
     pub sliding_evals: u64,
-    /// Evaluations of [`Model::jacobian`](crate::Model::jacobian) (= factorisations).
+    /// Evaluations of [`Model::jacobian`](crate::Model::jacobian): at the updates, and
+    /// with located crossings at every step's end (for `s'`, reused by an update
+    /// there); also for `z*` at recorded samples.
     pub jacobian_evals: u64,
     /// Evaluations of [`Model::beta`](crate::Model::beta).
     pub beta_evals: u64,
@@ -81,4 +151,19 @@ pub struct Summary {
     pub z: Vec<f64>,
     /// Final `z_eq = z - J_s^{-1} s`.
     pub z_eq: Vec<f64>,
+    /// Final `z* = z - J_Omega^{-1} Omega(t, x, z)` (the crate docs say which output to
+    /// trust).
+    pub z_star: Vec<f64>,
+    /// Final sliding variables.
+    pub s: Vec<f64>,
+    /// Final constraint residuals.
+    pub w: Vec<f64>,
+}
+
+impl Summary {
+    /// Whether the window was entered and no layer was lost after reaching: the run
+    /// kept its promise.
+    pub fn bound_held(&self) -> bool {
+        self.reaching_time.is_some() && self.bound_loss.is_none()
+    }
 }

@@ -2,8 +2,9 @@
 //! [`CsvSink`], the [`Decimate`] adapter and the [`Tee`] that feeds two sinks.
 //!
 //! The simulator offers a sample after every step (and always the first and the last);
-//! it asks [`Sink::wants`] first, so that `z_eq` (one triangular solve) is only computed
-//! for samples that are kept. Update times go through [`Sink::update`] and are never
+//! it asks [`Sink::wants`] first, so that `z_eq` (one solve with the update's factors)
+//! and `z*` (one factorisation and solve at the sample) are only computed for samples
+//! that are kept. Update times go through [`Sink::update`] and are never
 //! decimated: there are few of them (except under SPSM, where every step is an update
 //! and none are reported).
 
@@ -14,20 +15,21 @@ use std::io::{self, Write};
 pub struct Layout {
     /// State names (`x`).
     pub states: Vec<String>,
-    /// Algebraic unknown names (`z` and `z_eq`).
+    /// Algebraic unknown names (`z`, `z_eq` and `z_star`).
     pub algs: Vec<String>,
     /// Constraint names (`s` and `w`).
     pub constraints: Vec<String>,
 }
 
 impl Layout {
-    /// CSV column names: `t`, then `x.<state>`, `z.<alg>`, `z_eq.<alg>`, `s.<constraint>`,
-    /// `w.<constraint>`.
+    /// CSV column names: `t`, then `x.<state>`, `z.<alg>`, `z_eq.<alg>`,
+    /// `z_star.<alg>`, `s.<constraint>`, `w.<constraint>`.
     pub fn columns(&self) -> Vec<String> {
         let mut c = vec!["t".to_string()];
         c.extend(self.states.iter().map(|n| format!("x.{n}")));
         c.extend(self.algs.iter().map(|n| format!("z.{n}")));
         c.extend(self.algs.iter().map(|n| format!("z_eq.{n}")));
+        c.extend(self.algs.iter().map(|n| format!("z_star.{n}")));
         c.extend(self.constraints.iter().map(|n| format!("s.{n}")));
         c.extend(self.constraints.iter().map(|n| format!("w.{n}")));
         c
@@ -45,8 +47,14 @@ pub struct Sample<'a> {
     pub x: &'a [f64],
     /// Algebraic unknowns as integrated (zero-order hold ramps).
     pub z: &'a [f64],
-    /// `z_eq = z - J_s^{-1} s(x, z)`: the algebraic values that put the state on `s = 0`.
+    /// `z_eq = z - J_s^{-1} s(x, z)` with the factors of the last update: the algebraic
+    /// values that put the state on `s = 0`. Empty when the sink declined the algebraic
+    /// outputs ([`Sink::algebraic_outputs`]).
     pub z_eq: &'a [f64],
+    /// `z* = z - J_Omega^{-1} Omega(t, x, z)` at this state: the algebraic values of the
+    /// index-1 reduction (exact where `Omega` is affine in `z`). Empty when the sink
+    /// declined the algebraic outputs.
+    pub z_star: &'a [f64],
     /// Sliding variables.
     pub s: &'a [f64],
     /// Constraint residuals `w_i = g_i(t, x, z)`.
@@ -63,6 +71,13 @@ pub trait Sink {
     /// the last samples are recorded regardless.
     fn wants(&self, step: u64, t: f64) -> bool {
         let _ = (step, t);
+        true
+    }
+    /// Whether the samples need `z_eq` and `z*` (one solve, and one factorisation of
+    /// `J_Omega` at the sample); a sink that never reads them (e.g. a pilot estimator)
+    /// returns `false` and then receives empty slices (unless another sink it is teed
+    /// with asks for them).
+    fn algebraic_outputs(&self) -> bool {
         true
     }
     /// Record one sample.
@@ -86,6 +101,9 @@ impl Sink for NoTrace {
     fn wants(&self, _: u64, _: f64) -> bool {
         false
     }
+    fn algebraic_outputs(&self) -> bool {
+        false
+    }
     fn record(&mut self, _: &Sample<'_>) -> io::Result<()> {
         Ok(())
     }
@@ -101,7 +119,7 @@ pub struct Trace {
     n: usize,
     m: usize,
     t: Vec<f64>,
-    /// Row-major rows of `x, z, z_eq, s, w`.
+    /// Row-major rows of `x, z, z_eq, z_star, s, w`.
     rows: Vec<f64>,
     updates: Vec<f64>,
 }
@@ -112,7 +130,7 @@ impl Trace {
         Self::default()
     }
     fn width(&self) -> usize {
-        self.n + 4 * self.m
+        self.n + 5 * self.m
     }
     fn row(&self, i: usize) -> &[f64] {
         let w = self.width();
@@ -146,13 +164,17 @@ impl Trace {
     pub fn z_eq(&self, i: usize) -> &[f64] {
         &self.row(i)[self.n + self.m..self.n + 2 * self.m]
     }
+    /// `z*` of sample `i`.
+    pub fn z_star(&self, i: usize) -> &[f64] {
+        &self.row(i)[self.n + 2 * self.m..self.n + 3 * self.m]
+    }
     /// Sliding variables of sample `i`.
     pub fn s(&self, i: usize) -> &[f64] {
-        &self.row(i)[self.n + 2 * self.m..self.n + 3 * self.m]
+        &self.row(i)[self.n + 3 * self.m..self.n + 4 * self.m]
     }
     /// Constraint residuals of sample `i`.
     pub fn w(&self, i: usize) -> &[f64] {
-        &self.row(i)[self.n + 3 * self.m..]
+        &self.row(i)[self.n + 4 * self.m..]
     }
     /// Times of all control updates.
     pub fn update_times(&self) -> &[f64] {
@@ -188,7 +210,7 @@ impl Sink for Trace {
     }
     fn record(&mut self, s: &Sample<'_>) -> io::Result<()> {
         self.t.push(s.t);
-        for part in [s.x, s.z, s.z_eq, s.s, s.w] {
+        for part in [s.x, s.z, s.z_eq, s.z_star, s.s, s.w] {
             self.rows.extend_from_slice(part);
         }
         Ok(())
@@ -244,7 +266,7 @@ impl<W: Write> Sink for CsvSink<W> {
     }
     fn record(&mut self, s: &Sample<'_>) -> io::Result<()> {
         write!(self.out, "{}", s.t)?;
-        for part in [s.x, s.z, s.z_eq, s.s, s.w] {
+        for part in [s.x, s.z, s.z_eq, s.z_star, s.s, s.w] {
             for v in part {
                 write!(self.out, ",{v}")?;
             }
@@ -312,6 +334,9 @@ impl<S: Sink> Sink for Decimate<S> {
     fn wants(&self, step: u64, t: f64) -> bool {
         step % self.every == 0 && t - self.last_t >= self.min_spacing && self.inner.wants(step, t)
     }
+    fn algebraic_outputs(&self) -> bool {
+        self.inner.algebraic_outputs()
+    }
     fn record(&mut self, s: &Sample<'_>) -> io::Result<()> {
         self.last_t = s.t;
         self.inner.record(s)
@@ -332,6 +357,9 @@ impl<S: Sink> Sink for Option<S> {
     }
     fn wants(&self, step: u64, t: f64) -> bool {
         self.as_ref().is_some_and(|s| s.wants(step, t))
+    }
+    fn algebraic_outputs(&self) -> bool {
+        self.as_ref().is_some_and(|s| s.algebraic_outputs())
     }
     fn record(&mut self, sample: &Sample<'_>) -> io::Result<()> {
         self.as_mut().map_or(Ok(()), |s| s.record(sample))
@@ -358,6 +386,9 @@ impl<A: Sink, B: Sink> Sink for Tee<A, B> {
     }
     fn wants(&self, step: u64, t: f64) -> bool {
         self.0.wants(step, t) || self.1.wants(step, t)
+    }
+    fn algebraic_outputs(&self) -> bool {
+        self.0.algebraic_outputs() || self.1.algebraic_outputs()
     }
     fn record(&mut self, s: &Sample<'_>) -> io::Result<()> {
         // The simulator records the first sample (step 0), the last, and what `wants`.

@@ -3,11 +3,13 @@
 mod common;
 
 use common::Tracking;
-use dae_runtime::{Quantity, Settings, SimError, Simulator, Trace};
+use dae_runtime::{Crossing, Quantity, Settings, SimError, Simulator, Trace};
 
+/// A fixed grid (the step-end rule), so that the failure's time is a grid point.
 fn settings() -> Settings {
     Settings::new(vec![1e-3], vec![0.05], vec![0.2])
         .step(1e-3)
+        .crossing(Crossing::StepEnd)
         .t_end(2.0)
 }
 
@@ -66,6 +68,12 @@ fn singular_jacobian_names_the_constraint_and_time() {
         .unwrap()
         .run(&mut Trace::new())
         .unwrap_err();
+    // Named as written, not as a debug list (`["track"]`).
+    let text = err.to_string();
+    assert!(
+        text.contains("constraints `track` have") && !text.contains('['),
+        "{text}"
+    );
     match err {
         SimError::SingularJacobian {
             t,

@@ -3,7 +3,7 @@
 mod common;
 
 use common::{Chain, Tracking};
-use dae_runtime::{AlphaChoice, Model, Policy, Settings, Simulator, Trace};
+use dae_runtime::{AlphaChoice, Integrator, Model, Policy, Settings, Simulator, Trace};
 
 /// Max errors of `x[0]` and `z_eq[0]` against the exact solution over `t >= 0.5`.
 fn errors<M: Model>(
@@ -117,4 +117,72 @@ fn spsm_baseline_converges_linearly_in_eps() {
     }
     assert_first_order("SPSM index 2, x", &ex);
     assert_first_order("SPSM index 2, z_eq", &ez);
+}
+
+/// Max errors of `z`, `z_eq` and `z*` over `t >= 0.5` against the exact `z`.
+fn algebraic_errors<M: Model>(model: &M, settings: Settings, exact_z: fn(f64) -> f64) -> [f64; 3] {
+    let mut trace = Trace::new();
+    let s = Simulator::new(model, settings)
+        .unwrap()
+        .run(&mut trace)
+        .unwrap();
+    assert!(s.bound_held(), "{:?}", s.bound_loss);
+    let mut e = [0.0f64; 3];
+    for (i, &t) in trace.times().iter().enumerate() {
+        if t >= 0.5 {
+            let z = exact_z(t);
+            e[0] = e[0].max((trace.z(i)[0] - z).abs());
+            e[1] = e[1].max((trace.z_eq(i)[0] - z).abs());
+            e[2] = e[2].max((trace.z_star(i)[0] - z).abs());
+        }
+    }
+    e
+}
+
+/// Which algebraic output to trust (the crate docs' table): `z*` solves `Omega = 0` at
+/// the current state. Index 4 (`Omega = z + cos t`, independent of `x`): `z*` is exact.
+/// Index 2 (`Omega = z - x - cos t`): `z* - z_exact = -(x - sin t) = -w`, bounded by
+/// eps (T 3.10) and below `z_eq`'s error.
+#[test]
+fn z_star_is_exact_for_the_chain_and_within_the_layer_for_the_tracking_model() {
+    let mut chain = Vec::new();
+    let mut track = Vec::new();
+    for eps in [1e-2, 1e-3, 1e-4] {
+        // The setting for the chain: mu = 0.05; exact alpha, gain 20 eps.
+        let s = Settings::new(vec![eps], vec![0.05], vec![20.0 * eps])
+            .integrator(Integrator::DormandPrince)
+            .alpha(AlphaChoice::Exact)
+            .t_end(3.0);
+        chain.push(algebraic_errors(&Chain, s, |t| -t.cos()));
+        // A fixed gain: the update period 2 eps / k shrinks with the layer, so that the
+        // ramp's own error (about z'' T^2) does not put a floor under the error.
+        let s = Settings::new(vec![eps], vec![0.05], vec![2.0])
+            .integrator(Integrator::DormandPrince)
+            .alpha(AlphaChoice::Exact)
+            .t_end(3.0);
+        track.push(algebraic_errors(&Tracking::default(), s, |t| {
+            t.sin() + t.cos()
+        }));
+    }
+    for (label, rows) in [("index 4 chain", &chain), ("index 2 tracking", &track)] {
+        for (eps, r) in [1e-2, 1e-3, 1e-4].iter().zip(rows.iter()) {
+            eprintln!(
+                "{label}, eps {eps:e}: max |z - z_exact| {:.3e}, |z_eq - z_exact| {:.3e}, |z* - z_exact| {:.3e}",
+                r[0], r[1], r[2]
+            );
+        }
+    }
+    for r in &chain {
+        assert!(r[2] < 1e-12, "chain z* {r:?}");
+        assert!(r[1] > 1e6 * r[2], "chain z_eq {r:?}");
+    }
+    // z* - z_exact = -w, and |w| <= eps inside the layer (T 3.10); measured well below.
+    for (eps, r) in [1e-2, 1e-3, 1e-4].iter().zip(&track) {
+        assert!(r[2] <= 0.1 * eps, "tracking {r:?}");
+        assert!(r[2] <= r[1] && r[2] <= r[0], "tracking {r:?}");
+    }
+    assert!(
+        track.windows(2).all(|p| p[1][2] < 0.2 * p[0][2]),
+        "{track:?}"
+    );
 }

@@ -6,8 +6,8 @@ mod common;
 use common::Tracking;
 use common::pendulum::Pendulum;
 use dae_runtime::{
-    AutoDesignOptions, ConstraintSpec, GainChoice, LayerBound, MuChoice, PilotRunError, Policy,
-    Settings, Simulator, Trace, auto_design, pilot_run, t_min,
+    AutoDesignOptions, ConstraintSpec, Crossing, GainChoice, LayerBound, MuChoice, PilotRunError,
+    Policy, Settings, Simulator, Trace, auto_design, pilot_run, t_min,
 };
 
 /// Tracking (`x' = z - x`, `0 = x - sin t`): `beta = -(z - x) + sin t` and, with `v`
@@ -78,8 +78,10 @@ fn spsm_cannot_be_a_pilot() {
 /// chaotic, so the bounds depend on the trajectory the pilot happens to take).
 #[test]
 fn auto_design_of_the_pendulum_is_of_the_thesis_order() {
+    // The thesis's rule: crossings noticed at the ends of RK4 steps of 1e-4 s.
     let pilot = Settings::new(vec![0.2; 2], vec![0.1; 2], vec![40.0; 2])
         .step(1e-4)
+        .crossing(Crossing::StepEnd)
         .t_end(10.0)
         .settle(1.0);
     let opts = AutoDesignOptions {

@@ -11,11 +11,11 @@ use super::{BaselineError, ZSolver};
 /// before a summary exists).
 pub fn spsm_stable(summary: &Summary, eps: &[f64]) -> bool {
     summary.reaching_time.is_some()
-        && summary
-            .max_abs_s
-            .iter()
-            .zip(eps)
-            .all(|(s, e)| s.is_finite() && *s <= 2.0 * e)
+        && summary.max_abs_s.as_ref().is_some_and(|max| {
+            max.iter()
+                .zip(eps)
+                .all(|(s, e)| s.is_finite() && *s <= 2.0 * e)
+        })
 }
 
 /// Result of [`largest_stable_step`].

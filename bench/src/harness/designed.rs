@@ -3,11 +3,11 @@
 //! guaranteed period over `mu_i` with relaxed gains `k_i = mu_i^(r-1) |beta_i|`).
 
 use dae_runtime::{
-    AutoDesignOptions, GainChoice, LayerBound, Model, MuSearch, Settings, auto_design, design,
-    pilot_specs,
+    AutoDesignOptions, Crossing, GainChoice, LayerBound, Model, MuSearch, Settings, auto_design,
+    design, pilot_specs,
 };
 
-use super::{Method, Scene};
+use super::{DbsmcStep, Method, Scene, step_rule};
 
 /// The pilot bounds of a scene, from which [`DesignedBounds::dbsmc`] designs DBSMC for
 /// any layer.
@@ -32,10 +32,12 @@ pub fn designed_bounds<M: Model + ?Sized>(
 ) -> Result<DesignedBounds, String> {
     let m = scene.model.n_constraints();
     let gains = scene.gains(0.05, 1.5);
-    let k = gains.iter().fold(0.0f64, |a, b| a.max(*b));
-    let step = (0.2 * eps_pilot / k).clamp(1e-6, h_max.max(1e-6));
+    let step = step_rule(eps_pilot, &gains, h_max);
+    // The pilot as before located crossings (RK4, the step rule, step-end crossings):
+    // dense samples in every interval for the drift bound M.
     let pilot = Settings::new(vec![eps_pilot; m], vec![0.05; m], gains)
         .step(step)
+        .crossing(Crossing::StepEnd)
         .t_end(scene.t_end)
         .check_robustness(false)
         .initial(scene.x0.clone(), scene.z0.clone());
@@ -62,9 +64,10 @@ pub fn designed_bounds<M: Model + ?Sized>(
 
 impl DesignedBounds {
     /// [`Method::DbsmcDesigned`] at layer `eps`: `mu_i`, `k_i` from the runtime's
-    /// `design` (relaxed gains, general layer bound, default `mu` search), step
-    /// `h = 0.2 eps / max k_i` clamped to `[1e-6, h_max]` as in [`Scene::dbsmc`].
-    pub fn dbsmc(&self, eps: f64, h_max: f64) -> Result<Method, String> {
+    /// `design` (relaxed gains, general layer bound, default `mu` search), integrated as
+    /// `step` says; with `None`, the step rule of before located crossings
+    /// (`h = 0.2 eps / max k_i` clamped to `[1e-6, h_max]`, step-end crossings).
+    pub fn dbsmc(&self, eps: f64, step: Option<DbsmcStep>, h_max: f64) -> Result<Method, String> {
         let est = dae_runtime::PilotEstimate {
             beta_abs: self.beta_abs.clone(),
             m: self.m.clone(),
@@ -77,12 +80,12 @@ impl DesignedBounds {
         let d =
             design(&specs, GainChoice::Relaxed, &MuSearch::default()).map_err(|e| e.to_string())?;
         let gains: Vec<f64> = d.constraints.iter().map(|c| c.k).collect();
-        let k = gains.iter().fold(0.0f64, |a, b| a.max(*b));
+        let step = step.unwrap_or_else(|| DbsmcStep::StepEnd(step_rule(eps, &gains, h_max)));
         Ok(Method::DbsmcDesigned {
             eps,
             mu: d.constraints.iter().map(|c| c.mu).collect(),
             gains,
-            step: (0.2 * eps / k).clamp(1e-6, h_max.max(1e-6)),
+            step,
         })
     }
 }

@@ -6,7 +6,7 @@ mod designed;
 
 use std::io::{self, Write};
 
-use dae_runtime::{Initial, Model, NoTrace, Policy, Settings, Simulator};
+use dae_runtime::{Crossing, Initial, Integrator, Model, NoTrace, Policy, Settings, Simulator};
 
 use crate::baseline::{BaselineError, IndexOneRk4, IndexOneSettings};
 #[cfg(feature = "bdf")]
@@ -60,20 +60,25 @@ impl<M: Model + ?Sized> Scene<'_, M> {
     }
 
     /// DBSMC with monitoring at layer `eps`, time constant `mu` and gains
-    /// [`Scene::gains`]`(mu, gain_factor)`, with the step chosen so that one step moves
-    /// `s` by at most a fifth of the layer (`h = 0.2 eps / max k_i`, at most `h_max`):
-    /// crossings are detected at step ends, so the overshoot is `|s'| h ~ k h`. The step
-    /// is kept at or above `1e-6` s so that a run stays affordable; below that the layer
-    /// is overshot and the run's figures show it.
-    pub fn dbsmc(&self, eps: f64, mu: f64, gain_factor: f64, h_max: f64) -> Method {
-        let k = self
-            .gains(mu, gain_factor)
-            .into_iter()
-            .fold(0.0f64, f64::max);
+    /// [`Scene::gains`]`(mu, gain_factor)`, with the runtime's error-controlled steps and
+    /// located crossings ([`DbsmcStep::Adaptive`]).
+    pub fn dbsmc(&self, eps: f64, mu: f64, gain_factor: f64) -> Method {
         Method::Dbsmc {
             eps,
             mu,
-            step: (0.2 * eps / k).clamp(1e-6, h_max.max(1e-6)),
+            step: DbsmcStep::Adaptive,
+            gain_factor,
+        }
+    }
+
+    /// The same with the rule used before crossings were located: RK4 with the step
+    /// chosen so that one step moves `s` by at most a fifth of the layer
+    /// (`h = 0.2 eps / max k_i`, in `[1e-6, h_max]`), crossings noticed at step ends.
+    pub fn dbsmc_step_rule(&self, eps: f64, mu: f64, gain_factor: f64, h_max: f64) -> Method {
+        Method::Dbsmc {
+            eps,
+            mu,
+            step: DbsmcStep::StepEnd(step_rule(eps, &self.gains(mu, gain_factor), h_max)),
             gain_factor,
         }
     }
@@ -127,18 +132,58 @@ pub fn pilot_beta_bound<M: Model + ?Sized>(
     Ok(bound)
 }
 
+/// `h = 0.2 eps / max k_i` clamped to `[1e-6, h_max]`: one step moves `s` by at most a
+/// fifth of the layer (the rule of the step-end crossings).
+pub fn step_rule(eps: f64, gains: &[f64], h_max: f64) -> f64 {
+    let k = gains.iter().fold(0.0f64, |a, b| a.max(*b));
+    (0.2 * eps / k).clamp(1e-6, h_max.max(1e-6))
+}
+
+/// How a DBSMC run is integrated.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum DbsmcStep {
+    /// Dormand-Prince 5(4) with the tolerance derived from the layer, crossings located
+    /// inside the steps (the runtime's default for `daec run`).
+    Adaptive,
+    /// RK4 with this fixed step, crossings located inside the steps.
+    Located(f64),
+    /// RK4 with this fixed step, crossings noticed at step ends (the thesis's rule).
+    StepEnd(f64),
+}
+
+impl DbsmcStep {
+    fn knob(self) -> String {
+        match self {
+            DbsmcStep::Adaptive => "adaptive".into(),
+            DbsmcStep::Located(h) => format!("h={h:.3e} located"),
+            DbsmcStep::StepEnd(h) => format!("h={h:.3e}"),
+        }
+    }
+
+    fn apply(self, settings: Settings) -> Settings {
+        match self {
+            DbsmcStep::Adaptive => settings.integrator(Integrator::DormandPrince),
+            DbsmcStep::Located(h) => settings.integrator(Integrator::Rk4).step(h),
+            DbsmcStep::StepEnd(h) => settings
+                .integrator(Integrator::Rk4)
+                .step(h)
+                .crossing(Crossing::StepEnd),
+        }
+    }
+}
+
 /// A method with the value of its accuracy knob.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Method {
-    /// DBSMC with monitoring, RK4 with step `step`, layers `eps`, time constants `mu`,
-    /// gains from [`Scene::gains`].
+    /// DBSMC with monitoring, layers `eps`, time constants `mu`, gains from
+    /// [`Scene::gains`].
     Dbsmc {
         /// Layer half width (all constraints).
         eps: f64,
         /// Surface time constant (all constraints).
         mu: f64,
-        /// RK4 step.
-        step: f64,
+        /// How it is integrated.
+        step: DbsmcStep,
         /// Gain factor over `mu^(r-1) |beta|`.
         gain_factor: f64,
     },
@@ -163,8 +208,8 @@ pub enum Method {
         mu: Vec<f64>,
         /// Designed gains, per constraint.
         gains: Vec<f64>,
-        /// RK4 step.
-        step: f64,
+        /// How it is integrated.
+        step: DbsmcStep,
     },
     /// Baseline (a): RK4 with `z` solved from `s = 0` at every stage.
     IndexOne {
@@ -186,8 +231,14 @@ impl Method {
     /// The chart line this point belongs to (method and its fixed parameters).
     pub fn line(&self) -> String {
         match self {
-            Method::Dbsmc { mu, .. } => format!("DBSMC mu={mu}"),
-            Method::DbsmcDesigned { .. } => "DBSMC designed".to_string(),
+            Method::Dbsmc { mu, step, .. } => match step {
+                DbsmcStep::StepEnd(_) => format!("DBSMC mu={mu} (step rule)"),
+                _ => format!("DBSMC mu={mu}"),
+            },
+            Method::DbsmcDesigned { step, .. } => match step {
+                DbsmcStep::StepEnd(_) => "DBSMC designed (step rule)".to_string(),
+                _ => "DBSMC designed".to_string(),
+            },
             Method::Spsm { eps, mu, .. } => format!("SPSM eps={eps} mu={mu}"),
             Method::IndexOne { mu, .. } => format!("index-1 RK4 mu={mu}"),
             Method::Bdf { mu, .. } => format!("BDF (diffsol) mu={mu}"),
@@ -197,7 +248,7 @@ impl Method {
     pub fn knob(&self) -> String {
         match self {
             Method::Dbsmc { eps, step, .. } | Method::DbsmcDesigned { eps, step, .. } => {
-                format!("eps={eps:.1e} h={step:.3e}")
+                format!("eps={eps:.1e} {}", step.knob())
             }
             Method::Spsm { step, .. } | Method::IndexOne { step, .. } => format!("h={step:.3e}"),
             Method::Bdf { tol, .. } => format!("tol={tol:.1e}"),
@@ -233,6 +284,8 @@ pub struct Record {
     pub f_evals: u64,
     /// Integration steps.
     pub steps: u64,
+    /// Control updates (DBSMC; 0 for the other methods).
+    pub updates: u64,
 }
 
 impl Method {
@@ -269,23 +322,22 @@ impl Method {
                 eps,
                 vec![mu; m],
                 scene.gains(mu, gain_factor),
-                step,
+                DbsmcStep::StepEnd(step),
                 Policy::Spsm,
             ),
             _ => return None,
         };
-        Some(
-            Settings::new(vec![eps; m], mu, gains)
-                .step(step)
-                .t_end(scene.t_end)
-                .policy(policy)
-                .check_robustness(false)
-                .initial(scene.x0.clone(), scene.z0.clone()),
-        )
+        let settings = Settings::new(vec![eps; m], mu, gains)
+            .t_end(scene.t_end)
+            .policy(policy)
+            .check_robustness(false)
+            .initial(scene.x0.clone(), scene.z0.clone());
+        Some(step.apply(settings))
     }
 }
 
 struct Outcome {
+    updates: u64,
     x: Vec<f64>,
     max_w: f64,
     max_s: f64,
@@ -311,15 +363,19 @@ fn run_once<M: Model + ?Sized>(scene: &Scene<'_, M>, method: &Method) -> Result<
                 .and_then(|mut sim| sim.run(&mut NoTrace))
                 .map_err(|e| e.to_string())?;
             Ok(Outcome {
-                max_w: max_of(&s.max_abs_w),
-                max_s: if s.reaching_time.is_some() {
-                    max_of(&s.max_abs_s)
-                } else {
-                    f64::INFINITY
-                },
+                // The window's maxima once the layers were reached; before that the
+                // residuals seen, and an infinite |s| (the layer never held).
+                max_w: s
+                    .max_abs_w
+                    .as_deref()
+                    .map_or_else(|| max_of(&s.seen_max_abs_w), max_of),
+                max_s: s.max_abs_s.as_deref().map_or(f64::INFINITY, max_of),
                 wall: s.wall_time,
-                j_solves: s.jacobian_evals,
-                f_evals: s.rhs_evals,
+                // Factorisations of J_s (J_Omega is also evaluated at every step's end
+                // for the located crossings, but factored only at the updates).
+                j_solves: s.solver.factorisations,
+                updates: s.updates,
+                f_evals: s.f_evals,
                 steps: s.steps,
                 x: s.x,
             })
@@ -343,6 +399,7 @@ fn run_once<M: Model + ?Sized>(scene: &Scene<'_, M>, method: &Method) -> Result<
                 j_solves: s.j_solves,
                 f_evals: s.rhs_evals,
                 steps: s.steps,
+                updates: 0,
                 x: s.x,
             })
         }
@@ -366,6 +423,7 @@ fn run_once<M: Model + ?Sized>(scene: &Scene<'_, M>, method: &Method) -> Result<
                 j_solves: s.j_solves,
                 f_evals: s.rhs_evals,
                 steps: s.steps,
+                updates: 0,
                 x: s.x,
             })
         }
@@ -393,6 +451,7 @@ pub fn run_method<M: Model + ?Sized>(
         j_solves: 0,
         f_evals: 0,
         steps: 0,
+        updates: 0,
     };
     match run_once(scene, method) {
         Err(e) => rec.error = e,
@@ -415,22 +474,23 @@ pub fn run_method<M: Model + ?Sized>(
             rec.j_solves = o.j_solves;
             rec.f_evals = o.f_evals;
             rec.steps = o.steps;
+            rec.updates = o.updates;
         }
     }
     rec
 }
 
 /// Write records as CSV (header
-/// `scene,line,knob,ok,max_w,max_s,pos_err,wall_s,j_solves,f_evals,steps,error`).
+/// `scene,line,knob,ok,max_w,max_s,pos_err,wall_s,j_solves,f_evals,steps,updates,error`).
 pub fn write_csv<W: Write>(records: &[Record], mut out: W) -> io::Result<()> {
     writeln!(
         out,
-        "scene,line,knob,ok,max_w,max_s,pos_err,wall_s,j_solves,f_evals,steps,error"
+        "scene,line,knob,ok,max_w,max_s,pos_err,wall_s,j_solves,f_evals,steps,updates,error"
     )?;
     for r in records {
         writeln!(
             out,
-            "{},{},{},{},{:e},{:e},{:e},{:e},{},{},{},\"{}\"",
+            "{},{},{},{},{:e},{:e},{:e},{:e},{},{},{},{},\"{}\"",
             r.scene,
             r.line,
             r.knob,
@@ -442,6 +502,7 @@ pub fn write_csv<W: Write>(records: &[Record], mut out: W) -> io::Result<()> {
             r.j_solves,
             r.f_evals,
             r.steps,
+            r.updates,
             r.error.replace('"', "'")
         )?;
     }

@@ -170,6 +170,46 @@ impl PlanarChain {
         out
     }
 
+    /// Link tensions of the motion at `y = [theta, omega]`, in the convention of the
+    /// Cartesian models (a positive `z_k` pulls particle `k` towards particle `k - 1`):
+    /// from the angular accelerations, each particle's acceleration `a_k`, and Newton's
+    /// law from the outermost particle inwards,
+    /// `z_k = -(m_k (a_k - g) - z_{k+1} u_{k+1}) . u_k` with `u_k` the unit vector of
+    /// link `k` (from particle `k - 1` to `k`) and `g = (0, -g)`.
+    pub fn tensions(&self, y: &[f64]) -> Vec<f64> {
+        let n = self.links();
+        let (theta, omega) = y.split_at(n);
+        let mut alpha = vec![0.0; n];
+        self.accelerations(theta, omega, &mut ChainWork::new(n), &mut alpha);
+        let mut acc = Vec::with_capacity(n);
+        let (mut ax, mut ay) = (0.0, 0.0);
+        for k in 0..n {
+            let (s, c) = theta[k].sin_cos();
+            let l = self.lengths[k];
+            // x_k = sum L sin theta, y_k = -sum L cos theta, differentiated twice.
+            ax += l * (alpha[k] * c - omega[k] * omega[k] * s);
+            ay += l * (alpha[k] * s + omega[k] * omega[k] * c);
+            acc.push([ax, ay]);
+        }
+        let unit = |k: usize| {
+            let (s, c) = theta[k].sin_cos();
+            [s, -c]
+        };
+        let mut z = vec![0.0; n];
+        let mut outer = [0.0, 0.0];
+        for k in (0..n).rev() {
+            let m = self.masses[k];
+            let f = [
+                m * acc[k][0] - outer[0],
+                m * (acc[k][1] + self.g) - outer[1],
+            ];
+            let u = unit(k);
+            z[k] = -(f[0] * u[0] + f[1] * u[1]);
+            outer = [z[k] * u[0], z[k] * u[1]];
+        }
+        z
+    }
+
     /// Positions only, `[x_0, y_0, x_1, y_1, ...]`.
     pub fn positions(&self, y: &[f64]) -> Vec<f64> {
         let c = self.cartesian(y);

@@ -285,6 +285,7 @@ fn run_trace(updates: usize) -> crate::Trace {
             x: &[0.0],
             z: &[0.0, 0.0],
             z_eq: &[0.0, 0.0],
+            z_star: &[0.0, 0.0],
             s: &s,
             w: &[0.5 * s[0], 0.5 * s[1]],
             last: k + 1 == t.len(),

@@ -190,6 +190,10 @@ impl<M: Model + ?Sized> Sink for PilotSink<'_, M> {
     fn begin(&mut self, _: &Layout) -> io::Result<()> {
         Ok(())
     }
+    fn algebraic_outputs(&self) -> bool {
+        // The estimator reads x, z and s only: no z_eq or z* per step.
+        false
+    }
     fn record(&mut self, s: &Sample<'_>) -> io::Result<()> {
         if self.error.is_none() {
             if let Err(e) = self.feed(s) {
@@ -337,6 +341,10 @@ pub fn auto_design<M: Model + ?Sized>(
         return Err(PilotError::BadSafety(options.safety).into());
     }
     let m = model.n_constraints();
+    if m == 0 {
+        // An ODE: there is no mu or gain to design (it runs with empty ones).
+        return Err(DesignError::NoConstraints.into());
+    }
     let mut settings = pilot.clone();
     settings.eps = eps.to_vec();
     settings.alpha = AlphaChoice::Exact;
@@ -349,7 +357,7 @@ pub fn auto_design<M: Model + ?Sized>(
         }
         settings.mu = mu.clone();
     }
-    let mut passes: Vec<DesignPass> = Vec::with_capacity(options.passes);
+    let mut passes: Vec<DesignPass> = Vec::with_capacity(options.passes.min(8));
     let (mut beta_max, mut m_max) = (vec![0.0f64; m], vec![0.0f64; m]);
     for _ in 0..options.passes {
         let run = pilot_run(model, &settings)?;

@@ -1,5 +1,6 @@
 //! The control law `v = J_hat^{-1}(-alpha_hat - K sgn(s))`, its buffers, the robustness
-//! check (T 3.22) with its gain-raising policy, and `z_eq`.
+//! check (T 3.22) with its gain-raising policy, the rate `s' = J_s v + alpha`, and the
+//! algebraic outputs `z_eq` and `z*`.
 
 use super::robust::Robustness;
 use crate::solve::{InverseKind, LinearSolver, SolveError, Solver, SolverChoice, Structure};
@@ -32,6 +33,9 @@ pub(crate) struct Check {
     pub(crate) count: bool,
     /// Raise the failing rows' gains by this relative margin.
     pub(crate) raise: Option<f64>,
+    /// `beta` was already evaluated at this point (located crossings evaluate it at
+    /// every step's end).
+    pub(crate) beta_ready: bool,
 }
 
 impl Check {
@@ -39,6 +43,7 @@ impl Check {
         evaluate: false,
         count: false,
         raise: None,
+        beta_ready: false,
     };
 }
 
@@ -73,6 +78,15 @@ pub(crate) struct Controller {
     dz: Vec<f64>,
     pub(crate) solver: Solver,
     factored: bool,
+    /// Exact solver for `z* = z - J_Omega^{-1} Omega` at the current state, and its
+    /// buffers (the unit row scaling, the right-hand side).
+    zsolver: Solver,
+    ones: Vec<f64>,
+    zrhs: Vec<f64>,
+    /// Largest pivot magnitude seen in the run, and the smallest ratio of a
+    /// factorisation's least pivot to it, with its time.
+    pivot_max: f64,
+    pub(crate) min_pivot_ratio: Option<(f64, f64)>,
     robust: Robustness,
     pub(crate) sliding_evals: u64,
     pub(crate) jacobian_evals: u64,
@@ -119,12 +133,25 @@ impl Controller {
             field: "solver",
             reason: e.to_string(),
         })?;
+        let zsolver = Solver::new(m, &pattern, SolverChoice::Auto).map_err(bad_pattern)?;
         let offs = w_offsets(r);
-        let mu_pow = r
+        let mu_pow: Vec<f64> = r
             .iter()
             .zip(mu)
             .map(|(&ri, &mi)| mi.powi(ri as i32 - 1))
             .collect();
+        if let Some(i) = (0..m).find(|&i| !(mu_pow[i].is_finite() && mu_pow[i] > 0.0)) {
+            return Err(SimError::Settings {
+                field: "mu",
+                reason: format!(
+                    "{:e} for constraint `{}` of index {}: mu^(r-1) = {:e} is not a usable scale (overflow or underflow)",
+                    mu[i],
+                    model.constraint_name(i),
+                    r[i],
+                    mu_pow[i]
+                ),
+            });
+        }
         let vm = || vec![0.0; m];
         Ok(Self {
             w: vec![0.0; offs[m]],
@@ -148,6 +175,11 @@ impl Controller {
             dz: vm(),
             solver,
             factored: false,
+            zsolver,
+            ones: vec![1.0; m],
+            zrhs: vm(),
+            pivot_max: 0.0,
+            min_pivot_ratio: None,
             robust: Robustness::new(structure),
             sliding_evals: 0,
             jacobian_evals: 0,
@@ -166,6 +198,8 @@ impl Controller {
         self.solver.reset_stats();
         self.factored = false;
         self.dz.fill(0.0);
+        self.pivot_max = 0.0;
+        self.min_pivot_ratio = None;
     }
 
     /// Evaluate w-derivatives, `s` and the cheap `alpha_hat` at `(t, x, z)`.
@@ -187,15 +221,78 @@ impl Controller {
         x: &[f64],
         z: &[f64],
     ) -> Result<(), SimError> {
+        self.eval_jacobian(model, t, x, z);
+        self.factor_current(model, t)
+    }
+
+    /// Evaluate `J_Omega` at `(t, x, z)` (kept for a later [`Self::factor_current`],
+    /// [`Self::s_rate`] or [`Self::z_star`] at the same point).
+    pub(crate) fn eval_jacobian<M: Model + ?Sized>(
+        &mut self,
+        model: &M,
+        t: f64,
+        x: &[f64],
+        z: &[f64],
+    ) {
         model.jacobian(t, x, z, &mut self.jvals);
         self.jacobian_evals += 1;
+    }
+
+    /// Evaluate `beta` at `(t, x, z)`.
+    pub(crate) fn eval_beta<M: Model + ?Sized>(&mut self, model: &M, t: f64, x: &[f64], z: &[f64]) {
+        model.beta(t, x, z, &mut self.beta);
+        self.beta_evals += 1;
+    }
+
+    /// Factor `J_s` from the last evaluated `J_Omega`, and follow its pivots.
+    pub(crate) fn factor_current<M: Model + ?Sized>(
+        &mut self,
+        model: &M,
+        t: f64,
+    ) -> Result<(), SimError> {
         self.factored = false;
         match self.solver.factor(&self.jvals, &self.mu_pow) {
             Ok(()) => {
                 self.factored = true;
+                if let Some((lo, hi)) = self.solver.pivot_range() {
+                    self.pivot_max = self.pivot_max.max(hi);
+                    let ratio = lo / self.pivot_max;
+                    if self.min_pivot_ratio.is_none_or(|(r, _)| ratio < r) {
+                        self.min_pivot_ratio = Some((ratio, t));
+                    }
+                }
                 Ok(())
             }
             Err(e) => Err(self.solver_error(model, t, e)),
+        }
+    }
+
+    /// `s' = alpha_hat + mu^(r-1) (J_Omega v + beta)` from the last `sliding`,
+    /// `J_Omega` and `beta` evaluations, into `out`.
+    pub(crate) fn s_rate(&self, v: &[f64], out: &mut [f64]) {
+        out.copy_from_slice(&self.beta);
+        for (&(i, j), a) in self.pattern.iter().zip(&self.jvals) {
+            out[i] += a * v[j];
+        }
+        for ((o, d), ah) in out.iter_mut().zip(&self.mu_pow).zip(&self.ah) {
+            *o = ah + d * *o;
+        }
+    }
+
+    /// `z* = z - J_Omega^{-1} Omega(t, x, z)` with `Omega_i = w_i^(r_i - 1)` from the
+    /// last `sliding` call and `J_Omega` from the last evaluation (both at the current
+    /// point): one exact factorisation and solve. NaN where `J_Omega` is singular.
+    pub(crate) fn z_star(&mut self, z: &[f64], out: &mut [f64]) {
+        if self.zsolver.factor(&self.jvals, &self.ones).is_err() {
+            out.fill(f64::NAN);
+            return;
+        }
+        for (i, r) in self.zrhs.iter_mut().enumerate() {
+            *r = self.w[self.offs[i + 1] - 1];
+        }
+        self.zsolver.solve(&mut self.zrhs);
+        for ((o, zi), d) in out.iter_mut().zip(z).zip(&self.zrhs) {
+            *o = zi - d;
         }
     }
 
@@ -252,7 +349,7 @@ impl Controller {
         v: &mut [f64],
     ) -> u64 {
         let m = self.s.len();
-        if self.exact_alpha || check.evaluate {
+        if (self.exact_alpha || check.evaluate) && !check.beta_ready {
             model.beta(t, x, z, &mut self.beta);
             self.beta_evals += 1;
         }

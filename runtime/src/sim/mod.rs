@@ -1,28 +1,83 @@
-//! The DBSMC simulator: integration, update policies, reaching phase, statistics.
+//! The DBSMC simulator: integration, update policies, reaching phase, statistics, and
+//! a run in pieces (`start`, `advance_to`, `finish`) between which the caller may change
+//! the model.
 
 mod control;
+mod crossing;
+mod rk;
 mod robust;
+mod stats;
+mod step;
 
 use std::time::Instant;
 
 use control::{Check, Controller, Switch};
+use rk::Rk;
+use stats::{Stats, StepMeasure};
 
 use crate::error::Quantity;
 use crate::solve::LinearSolver;
+use crate::summary::NEAR_SINGULAR;
 use crate::trace::{Layout, Sample, Sink};
-use crate::{
-    AlphaChoice, Integrator, Model, Policy, Reaching, Settings, SimError, SolverSummary, Summary,
-};
+use crate::{AlphaChoice, Crossing, Model, Policy, Settings, SimError, SolverSummary, Summary};
 
 /// Simulates a [`Model`] with DBSMC (or SPSM) under given [`Settings`].
 ///
-/// All buffers are allocated by [`Simulator::new`]; [`Simulator::run`] allocates nothing
-/// per step (the sink may, e.g. a growing [`Trace`](crate::Trace)).
-pub struct Simulator<'a, M: Model + ?Sized> {
-    model: &'a M,
+/// The simulator owns its model: pass `&model` to borrow it (`Model` is implemented for
+/// references), or the model itself to change it between pieces of a run with
+/// [`model_mut`](Simulator::model_mut). A run is [`start`](Simulator::start)ed,
+/// [`advance_to`](Simulator::advance_to) any number of times, and
+/// [`finish`](Simulator::finish)ed; [`run`](Simulator::run) does the three over
+/// `[t_start, t_end]`.
+///
+/// All buffers are allocated by [`Simulator::new`]; a run allocates nothing per step
+/// (the sink may, e.g. a growing [`Trace`](crate::Trace)).
+///
+/// ```
+/// # use dae_runtime::{Model, Settings, Simulator, Trace};
+/// # struct Tracking;
+/// # impl Model for Tracking {
+/// #     fn name(&self) -> &str { "tracking" }
+/// #     fn n_states(&self) -> usize { 1 }
+/// #     fn n_constraints(&self) -> usize { 1 }
+/// #     fn n_params(&self) -> usize { 0 }
+/// #     fn state_name(&self, _: usize) -> &str { "x" }
+/// #     fn alg_name(&self, _: usize) -> &str { "z" }
+/// #     fn constraint_name(&self, _: usize) -> &str { "track" }
+/// #     fn param_name(&self, _: usize) -> &str { "" }
+/// #     fn indices(&self) -> &[usize] { &[2] }
+/// #     fn param(&self, _: usize) -> f64 { 0.0 }
+/// #     fn set_param(&mut self, _: usize, _: f64) {}
+/// #     fn initial_state(&self, x: &mut [f64]) { x[0] = 0.0 }
+/// #     fn initial_alg(&self, z: &mut [f64]) { z[0] = 1.0 }
+/// #     fn rhs(&self, _: f64, x: &[f64], z: &[f64], dx: &mut [f64]) { dx[0] = z[0] - x[0] }
+/// #     fn sliding(&self, t: f64, x: &[f64], z: &[f64], mu: &[f64],
+/// #                w: &mut [f64], s: &mut [f64], ah: &mut [f64]) {
+/// #         w[0] = x[0] - t.sin(); w[1] = z[0] - x[0] - t.cos();
+/// #         s[0] = mu[0] * w[1] + w[0]; ah[0] = w[1];
+/// #     }
+/// #     fn jacobian_pattern(&self) -> &[(usize, usize)] { &[(0, 0)] }
+/// #     fn jacobian(&self, _: f64, _: &[f64], _: &[f64], j: &mut [f64]) { j[0] = 1.0 }
+/// #     fn beta(&self, t: f64, x: &[f64], z: &[f64], b: &mut [f64]) { b[0] = t.sin() - (z[0] - x[0]) }
+/// # }
+/// let settings = Settings::new(vec![1e-3], vec![0.05], vec![0.1]).step(1e-3).t_end(2.0);
+/// let mut sim = Simulator::new(Tracking, settings)?;
+/// let mut trace = Trace::new();
+/// sim.start(&mut trace)?;
+/// sim.advance_to(1.0, &mut trace)?;
+/// // ... change the model with sim.model_mut() here, then:
+/// sim.request_update();
+/// sim.advance_to(2.0, &mut trace)?;
+/// let summary = sim.finish(&mut trace)?;
+/// assert_eq!(summary.t_end, 2.0);
+/// # Ok::<(), dae_runtime::SimError>(())
+/// ```
+pub struct Simulator<M: Model> {
+    model: M,
     set: Settings,
     layout: Layout,
     ctl: Controller,
+    rk: Rk,
     t: f64,
     x: Vec<f64>,
     z: Vec<f64>,
@@ -30,46 +85,76 @@ pub struct Simulator<'a, M: Model + ?Sized> {
     zb: Vec<f64>,
     tb: f64,
     v: Vec<f64>,
+    /// The start of the current step, dense-output and stage scratch.
+    x0: Vec<f64>,
+    z0: Vec<f64>,
     xs: Vec<f64>,
     zs: Vec<f64>,
-    k: [Vec<f64>; 4],
+    /// SPSM stages of `z`.
     kz: [Vec<f64>; 4],
+    /// `f(t, x, z)` at the current point, when known (the next step's first stage).
+    f_cur: Vec<f64>,
+    f_cur_valid: bool,
+    /// `s` and `s'` at the start of the current step (located crossings).
+    s0: Vec<f64>,
+    ds0: Vec<f64>,
+    /// `s'` at the current point (with the held `v`).
+    ds: Vec<f64>,
     s_prev: Vec<f64>,
     z_eq: Vec<f64>,
+    z_star: Vec<f64>,
     wres: Vec<f64>,
     /// Contracting layers: `eps_i,k`, `sgn(s_i,k)` and whether `|s_i,k| > eps_i`.
     eps_k: Vec<f64>,
     sgn_k: Vec<f64>,
     outside_k: Vec<bool>,
+    measure: StepMeasure,
+    /// The cubic of each `s_i` over the current step (located crossings).
+    cubics: Vec<crossing::Cubic>,
     stats: Stats,
+    run: RunState,
 }
 
-#[derive(Default)]
-struct Stats {
-    steps: u64,
-    updates: u64,
-    reaching_updates: u64,
-    last_update_step: u64,
-    reaching_time: Option<f64>,
-    stats_from: Option<f64>,
-    last_window_update: Option<f64>,
-    min_period: f64,
-    period_sum: f64,
-    periods: u64,
-    max_s: Vec<f64>,
-    max_w: Vec<f64>,
-    violations: u64,
-    rhs_evals: u64,
+/// Where a run in pieces stands.
+struct RunState {
+    phase: Phase,
+    clock: Option<Instant>,
+    /// Fixed-step grid: steps `k` of `n` from `origin` to the piece's target.
+    origin: f64,
+    k: u64,
+    n: u64,
+    grid_target: f64,
+    /// The embedded pairs' next step, once known.
+    h_next: Option<f64>,
+    /// The end of the last step was reached at a piece's target before `t_end`; its
+    /// sample is recorded by the next piece (or `finish`, as the last one).
+    pending_record: bool,
+    /// Step number of the last recorded sample.
+    recorded: Option<u64>,
+    update_requested: bool,
+    /// The model may have changed: the quantities cached at the current point are stale.
+    dirty: bool,
+    /// `J_Omega` and `beta` in the controller belong to the current point.
+    j_current: bool,
+    /// The step just taken was cut at an event that asks for an update.
+    force_update: bool,
 }
 
-impl<'a, M: Model + ?Sized> Simulator<'a, M> {
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Phase {
+    Idle,
+    Running,
+    Finished,
+}
+
+impl<M: Model> Simulator<M> {
     /// Prepare a simulator; checks the settings against the model.
-    pub fn new(model: &'a M, settings: Settings) -> Result<Self, SimError> {
+    pub fn new(model: M, settings: Settings) -> Result<Self, SimError> {
         let n = model.n_states();
         let m = model.n_constraints();
         settings.validate(n, m)?;
         let ctl = Controller::new(
-            model,
+            &model,
             &settings.mu,
             &settings.gains,
             &settings.crossing_margin,
@@ -90,26 +175,47 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
             model,
             layout,
             ctl,
+            rk: Rk::new(n),
             t: settings.t_start,
             x: vn(),
             z: vm(),
             zb: vm(),
             tb: settings.t_start,
             v: vm(),
+            x0: vn(),
+            z0: vm(),
             xs: vn(),
             zs: vm(),
-            k: [vn(), vn(), vn(), vn()],
             kz: [vm(), vm(), vm(), vm()],
+            f_cur: vn(),
+            f_cur_valid: false,
+            s0: vm(),
+            ds0: vm(),
+            ds: vm(),
             s_prev: vm(),
             z_eq: vm(),
+            z_star: vm(),
             wres: vm(),
             eps_k: settings.eps.clone(),
             sgn_k: vm(),
             outside_k: vec![false; m],
-            stats: Stats {
-                max_s: vm(),
-                max_w: vm(),
-                ..Stats::default()
+            measure: StepMeasure::new(m),
+            cubics: vec![crossing::Cubic::hermite(0.0, 0.0, 0.0, 0.0, 1.0); m],
+            stats: Stats::new(m),
+            run: RunState {
+                phase: Phase::Idle,
+                clock: None,
+                origin: settings.t_start,
+                k: 0,
+                n: 0,
+                grid_target: settings.t_start,
+                h_next: None,
+                pending_record: false,
+                recorded: None,
+                update_requested: false,
+                dirty: false,
+                j_current: false,
+                force_update: false,
             },
             set: settings,
         })
@@ -118,6 +224,22 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
     /// The settings.
     pub fn settings(&self) -> &Settings {
         &self.set
+    }
+    /// The model.
+    pub fn model(&self) -> &M {
+        &self.model
+    }
+    /// The model, to change it between pieces of a run (a parameter, a particle pinned
+    /// or released). What the simulator cached at the current point is evaluated again
+    /// before the next step; call [`request_update`](Self::request_update) as well when
+    /// the change should act on the control at once.
+    pub fn model_mut(&mut self) -> &mut M {
+        self.run.dirty = true;
+        &mut self.model
+    }
+    /// Give the model back.
+    pub fn into_model(self) -> M {
+        self.model
     }
     /// Current (or final, or failure) time.
     pub fn time(&self) -> f64 {
@@ -131,24 +253,38 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
     pub fn alg(&self) -> &[f64] {
         &self.z
     }
+    /// Current sliding variables.
+    pub fn sliding(&self) -> &[f64] {
+        &self.ctl.s
+    }
+
+    /// Force a control update at the current time before the next step (after the
+    /// caller changed the model).
+    pub fn request_update(&mut self) {
+        self.run.update_requested = true;
+    }
 
     /// Run from the model's initial state and initial algebraic guess (or from
-    /// [`Settings::initial`] when given) over
-    /// `[t_start, t_end]`, sending samples and update times to `sink`.
+    /// [`Settings::initial`] when given) over `[t_start, t_end]`, sending samples and
+    /// update times to `sink`: [`start`](Self::start),
+    /// [`advance_to`](Self::advance_to)`(t_end)`, [`finish`](Self::finish).
     ///
     /// On error the sink keeps everything recorded before the failure.
     pub fn run<S: Sink + ?Sized>(&mut self, sink: &mut S) -> Result<Summary, SimError> {
-        let clock = Instant::now();
+        self.start(sink)?;
+        self.advance_to(self.set.t_end, sink)?;
+        self.finish(sink)
+    }
+
+    /// Begin a run at `t_start`: the initial state, the first control update and the
+    /// first sample. Starting again restarts the run.
+    pub fn start<S: Sink + ?Sized>(&mut self, sink: &mut S) -> Result<(), SimError> {
         let m = self.z.len();
-        self.stats = Stats {
-            max_s: vec![0.0; m],
-            max_w: vec![0.0; m],
-            min_period: f64::INFINITY,
-            ..Stats::default()
-        };
+        self.stats = Stats::new(m);
         self.ctl.reset(&self.set.gains);
-        let (t0, t_end, h) = (self.set.t_start, self.set.t_end, self.set.step);
+        let t0 = self.set.t_start;
         self.t = t0;
+        self.tb = t0;
         match &self.set.initial {
             Some(init) => {
                 self.x.copy_from_slice(&init.x0);
@@ -159,60 +295,194 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
                 self.model.initial_alg(&mut self.z);
             }
         }
+        self.eps_k.copy_from_slice(&self.set.eps);
+        self.run = RunState {
+            phase: Phase::Running,
+            clock: Some(Instant::now()),
+            origin: t0,
+            k: 0,
+            n: 0,
+            grid_target: t0,
+            h_next: None,
+            pending_record: false,
+            recorded: None,
+            update_requested: false,
+            dirty: false,
+            j_current: false,
+            force_update: false,
+        };
+        self.f_cur_valid = false;
         sink.begin(&self.layout)?;
-        self.ctl.sliding(self.model, t0, &self.x, &self.z);
+        self.eval_point(t0);
         self.check_finite()?;
         self.track_reaching()?;
-        self.update(0, sink)?;
-        self.record(0, false, sink)?;
-
-        let steps = (((t_end - t0) / h) - 1e-9).ceil().max(1.0) as u64;
-        let period_steps = match self.set.policy {
-            Policy::Fixed(p) => ((p / h).round() as u64).max(1),
-            _ => 1,
-        };
-        for k in 1..=steps {
-            let t_new = if k == steps { t_end } else { t0 + k as f64 * h };
-            let hk = t_new - self.t;
-            self.s_prev.copy_from_slice(&self.ctl.s);
-            match self.set.policy {
-                Policy::Spsm => self.spsm_step(hk),
-                _ => self.zoh_step(hk),
-            }
-            self.t = t_new;
-            if self.set.policy != Policy::Spsm {
-                // Exact ramp: avoids accumulating rounding over many steps.
-                let dt = t_new - self.tb;
-                for ((z, zb), v) in self.z.iter_mut().zip(&self.zb).zip(&self.v) {
-                    *z = zb + v * dt;
-                }
-            }
-            self.stats.steps = k;
-            self.ctl.sliding(self.model, t_new, &self.x, &self.z);
-            self.check_finite()?;
-            self.track_reaching()?;
-            let due = match self.set.policy {
-                Policy::Spsm => true,
-                Policy::Fixed(_) => k - self.stats.last_update_step >= period_steps,
-                Policy::Monitor => self.monitor_trigger(),
-            };
-            if due {
-                self.update(k, sink)?;
-            }
-            let last = k == steps;
-            if last || sink.wants(k, t_new) {
-                self.record(k, last, sink)?;
-            }
-        }
-        sink.finish()?;
-        Ok(self.summary(clock.elapsed().as_secs_f64()))
+        self.update(sink)?;
+        self.record(false, sink)?;
+        Ok(())
     }
 
-    /// Whether the monitored update condition holds after the step just taken.
+    /// Integrate to `t` (at most `t_end`; a run not started yet is started first).
+    /// Samples and updates go to `sink` as in [`run`](Self::run); the sample at `t`
+    /// itself is recorded when the run continues or is finished.
+    pub fn advance_to<S: Sink + ?Sized>(&mut self, t: f64, sink: &mut S) -> Result<(), SimError> {
+        match self.run.phase {
+            Phase::Idle => self.start(sink)?,
+            Phase::Finished => {
+                return Err(SimError::Backwards {
+                    requested: t,
+                    now: self.t,
+                    finished: true,
+                });
+            }
+            Phase::Running => {}
+        }
+        let target = t.min(self.set.t_end);
+        if target.is_nan() || target < self.t {
+            return Err(SimError::Backwards {
+                requested: t,
+                now: self.t,
+                finished: false,
+            });
+        }
+        self.resume(sink)?;
+        if target > self.t {
+            self.run.origin = self.t;
+            self.run.k = 0;
+            self.run.grid_target = target;
+            self.run.n = self.grid_steps(target);
+        }
+        while self.t < target {
+            self.step(target)?;
+            self.after_step(sink)?;
+        }
+        Ok(())
+    }
+
+    /// End the run: the last sample, the sink's `finish`, and the summary. Finishing
+    /// before `t_end` is allowed (the summary says where the run ended).
+    pub fn finish<S: Sink + ?Sized>(&mut self, sink: &mut S) -> Result<Summary, SimError> {
+        if self.run.phase == Phase::Idle {
+            self.start(sink)?;
+        }
+        if self.run.phase == Phase::Running {
+            self.resume(sink)?;
+            let step = self.stats.steps;
+            if self.run.recorded != Some(step) {
+                self.record(true, sink)?;
+            }
+            sink.finish()?;
+            self.run.phase = Phase::Finished;
+        }
+        if !self.run.j_current {
+            self.ctl
+                .eval_jacobian(&self.model, self.t, &self.x, &self.z);
+            self.run.j_current = true;
+        }
+        self.ctl.z_star(&self.z, &mut self.z_star);
+        self.ctl.z_eq(&self.z, &mut self.z_eq);
+        let wall = self.run.clock.map_or(0.0, |c| c.elapsed().as_secs_f64());
+        Ok(self.summary(wall))
+    }
+
+    /// Before the next step of a piece: evaluate again what the caller's change of the
+    /// model made stale, make a requested update, and record the sample left pending
+    /// at the end of the previous piece.
+    fn resume<S: Sink + ?Sized>(&mut self, sink: &mut S) -> Result<(), SimError> {
+        if self.run.dirty {
+            self.run.dirty = false;
+            self.f_cur_valid = false;
+            self.eval_point(self.t);
+            if self.located() {
+                self.ctl.s_rate(&self.v, &mut self.ds);
+            }
+            self.check_finite()?;
+        }
+        if self.run.update_requested {
+            self.run.update_requested = false;
+            self.update(sink)?;
+        }
+        if self.run.pending_record {
+            self.run.pending_record = false;
+            if sink.wants(self.stats.steps, self.t) {
+                self.record(false, sink)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// After an accepted step: finiteness, reaching, the window, the policy's update
+    /// and the sample.
+    fn after_step<S: Sink + ?Sized>(&mut self, sink: &mut S) -> Result<(), SimError> {
+        self.check_finite()?;
+        self.track_reaching()?;
+        self.stats.steps_since_update += 1;
+        let due = match self.set.policy {
+            Policy::Spsm => true,
+            Policy::Fixed(p) => {
+                if self.set.integrator.is_adaptive() {
+                    self.t >= self.tb + p
+                } else {
+                    let period = ((p / self.set.step).round() as u64).max(1);
+                    self.stats.steps_since_update >= period
+                }
+            }
+            Policy::Monitor => {
+                if self.located() {
+                    std::mem::take(&mut self.run.force_update) || self.located_trigger()
+                } else {
+                    self.monitor_trigger()
+                }
+            }
+        };
+        if due {
+            self.update(sink)?;
+        }
+        let last = self.t >= self.set.t_end;
+        if last {
+            self.record(true, sink)?;
+        } else if self.t >= self.run.grid_target {
+            self.run.pending_record = true;
+        } else if sink.wants(self.stats.steps, self.t) {
+            self.record(false, sink)?;
+        }
+        if let Some(limit) = self.set.max_steps {
+            if self.stats.steps + self.stats.rejected >= limit && !last {
+                return Err(SimError::StepLimit { limit, t: self.t });
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether crossings are located inside the step (DBSMC with a held control).
+    fn located(&self) -> bool {
+        matches!(self.set.crossing, Crossing::Located { .. }) && self.set.policy != Policy::Spsm
+    }
+
+    fn crossing_tol(&self) -> f64 {
+        match self.set.crossing {
+            Crossing::Located { tol } => tol,
+            Crossing::StepEnd => 0.0,
+        }
+    }
+
+    /// Evaluate at the current point what the next step and an update need: `s`,
+    /// and with located crossings `J_Omega` and `beta` (the rate `s'` follows once `v`
+    /// is known).
+    fn eval_point(&mut self, t: f64) {
+        self.ctl.sliding(&self.model, t, &self.x, &self.z);
+        if self.located() {
+            self.ctl.eval_jacobian(&self.model, t, &self.x, &self.z);
+            self.ctl.eval_beta(&self.model, t, &self.x, &self.z);
+            self.run.j_current = true;
+        } else {
+            self.run.j_current = false;
+        }
+    }
+
+    /// The monitored update condition with the thesis's step-end rule.
     fn monitor_trigger(&self) -> bool {
         let s = &self.ctl.s;
-        let steady =
-            self.stats.reaching_time.is_some() || self.set.reaching == Reaching::AttractingSurfaces;
+        let steady = self.steady();
         let eps = if steady { &self.set.eps } else { &self.eps_k };
         // s_i' is estimated by the finite difference over the step (s - s_prev) / h: it
         // is free (s is evaluated after every step anyway), exact in sign for the motion
@@ -225,12 +495,36 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
         (0..s.len()).any(|i| self.outside_k[i] && s[i] * self.sgn_k[i] <= 0.0)
     }
 
+    /// The monitored update condition at the end of a step with located crossings: on
+    /// (within the crossing tolerance) or beyond a layer boundary and moving outward
+    /// by the exact rate `s'`, or (contracting layers) arrived at the surface.
+    fn located_trigger(&self) -> bool {
+        let (s, ds) = (&self.ctl.s, &self.ds);
+        let tol = self.crossing_tol();
+        let steady = self.steady();
+        let eps = if steady { &self.set.eps } else { &self.eps_k };
+        let outward =
+            (0..s.len()).any(|i| s[i].abs() >= eps[i] * (1.0 - tol) && s[i] * ds[i] > 0.0);
+        if outward || steady {
+            return outward;
+        }
+        (0..s.len()).any(|i| self.outside_k[i] && s[i] * self.sgn_k[i] <= tol * self.set.eps[i])
+    }
+
+    /// The steady rule (the design layers) applies: after reaching, or with attracting
+    /// surfaces from the start.
+    fn steady(&self) -> bool {
+        self.stats.reaching_time.is_some()
+            || self.set.reaching == crate::Reaching::AttractingSurfaces
+    }
+
     /// Record the reaching time, enter the statistics window, enforce the reaching limit,
-    /// and update the window maxima.
+    /// and update the maxima and the loss record with the step just taken.
     fn track_reaching(&mut self) -> Result<(), SimError> {
         let t = self.t;
         let s = &self.ctl.s;
-        if self.stats.reaching_time.is_none() {
+        let was_reached = self.stats.reaching_time.is_some();
+        if !was_reached {
             if s.iter().zip(&self.set.eps).all(|(s, e)| s.abs() <= *e) {
                 self.stats.reaching_time = Some(t);
             } else if t - self.set.t_start > self.set.reaching_limit {
@@ -248,26 +542,49 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
                 });
             }
         }
-        if self.stats.stats_from.is_none()
-            && self.stats.reaching_time.is_some()
-            && t >= self.set.t_start + self.set.settle
-        {
-            self.stats.stats_from = Some(t);
+        let st = &mut self.stats;
+        for (i, si) in s.iter().enumerate() {
+            let w = self.ctl.residual(i).abs();
+            st.seen_s[i] = st.seen_s[i].max(si.abs()).max(self.measure.max_s[i]);
+            st.seen_w[i] = st.seen_w[i].max(w);
         }
-        if self.stats.stats_from.is_some() {
-            let st = &mut self.stats;
+        if was_reached && st.steps > 0 {
+            st.loss.observe(
+                t,
+                self.measure.h,
+                &self.measure,
+                &self.set.eps,
+                self.set.bound_tol,
+            );
+        }
+        let in_window = st.stats_from.is_some();
+        if !in_window && st.reaching_time.is_some() && t >= self.set.t_start + self.set.settle {
+            st.stats_from = Some(t);
+        }
+        if st.stats_from.is_some() {
             for (i, (ms, mw)) in st.max_s.iter_mut().zip(&mut st.max_w).enumerate() {
-                *ms = ms.max(s[i].abs());
+                // The step that opens the window counts with its end only.
+                let over_step = if in_window {
+                    self.measure.max_s[i]
+                } else {
+                    0.0
+                };
+                *ms = ms.max(s[i].abs()).max(over_step);
                 *mw = mw.max(self.ctl.residual(i).abs());
             }
         }
         Ok(())
     }
 
-    /// A control update at the current point (after `sliding` was evaluated there).
-    fn update<S: Sink + ?Sized>(&mut self, step: u64, sink: &mut S) -> Result<(), SimError> {
+    /// A control update at the current point (after `eval_point` there).
+    fn update<S: Sink + ?Sized>(&mut self, sink: &mut S) -> Result<(), SimError> {
         let t = self.t;
-        self.ctl.factor(self.model, t, &self.x, &self.z)?;
+        if self.run.j_current {
+            self.ctl.factor_current(&self.model, t)?;
+        } else {
+            self.ctl.factor(&self.model, t, &self.x, &self.z)?;
+            self.run.j_current = true;
+        }
         let switch = if self.set.policy == Policy::Spsm {
             Switch::Saturation
         } else {
@@ -275,22 +592,28 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
         };
         let in_window = self.stats.stats_from.is_some();
         let count = self.set.check_robustness && in_window;
+        let located = self.located();
         let check = Check {
             evaluate: count || self.set.raise_gains.is_some(),
             count,
             raise: self.set.raise_gains,
+            beta_ready: located,
         };
         let violations = self
             .ctl
-            .law(self.model, t, &self.x, &self.z, switch, check, &mut self.v);
+            .law(&self.model, t, &self.x, &self.z, switch, check, &mut self.v);
         if let Some((i, &v)) = self.v.iter().enumerate().find(|(_, v)| !v.is_finite()) {
             return Err(self.non_finite(Quantity::Control, i, v));
+        }
+        if located {
+            // The beta of the law may have been re-evaluated only when not ready.
+            self.ctl.s_rate(&self.v, &mut self.ds);
         }
         self.zb.copy_from_slice(&self.z);
         self.tb = t;
         let st = &mut self.stats;
         st.updates += 1;
-        st.last_update_step = step;
+        st.steps_since_update = 0;
         st.violations += violations;
         if st.reaching_time.is_none() {
             st.reaching_updates += 1;
@@ -314,26 +637,37 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
         Ok(())
     }
 
-    fn record<S: Sink + ?Sized>(
-        &mut self,
-        step: u64,
-        last: bool,
-        sink: &mut S,
-    ) -> Result<(), SimError> {
-        self.ctl.z_eq(&self.z, &mut self.z_eq);
+    fn record<S: Sink + ?Sized>(&mut self, last: bool, sink: &mut S) -> Result<(), SimError> {
+        let outputs = sink.algebraic_outputs();
+        if outputs {
+            self.ctl.z_eq(&self.z, &mut self.z_eq);
+            if !self.run.j_current {
+                self.ctl
+                    .eval_jacobian(&self.model, self.t, &self.x, &self.z);
+                self.run.j_current = true;
+            }
+            self.ctl.z_star(&self.z, &mut self.z_star);
+        }
         for i in 0..self.wres.len() {
             self.wres[i] = self.ctl.residual(i);
         }
+        let (z_eq, z_star): (&[f64], &[f64]) = if outputs {
+            (&self.z_eq, &self.z_star)
+        } else {
+            (&[], &[])
+        };
         sink.record(&Sample {
-            step,
+            step: self.stats.steps,
             t: self.t,
             x: &self.x,
             z: &self.z,
-            z_eq: &self.z_eq,
+            z_eq,
+            z_star,
             s: &self.ctl.s,
             w: &self.wres,
             last,
         })?;
+        self.run.recorded = Some(self.stats.steps);
         Ok(())
     }
 
@@ -369,83 +703,11 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
         Ok(())
     }
 
-    /// One step with `v` held: `x` by the chosen integrator, `z` along its ramp.
-    fn zoh_step(&mut self, h: f64) {
-        let (t, model) = (self.t, self.model);
-        let [k1, k2, k3, k4] = &mut self.k;
-        match self.set.integrator {
-            Integrator::Euler => {
-                model.rhs(t, &self.x, &self.z, k1);
-                axpy_into(&mut self.x, h, k1);
-                self.stats.rhs_evals += 1;
-            }
-            Integrator::Rk4 => {
-                model.rhs(t, &self.x, &self.z, k1);
-                set_axpy(&mut self.xs, &self.x, 0.5 * h, k1);
-                set_axpy(&mut self.zs, &self.z, 0.5 * h, &self.v);
-                model.rhs(t + 0.5 * h, &self.xs, &self.zs, k2);
-                set_axpy(&mut self.xs, &self.x, 0.5 * h, k2);
-                model.rhs(t + 0.5 * h, &self.xs, &self.zs, k3);
-                set_axpy(&mut self.xs, &self.x, h, k3);
-                set_axpy(&mut self.zs, &self.z, h, &self.v);
-                model.rhs(t + h, &self.xs, &self.zs, k4);
-                rk4_combine(&mut self.x, h, k1, k2, k3, k4);
-                self.stats.rhs_evals += 4;
-            }
-        }
-    }
-
-    /// One SPSM step: `(x, z)` as an ODE with `v` recomputed at every stage. `self.v`
-    /// holds the control at the step's start (computed after the previous step).
-    fn spsm_step(&mut self, h: f64) {
-        let (t, model) = (self.t, self.model);
-        match self.set.integrator {
-            Integrator::Euler => {
-                let k1 = &mut self.k[0];
-                model.rhs(t, &self.x, &self.z, k1);
-                axpy_into(&mut self.x, h, k1);
-                axpy_into(&mut self.z, h, &self.v);
-                self.stats.rhs_evals += 1;
-            }
-            Integrator::Rk4 => {
-                model.rhs(t, &self.x, &self.z, &mut self.k[0]);
-                self.kz[0].copy_from_slice(&self.v);
-                for (stage, c) in [(1, 0.5), (2, 0.5), (3, 1.0)] {
-                    set_axpy(&mut self.xs, &self.x, c * h, &self.k[stage - 1]);
-                    set_axpy(&mut self.zs, &self.z, c * h, &self.kz[stage - 1]);
-                    let ts = t + c * h;
-                    model.rhs(ts, &self.xs, &self.zs, &mut self.k[stage]);
-                    self.ctl.sliding(model, ts, &self.xs, &self.zs);
-                    // A singular J_s inside a step leaves v non-finite; it is reported at
-                    // the end of the step as a non-finite z (with its name and time).
-                    let ok = self.ctl.factor(model, ts, &self.xs, &self.zs).is_ok();
-                    if ok {
-                        self.ctl.law(
-                            model,
-                            ts,
-                            &self.xs,
-                            &self.zs,
-                            Switch::Saturation,
-                            Check::OFF,
-                            &mut self.kz[stage],
-                        );
-                    } else {
-                        self.kz[stage].fill(f64::NAN);
-                    }
-                }
-                let [k1, k2, k3, k4] = &self.k;
-                rk4_combine(&mut self.x, h, k1, k2, k3, k4);
-                let [z1, z2, z3, z4] = &self.kz;
-                rk4_combine(&mut self.z, h, z1, z2, z3, z4);
-                self.stats.rhs_evals += 4;
-                self.stats.updates += 3;
-            }
-        }
-    }
-
     fn summary(&self, wall_time: f64) -> Summary {
         let st = &self.stats;
         let ss = self.ctl.solver.stats();
+        let window = st.stats_from.is_some();
+        let near_singular = self.ctl.min_pivot_ratio.filter(|(r, _)| *r < NEAR_SINGULAR);
         Summary {
             solver: SolverSummary {
                 name: self.ctl.solver.name().to_string(),
@@ -461,16 +723,22 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
             constraints: self.layout.constraints.clone(),
             t_end: self.t,
             steps: st.steps,
+            rejected_steps: st.rejected,
+            located_crossings: st.cuts,
             updates: st.updates,
             reaching_updates: st.reaching_updates,
             reaching_time: st.reaching_time,
             stats_from: st.stats_from,
             min_period: (st.periods > 0).then_some(st.min_period),
             mean_period: (st.periods > 0).then(|| st.period_sum / st.periods as f64),
-            max_abs_s: st.max_s.clone(),
-            max_abs_w: st.max_w.clone(),
+            max_abs_s: window.then(|| st.max_s.clone()),
+            max_abs_w: window.then(|| st.max_w.clone()),
+            seen_max_abs_s: st.seen_s.clone(),
+            seen_max_abs_w: st.seen_w.clone(),
+            bound_loss: st.loss.record(&self.layout.constraints, near_singular),
+            min_pivot_ratio: self.ctl.min_pivot_ratio,
             robustness_violations: self.set.check_robustness.then_some(st.violations),
-            rhs_evals: st.rhs_evals,
+            f_evals: st.rhs_evals,
             sliding_evals: self.ctl.sliding_evals,
             jacobian_evals: self.ctl.jacobian_evals,
             beta_evals: self.ctl.beta_evals,
@@ -478,25 +746,9 @@ impl<'a, M: Model + ?Sized> Simulator<'a, M> {
             x: self.x.clone(),
             z: self.z.clone(),
             z_eq: self.z_eq.clone(),
+            z_star: self.z_star.clone(),
+            s: self.ctl.s.clone(),
+            w: (0..self.wres.len()).map(|i| self.ctl.residual(i)).collect(),
         }
-    }
-}
-
-fn axpy_into(y: &mut [f64], a: f64, x: &[f64]) {
-    for (y, x) in y.iter_mut().zip(x) {
-        *y += a * x;
-    }
-}
-
-fn set_axpy(out: &mut [f64], y: &[f64], a: f64, x: &[f64]) {
-    for ((o, y), x) in out.iter_mut().zip(y).zip(x) {
-        *o = y + a * x;
-    }
-}
-
-fn rk4_combine(y: &mut [f64], h: f64, k1: &[f64], k2: &[f64], k3: &[f64], k4: &[f64]) {
-    let c = h / 6.0;
-    for i in 0..y.len() {
-        y[i] += c * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
     }
 }

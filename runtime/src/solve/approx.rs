@@ -130,6 +130,9 @@ impl LinearSolver for Jacobi {
             *bi *= inv;
         }
     }
+    fn pivot_range(&self) -> Option<(f64, f64)> {
+        super::abs_range(self.inv.iter().map(|v| 1.0 / v))
+    }
     fn stats(&self) -> SolverStats {
         self.stats
     }
@@ -434,6 +437,10 @@ impl LinearSolver for Ilu0 {
             }
             b[i] = s / a.vals[a.diag_slot[i]];
         }
+    }
+    fn pivot_range(&self) -> Option<(f64, f64)> {
+        let a = &self.a;
+        super::abs_range((0..a.st.m).map(|i| a.scale[i] * a.vals[a.diag_slot[i]]))
     }
     fn stats(&self) -> SolverStats {
         self.stats

@@ -15,6 +15,8 @@ pub(crate) struct DenseSolver {
     a: Vec<f64>,
     /// `swaps[i]` is the row exchanged with row `i` at elimination step `i`.
     swaps: Vec<usize>,
+    /// Smallest and largest pivot magnitude of the last factorisation.
+    pivots: Option<(f64, f64)>,
     stats: SolverStats,
 }
 
@@ -26,6 +28,7 @@ impl DenseSolver {
             m,
             a: vec![0.0; m * m],
             swaps: vec![0; m],
+            pivots: None,
             stats: SolverStats::default(),
         }
     }
@@ -41,6 +44,7 @@ impl DenseSolver {
         let a = &mut self.a;
         let scale = a.iter().fold(0.0f64, |acc, v| acc.max(v.abs()));
         let tol = PIVOT_TOL * scale;
+        let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
         for i in 0..m {
             let (mut piv, mut best) = (i, a[i * m + i].abs());
             for (r, v) in a[i * m + i + 1..(i + 1) * m].iter().enumerate() {
@@ -52,6 +56,8 @@ impl DenseSolver {
             if best.is_nan() || best <= tol {
                 return false;
             }
+            lo = lo.min(best);
+            hi = hi.max(best);
             self.swaps[i] = piv;
             if piv != i {
                 for col in a.chunks_exact_mut(m) {
@@ -74,6 +80,7 @@ impl DenseSolver {
                 }
             }
         }
+        self.pivots = (m > 0).then_some((lo, hi));
         true
     }
 }
@@ -113,6 +120,10 @@ impl LinearSolver for DenseSolver {
     fn solve(&mut self, b: &mut [f64]) {
         self.stats.solves += 1;
         let m = self.m;
+        if m == 0 {
+            // No constraints (an ODE): nothing to solve.
+            return;
+        }
         for (i, &p) in self.swaps.iter().enumerate() {
             if p != i {
                 b.swap(i, p);
@@ -138,6 +149,9 @@ impl LinearSolver for DenseSolver {
         }
     }
 
+    fn pivot_range(&self) -> Option<(f64, f64)> {
+        self.pivots
+    }
     fn stats(&self) -> SolverStats {
         self.stats
     }

@@ -216,6 +216,13 @@ pub trait LinearSolver {
         x.copy_from_slice(b);
         self.solve(x);
     }
+    /// The smallest and largest magnitude of the pivots of the last successful
+    /// [`factor`](LinearSolver::factor) (the diagonal of `U` or `D`; for Jacobi the
+    /// diagonal of `J_s`): a cheap conditioning indicator. `None` for the iterations
+    /// (Gauss-Seidel, CG), which have no pivots.
+    fn pivot_range(&self) -> Option<(f64, f64)> {
+        None
+    }
     /// Counters since construction or [`reset_stats`](LinearSolver::reset_stats).
     fn stats(&self) -> SolverStats;
     /// Zero the counters.
@@ -379,12 +386,23 @@ impl LinearSolver for Solver {
     fn solve_from(&mut self, b: &[f64], x: &mut [f64]) {
         dispatch!(self, s => s.solve_from(b, x))
     }
+    fn pivot_range(&self) -> Option<(f64, f64)> {
+        self.inner().pivot_range()
+    }
     fn stats(&self) -> SolverStats {
         self.inner().stats()
     }
     fn reset_stats(&mut self) {
         dispatch!(self, s => s.reset_stats())
     }
+}
+
+/// Smallest and largest `|v|` of the values (`None` for none).
+pub(crate) fn abs_range(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+    values.fold(None, |acc, v| {
+        let a = v.abs();
+        Some(acc.map_or((a, a), |(lo, hi): (f64, f64)| (lo.min(a), hi.max(a))))
+    })
 }
 
 /// Relative pivot size under which an elimination declares a pivot unusable: a pivot

@@ -380,6 +380,12 @@ impl LinearSolver for SparseSolver {
         }
     }
 
+    fn pivot_range(&self) -> Option<(f64, f64)> {
+        match (&self.multifrontal, self.use_multifrontal) {
+            (Some(mf), true) => super::abs_range(mf.pivots().iter().copied()),
+            _ => super::abs_range(self.d.iter().copied()),
+        }
+    }
     fn stats(&self) -> SolverStats {
         self.stats
     }

@@ -196,6 +196,11 @@ impl Supernodal {
         }
     }
 
+    /// The pivots `D` of the last factorisation (permuted order).
+    pub(crate) fn pivots(&self) -> &[f64] {
+        &self.d
+    }
+
     /// Values stored by the factor (blocks and diagonal).
     pub(crate) fn stored_values(&self) -> usize {
         self.lval.len() + self.d.len()

@@ -257,3 +257,45 @@ fn a_chordal_pattern_is_factored_without_fill() {
     // Strictly lower factor = strictly lower pattern: no fill.
     assert_eq!(sparse.fill(), (true, edges.len()));
 }
+
+#[test]
+fn an_empty_system_factors_and_solves_with_every_solver() {
+    // A model without constraints (an ODE) has m = 0.
+    for choice in [
+        SolverChoice::Auto,
+        SolverChoice::Dense,
+        SolverChoice::Sparse,
+        SolverChoice::Tree,
+        SolverChoice::Jacobi,
+        SolverChoice::GaussSeidel(2),
+        SolverChoice::Cg(2),
+        SolverChoice::Ilu0,
+    ] {
+        let mut s = Solver::new(0, &[], choice).unwrap();
+        s.factor(&[], &[]).unwrap();
+        let mut b: [f64; 0] = [];
+        s.solve(&mut b);
+        s.solve_from(&[], &mut []);
+        assert_eq!(s.pivot_range(), None, "{choice}");
+    }
+}
+
+#[test]
+fn pivot_ranges_bound_the_pivots() {
+    // diag(4, -0.5) in a dense and a tree/sparse/Jacobi form: pivots 4 and 0.5.
+    let pattern = [(0, 0), (1, 1)];
+    for choice in [
+        SolverChoice::Dense,
+        SolverChoice::Sparse,
+        SolverChoice::Tree,
+        SolverChoice::Jacobi,
+        SolverChoice::Ilu0,
+    ] {
+        let mut s = Solver::new(2, &pattern, choice).unwrap();
+        s.factor(&[4.0, -0.5], &[1.0, 1.0]).unwrap();
+        assert_eq!(s.pivot_range(), Some((0.5, 4.0)), "{choice}");
+    }
+    let mut s = Solver::new(2, &pattern, SolverChoice::Cg(2)).unwrap();
+    s.factor(&[4.0, 0.5], &[1.0, 1.0]).unwrap();
+    assert_eq!(s.pivot_range(), None);
+}

@@ -179,6 +179,9 @@ impl LinearSolver for TreeSolver {
         }
     }
 
+    fn pivot_range(&self) -> Option<(f64, f64)> {
+        super::abs_range(self.piv.iter().copied())
+    }
     fn stats(&self) -> SolverStats {
         self.stats
     }

@@ -172,3 +172,192 @@ impl Model for Chain {
         b[0] = -t.sin();
     }
 }
+
+/// No constraint (an ODE is a DAE with `m = 0`): the oscillator `x' = v, v' = -x`, exact
+/// `x = cos t`.
+pub struct Oscillator;
+
+impl Model for Oscillator {
+    fn name(&self) -> &str {
+        "oscillator"
+    }
+    fn n_states(&self) -> usize {
+        2
+    }
+    fn n_constraints(&self) -> usize {
+        0
+    }
+    fn n_params(&self) -> usize {
+        0
+    }
+    fn state_name(&self, i: usize) -> &str {
+        ["x", "v"][i]
+    }
+    fn alg_name(&self, _: usize) -> &str {
+        unreachable!("no algebraic unknowns")
+    }
+    fn constraint_name(&self, _: usize) -> &str {
+        unreachable!("no constraints")
+    }
+    fn param_name(&self, _: usize) -> &str {
+        ""
+    }
+    fn indices(&self) -> &[usize] {
+        &[]
+    }
+    fn param(&self, _: usize) -> f64 {
+        f64::NAN
+    }
+    fn set_param(&mut self, _: usize, _: f64) {}
+    fn initial_state(&self, x: &mut [f64]) {
+        x.copy_from_slice(&[1.0, 0.0]);
+    }
+    fn initial_alg(&self, _: &mut [f64]) {}
+    fn rhs(&self, _: f64, x: &[f64], _: &[f64], dx: &mut [f64]) {
+        dx.copy_from_slice(&[x[1], -x[0]]);
+    }
+    fn sliding(
+        &self,
+        _: f64,
+        _: &[f64],
+        _: &[f64],
+        _: &[f64],
+        _: &mut [f64],
+        _: &mut [f64],
+        _: &mut [f64],
+    ) {
+    }
+    fn jacobian_pattern(&self) -> &[(usize, usize)] {
+        &[]
+    }
+    fn jacobian(&self, _: f64, _: &[f64], _: &[f64], _: &mut [f64]) {}
+    fn beta(&self, _: f64, _: &[f64], _: &[f64], _: &mut [f64]) {}
+}
+
+/// Index 2 with a parameter: `x' = z - x, 0 = x - sin t - c` (parameter `c`, the
+/// offset of the tracked curve); exact `x = sin t + c`, `z = sin t + cos t + c`.
+pub struct Offset {
+    pub c: f64,
+}
+
+impl Model for Offset {
+    fn name(&self) -> &str {
+        "offset"
+    }
+    fn n_states(&self) -> usize {
+        1
+    }
+    fn n_constraints(&self) -> usize {
+        1
+    }
+    fn n_params(&self) -> usize {
+        1
+    }
+    fn state_name(&self, _: usize) -> &str {
+        "x"
+    }
+    fn alg_name(&self, _: usize) -> &str {
+        "z"
+    }
+    fn constraint_name(&self, _: usize) -> &str {
+        "track"
+    }
+    fn param_name(&self, _: usize) -> &str {
+        "c"
+    }
+    fn indices(&self) -> &[usize] {
+        &[2]
+    }
+    fn param(&self, _: usize) -> f64 {
+        self.c
+    }
+    fn set_param(&mut self, _: usize, value: f64) {
+        self.c = value;
+    }
+    fn initial_state(&self, x: &mut [f64]) {
+        x[0] = self.c;
+    }
+    fn initial_alg(&self, z: &mut [f64]) {
+        z[0] = 1.0 + self.c;
+    }
+    fn rhs(&self, _: f64, x: &[f64], z: &[f64], dx: &mut [f64]) {
+        dx[0] = z[0] - x[0];
+    }
+    fn sliding(
+        &self,
+        t: f64,
+        x: &[f64],
+        z: &[f64],
+        mu: &[f64],
+        w: &mut [f64],
+        s: &mut [f64],
+        ah: &mut [f64],
+    ) {
+        w[0] = x[0] - t.sin() - self.c;
+        w[1] = z[0] - x[0] - t.cos();
+        s[0] = mu[0] * w[1] + w[0];
+        ah[0] = w[1];
+    }
+    fn jacobian_pattern(&self) -> &[(usize, usize)] {
+        &[(0, 0)]
+    }
+    fn jacobian(&self, _: f64, _: &[f64], _: &[f64], j: &mut [f64]) {
+        j[0] = 1.0;
+    }
+    fn beta(&self, t: f64, x: &[f64], z: &[f64], b: &mut [f64]) {
+        b[0] = t.sin() - (z[0] - x[0]);
+    }
+}
+
+/// Largest `|s_i|` of a run between its recorded samples, computed independently of the
+/// simulator's dense output: from each sample at or after `from`, RK4 with `sub`
+/// substeps to the next sample with the held `v` recovered from the two samples' `z`
+/// (the samples are every step's end, the updates among them), `s` evaluated at every
+/// substep with the model's own `sliding`.
+pub fn independent_max_s<M: Model>(
+    model: &M,
+    mu: &[f64],
+    trace: &dae_runtime::Trace,
+    from: f64,
+    sub: usize,
+) -> Vec<f64> {
+    let (n, m) = (model.n_states(), model.n_constraints());
+    let nw: usize = model.indices().iter().sum();
+    let mut max = vec![0.0f64; m];
+    let (mut w, mut s, mut ah) = (vec![0.0; nw], vec![0.0; m], vec![0.0; m]);
+    let t = trace.times();
+    for k in 0..t.len().saturating_sub(1) {
+        if t[k] < from || t[k + 1] <= t[k] {
+            continue;
+        }
+        let dt = t[k + 1] - t[k];
+        let (z0, z1) = (trace.z(k), trace.z(k + 1));
+        let v: Vec<f64> = (0..m).map(|j| (z1[j] - z0[j]) / dt).collect();
+        let z_at = |tau: f64| -> Vec<f64> { (0..m).map(|j| z0[j] + v[j] * (tau - t[k])).collect() };
+        let f = |tau: f64, x: &[f64]| -> Vec<f64> {
+            let mut d = vec![0.0; n];
+            model.rhs(tau, x, &z_at(tau), &mut d);
+            d
+        };
+        let mut x = trace.x(k).to_vec();
+        let h = dt / sub as f64;
+        for j in 0..sub {
+            let tau = t[k] + j as f64 * h;
+            let k1 = f(tau, &x);
+            let xa: Vec<f64> = (0..n).map(|i| x[i] + 0.5 * h * k1[i]).collect();
+            let k2 = f(tau + 0.5 * h, &xa);
+            let xb: Vec<f64> = (0..n).map(|i| x[i] + 0.5 * h * k2[i]).collect();
+            let k3 = f(tau + 0.5 * h, &xb);
+            let xc: Vec<f64> = (0..n).map(|i| x[i] + h * k3[i]).collect();
+            let k4 = f(tau + h, &xc);
+            for i in 0..n {
+                x[i] += h / 6.0 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
+            }
+            model.sliding(tau + h, &x, &z_at(tau + h), mu, &mut w, &mut s, &mut ah);
+            for i in 0..m {
+                max[i] = max[i].max(s[i].abs());
+            }
+        }
+    }
+    max
+}

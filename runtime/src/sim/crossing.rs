@@ -1,0 +1,312 @@
+//! The dense output of a sliding variable over one step and the crossings it shows.
+//!
+//! Between two control updates `s_i` is smooth, and at both ends of a step the
+//! simulator knows `s_i` and its exact rate `s_i' = (J_s v + alpha)_i`. The cubic
+//! Hermite through those four numbers ([`Cubic`]) is split at its extrema into monotone
+//! pieces; on each piece, in order, a layer boundary `|s_i| = L_i` can only be crossed
+//! once, so the first outward crossing of the step (also one that leaves and re-enters
+//! the layer within the step) is found exactly on the cubic by bisection. The
+//! simulator then refines it on the true `s` (see `sim::events`).
+
+/// `p(theta) = a0 + a1 theta + a2 theta^2 + a3 theta^3` on `theta` in `[0, 1]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Cubic {
+    a: [f64; 4],
+    /// `0`, the extrema inside `(0, 1)`, `1` (computed once), and how many; the values
+    /// there.
+    breaks: [f64; 4],
+    n_breaks: usize,
+    vals: [f64; 4],
+}
+
+/// What ends a step for one sliding variable.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Watch {
+    /// The layer half-width `L > 0` whose outward crossing is an event.
+    pub(crate) level: f64,
+    /// Contracting layers: the sign of `s` at the last update of a variable that was
+    /// outside then; reaching `s = 0` from that side is an event.
+    pub(crate) surface_from: Option<f64>,
+}
+
+impl Cubic {
+    /// The Hermite cubic with `p(0) = s0`, `p(1) = s1`, `p'(0) = h ds0`, `p'(1) = h ds1`
+    /// (`ds` are rates in time, `h` the step length).
+    pub(crate) fn hermite(s0: f64, ds0: f64, s1: f64, ds1: f64, h: f64) -> Self {
+        let (d0, d1) = (h * ds0, h * ds1);
+        let a = [
+            s0,
+            d0,
+            3.0 * (s1 - s0) - 2.0 * d0 - d1,
+            2.0 * (s0 - s1) + d0 + d1,
+        ];
+        let (breaks, n_breaks) = extrema(&a);
+        let mut c = Cubic {
+            a,
+            breaks,
+            n_breaks,
+            vals: [0.0; 4],
+        };
+        for (v, &t) in c.vals.iter_mut().zip(&breaks).take(n_breaks) {
+            *v = eval(&a, t);
+        }
+        c
+    }
+
+    pub(crate) fn eval(&self, t: f64) -> f64 {
+        eval(&self.a, t)
+    }
+
+    fn slope(&self, t: f64) -> f64 {
+        let a = &self.a;
+        a[1] + t * (2.0 * a[2] + t * 3.0 * a[3])
+    }
+
+    /// `0`, the extrema inside `(0, 1)` in increasing order, `1`; and how many.
+    pub(crate) fn breaks(&self) -> ([f64; 4], usize) {
+        (self.breaks, self.n_breaks)
+    }
+
+    /// The root of `p = level` in `[lo, hi]` where `p - level` changes sign from `lo` to
+    /// `hi` (a monotone piece): Newton steps, bisection whenever a step would leave the
+    /// bracket, to the last bits.
+    fn root(&self, level: f64, mut lo: f64, mut hi: f64) -> f64 {
+        let below_lo = self.eval(lo) < level;
+        let mut t = 0.5 * (lo + hi);
+        for _ in 0..64 {
+            let r = self.eval(t) - level;
+            if r == 0.0 {
+                return t;
+            }
+            if (r < 0.0) == below_lo {
+                lo = t;
+            } else {
+                hi = t;
+            }
+            let newton = t - r / self.slope(t);
+            let next = if newton > lo && newton < hi {
+                newton
+            } else {
+                0.5 * (lo + hi)
+            };
+            if (next - t).abs() <= 4.0 * f64::EPSILON * t.abs().max(1e-300) || hi <= lo {
+                return next;
+            }
+            t = next;
+        }
+        t
+    }
+
+    /// The first `theta` in `(0, 1]` at which this variable asks for an update: an
+    /// outward crossing of `|p| = level` (or the start of an outward motion outside the
+    /// layer, at an extremum), or, with `surface_from`, the arrival at `p = 0`. An event
+    /// at `theta = 0` is never returned (the end-of-step check of the previous step
+    /// handles the start point, and a variable already moving outward at an update,
+    /// because its gain is too small, must not stop the integration).
+    pub(crate) fn first_event(&self, watch: Watch) -> Option<f64> {
+        let (b, n) = self.breaks();
+        let l = watch.level;
+        let v = &self.vals;
+        if watch.surface_from.is_none() && v[..n].iter().all(|p| p.abs() < l) {
+            // Inside the layer all along (the extrema and the ends bound the cubic).
+            return None;
+        }
+        for k in 0..n - 1 {
+            let (ta, tb) = (b[k], b[k + 1]);
+            let (pa, pb) = (v[k], v[k + 1]);
+            let mut hit = None;
+            if pb > pa {
+                if pa >= l {
+                    hit = Some(ta);
+                } else if pb >= l {
+                    hit = Some(self.root(l, ta, tb));
+                }
+                if let Some(-1.0) = watch.surface_from {
+                    if pa < 0.0 && pb >= 0.0 {
+                        let r = self.root(0.0, ta, tb);
+                        hit = Some(hit.map_or(r, |h: f64| h.min(r)));
+                    }
+                }
+            } else if pb < pa {
+                if pa <= -l {
+                    hit = Some(ta);
+                } else if pb <= -l {
+                    hit = Some(self.root(-l, ta, tb));
+                }
+                if let Some(1.0) = watch.surface_from {
+                    if pa > 0.0 && pb <= 0.0 {
+                        let r = self.root(0.0, ta, tb);
+                        hit = Some(hit.map_or(r, |h: f64| h.min(r)));
+                    }
+                }
+            }
+            match hit {
+                Some(t) if t > 0.0 => return Some(t),
+                _ => {}
+            }
+        }
+        None
+    }
+
+    /// Largest `|p|` on `[0, 1]`.
+    pub(crate) fn max_abs(&self) -> f64 {
+        self.vals[..self.n_breaks]
+            .iter()
+            .fold(0.0f64, |m, p| m.max(p.abs()))
+    }
+
+    /// Measure of `{theta in [0, 1] : |p(theta)| > level}`.
+    pub(crate) fn time_beyond(&self, level: f64) -> f64 {
+        let (b, n) = self.breaks();
+        if self.max_abs() <= level {
+            return 0.0;
+        }
+        let mut total = 0.0;
+        for k in 0..n - 1 {
+            let (ta, tb) = (b[k], b[k + 1]);
+            for sign in [1.0, -1.0] {
+                // On a monotone piece, {sign p > level} is an interval at one end.
+                let (qa, qb) = (sign * self.vals[k], sign * self.vals[k + 1]);
+                total += match (qa > level, qb > level) {
+                    (true, true) => tb - ta,
+                    (false, false) => 0.0,
+                    (true, false) => self.root(sign * level, ta, tb) - ta,
+                    (false, true) => tb - self.root(sign * level, ta, tb),
+                };
+            }
+        }
+        total
+    }
+
+    /// Rate of change in `theta` at `t` (for Newton steps on the true `s`).
+    pub(crate) fn rate(&self, t: f64) -> f64 {
+        self.slope(t)
+    }
+}
+
+/// The cubic with coefficients `a` at `t` (Horner).
+fn eval(a: &[f64; 4], t: f64) -> f64 {
+    a[0] + t * (a[1] + t * (a[2] + t * a[3]))
+}
+
+/// `0`, the extrema of the cubic with coefficients `a` inside `(0, 1)` in increasing
+/// order, `1`; and how many.
+fn extrema(a: &[f64; 4]) -> ([f64; 4], usize) {
+    let mut out = [0.0, 1.0, 1.0, 1.0];
+    let mut n = 1;
+    // p' = 3 a3 t^2 + 2 a2 t + a1.
+    let (qa, qb, qc) = (3.0 * a[3], 2.0 * a[2], a[1]);
+    let mut roots = [f64::NAN; 2];
+    let scale = qa.abs().max(qb.abs()).max(qc.abs());
+    if scale > 0.0 {
+        if qa.abs() <= 1e-14 * scale {
+            if qb != 0.0 {
+                roots[0] = -qc / qb;
+            }
+        } else {
+            let disc = qb * qb - 4.0 * qa * qc;
+            if disc >= 0.0 {
+                // The numerically stable pair of roots.
+                let sign = if qb >= 0.0 { 1.0 } else { -1.0 };
+                let q = -0.5 * (qb + sign * disc.sqrt());
+                roots[0] = q / qa;
+                if q != 0.0 {
+                    roots[1] = qc / q;
+                }
+            }
+        }
+    }
+    if roots[0] > roots[1] {
+        roots.swap(0, 1);
+    }
+    for r in roots {
+        if r > 0.0 && r < 1.0 && r > out[n - 1] {
+            out[n] = r;
+            n += 1;
+        }
+    }
+    out[n] = 1.0;
+    (out, n + 1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn from_poly(f: impl Fn(f64) -> f64, df: impl Fn(f64) -> f64) -> Cubic {
+        Cubic::hermite(f(0.0), df(0.0), f(1.0), df(1.0), 1.0)
+    }
+
+    #[test]
+    fn hermite_reproduces_a_cubic_and_its_extrema() {
+        // p = (t - 0.2)(t - 0.5)(t - 0.9) * 10: extrema at the roots of p'.
+        let f = |t: f64| 10.0 * (t - 0.2) * (t - 0.5) * (t - 0.9);
+        let df =
+            |t: f64| 10.0 * ((t - 0.5) * (t - 0.9) + (t - 0.2) * (t - 0.9) + (t - 0.2) * (t - 0.5));
+        let c = from_poly(f, df);
+        for t in [0.0, 0.3, 0.77, 1.0] {
+            assert!((c.eval(t) - f(t)).abs() < 1e-12);
+        }
+        let (b, n) = c.breaks();
+        assert_eq!(n, 4);
+        for &t in &b[1..3] {
+            assert!(df(t).abs() < 1e-10, "{t}");
+        }
+        assert!(b[1] < b[2]);
+    }
+
+    #[test]
+    fn first_outward_crossing_and_an_excursion_that_returns() {
+        // Linear from 0 to 2: crosses 1 at 0.5.
+        let c = Cubic::hermite(0.0, 2.0, 2.0, 2.0, 1.0);
+        let w = Watch {
+            level: 1.0,
+            surface_from: None,
+        };
+        assert!((c.first_event(w).unwrap() - 0.5).abs() < 1e-15);
+        // Leaves the layer [-1, 1] and comes back within the step: p = 5 t (1 - t),
+        // max 1.25 at 0.5; crosses 1 at t = (1 - sqrt(0.2)) / 2.
+        let c = from_poly(|t| 5.0 * t * (1.0 - t), |t| 5.0 - 10.0 * t);
+        let expect = (1.0 - 0.2f64.sqrt()) / 2.0;
+        assert!((c.first_event(w).unwrap() - expect).abs() < 1e-14);
+        // Inward motion from outside ends inside: no event.
+        let c = Cubic::hermite(1.5, -2.0, -0.5, -2.0, 1.0);
+        assert_eq!(c.first_event(w), None);
+        // Moving outward from the start (a gain too small): no event at 0, nor later.
+        let c = Cubic::hermite(1.2, 1.0, 2.2, 1.0, 1.0);
+        assert_eq!(c.first_event(w), None);
+        // Outside, moving in, turning back outside at t = 0.5: event at the turn.
+        let c = from_poly(|t| 2.0 + (t - 0.5) * (t - 0.5), |t| 2.0 * (t - 0.5));
+        assert!((c.first_event(w).unwrap() - 0.5).abs() < 1e-9);
+        // Negative side.
+        let c = Cubic::hermite(0.5, -3.0, -2.5, -3.0, 1.0);
+        assert!((c.first_event(w).unwrap() - 0.5).abs() < 1e-15);
+    }
+
+    #[test]
+    fn reaching_the_surface_from_the_side_of_the_last_update() {
+        let c = Cubic::hermite(3.0, -4.0, -1.0, -4.0, 1.0);
+        let w = Watch {
+            level: 3.5,
+            surface_from: Some(1.0),
+        };
+        assert!((c.first_event(w).unwrap() - 0.75).abs() < 1e-15);
+        // From the other side nothing happens.
+        let w = Watch {
+            level: 3.5,
+            surface_from: Some(-1.0),
+        };
+        assert_eq!(c.first_event(w), None);
+    }
+
+    #[test]
+    fn max_and_time_beyond_a_level() {
+        let c = from_poly(|t| 5.0 * t * (1.0 - t), |t| 5.0 - 10.0 * t);
+        assert!((c.max_abs() - 1.25).abs() < 1e-12);
+        // |p| > 1 on ((1 - sqrt 0.2)/2, (1 + sqrt 0.2)/2).
+        assert!((c.time_beyond(1.0) - 0.2f64.sqrt()).abs() < 1e-12);
+        let line = Cubic::hermite(-2.0, 4.0, 2.0, 4.0, 1.0);
+        assert!((line.time_beyond(1.0) - 0.5).abs() < 1e-12);
+        assert_eq!(line.max_abs(), 2.0);
+    }
+}

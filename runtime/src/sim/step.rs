@@ -1,0 +1,582 @@
+//! One accepted step: the fixed-step grid or the error-controlled step, the crossing
+//! located inside it (the step cut there), and what the step measured.
+//!
+//! With located crossings a step ends at the first event of any sliding variable
+//! (see [`crossing`](super::crossing)): the cubic of `s_i` over the trial step finds
+//! it; Newton iterations on the true `s` along the integrator's dense output of `x`
+//! (`z` on its exact ramp) refine it to within a quarter of the crossing tolerance;
+//! the step is cut there (the embedded pairs take their dense output as the new state,
+//! the fixed-step integrators integrate again to the cut); and the cubic is rebuilt on
+//! the shortened step from the exact end values, which must show the event at its end
+//! (within the tolerance) and no earlier one, or the step is cut again.
+
+use super::crossing::{Cubic, Watch};
+use super::rk::{self, BOGACKI_SHAMPINE, DORMAND_PRINCE, Pair};
+use super::{Check, Simulator, Switch};
+use crate::error::Quantity;
+use crate::{Integrator, Model, Policy, SimError};
+
+/// How far past the crossing predicted from the current `s'` an error-controlled step
+/// may reach (`s'` drifts within an interval, so the crossing lands somewhat before or
+/// after the prediction).
+const AIM_PAST_CROSSING: f64 = 1.3;
+/// Most cuts of one step while locating a crossing: the rebuilt cubic agrees with the
+/// true `s` to the tolerance after one or two; the rest is a guard against a model
+/// whose `s` is not smooth within a step.
+const MAX_CUTS: usize = 8;
+/// Newton iterations on the true `s` per cut.
+const MAX_NEWTON: usize = 8;
+/// Consecutive non-finite trial steps of an embedded pair before the failure is
+/// reported (a step too large can leave the model's domain where a smaller one would
+/// not).
+const MAX_NONFINITE_RETRIES: usize = 8;
+
+/// The event a cut is aimed at: a sliding variable, the `theta` of the event on the
+/// cubic, and the value of `s` to reach (`None` for the start of an outward motion at
+/// an extremum, which is taken from the cubic).
+struct Event {
+    i: usize,
+    theta: f64,
+    target: Option<f64>,
+}
+
+impl<M: Model> Simulator<M> {
+    /// Steps of the fixed-step grid from `run.origin` to `target` (the last one ends
+    /// exactly at `target`).
+    pub(super) fn grid_steps(&self, target: f64) -> u64 {
+        let h = self.set.step;
+        (((target - self.run.origin) / h) - 1e-9).ceil().max(1.0) as u64
+    }
+
+    /// One accepted step towards `target`; leaves `s` (and with located crossings
+    /// `J_Omega`, `beta` and `s'`) evaluated at the new point and the step's measures in
+    /// `self.measure`.
+    pub(super) fn step(&mut self, target: f64) -> Result<(), SimError> {
+        if self.located() {
+            self.s0.copy_from_slice(&self.ctl.s);
+            self.ds0.copy_from_slice(&self.ds);
+        } else {
+            self.s_prev.copy_from_slice(&self.ctl.s);
+        }
+        self.x0.copy_from_slice(&self.x);
+        self.z0.copy_from_slice(&self.z);
+        let t0 = self.t;
+        if self.set.policy == Policy::Spsm {
+            let t_new = self.grid_time();
+            self.spsm_step(t_new - t0);
+            self.t = t_new;
+            self.eval_point(t_new);
+            self.measure_ends(t_new - t0);
+        } else if self.set.integrator.is_adaptive() {
+            self.adaptive_step(target)?;
+        } else {
+            let mut t_new = self.grid_time();
+            let aims = self.located() && self.set.policy == Policy::Monitor;
+            let aim = if aims {
+                t0 + AIM_PAST_CROSSING * self.predicted_crossing()
+            } else {
+                f64::INFINITY
+            };
+            let off_grid = aim < t_new;
+            if off_grid {
+                // The user's step is the longest: a step aimed past the predicted
+                // crossing is not wasted on motion after it, and its trial end stays
+                // close enough for the cubic of s to find the crossing.
+                t_new = aim;
+            }
+            self.first_stage();
+            self.fixed_step(t_new - t0);
+            self.x.copy_from_slice(&self.rk.y1);
+            self.t = t_new;
+            self.ramp_z();
+            self.eval_point(t_new);
+            if self.located() {
+                self.ctl.s_rate(&self.v, &mut self.ds);
+                self.locate(t0);
+                if self.rk.f1_known {
+                    // The Hermite output needed f at the end: the next first stage.
+                    self.f_cur.copy_from_slice(&self.rk.f1);
+                    self.f_cur_valid = true;
+                }
+            } else {
+                self.measure_ends(t_new - t0);
+            }
+            if off_grid && self.run.origin != self.t {
+                self.restart_grid();
+            }
+        }
+        self.measure.h = self.t - t0;
+        self.stats.steps += 1;
+        Ok(())
+    }
+
+    /// Start the fixed grid again at the current time (after a cut or an aimed step).
+    fn restart_grid(&mut self) {
+        self.run.origin = self.t;
+        self.run.k = 0;
+        self.run.n = self.grid_steps(self.run.grid_target);
+    }
+
+    /// The end of the next step on the fixed grid.
+    fn grid_time(&mut self) -> f64 {
+        self.run.k += 1;
+        if self.run.k >= self.run.n {
+            self.run.grid_target
+        } else {
+            self.run.origin + self.run.k as f64 * self.set.step
+        }
+    }
+
+    /// `z` on its exact ramp at the current time (avoids accumulating rounding).
+    fn ramp_z(&mut self) {
+        let dt = self.t - self.tb;
+        for ((z, zb), v) in self.z.iter_mut().zip(&self.zb).zip(&self.v) {
+            *z = zb + v * dt;
+        }
+    }
+
+    /// Without located crossings (or under SPSM), a step's measure is its end.
+    fn measure_ends(&mut self, h: f64) {
+        for i in 0..self.s0.len() {
+            let a = self.ctl.s[i].abs();
+            self.measure.max_s[i] = a;
+            // A NaN counts as beyond.
+            let within = a <= (1.0 + self.set.bound_tol) * self.set.eps[i];
+            let beyond = !within;
+            self.measure.time_beyond[i] = if beyond { h } else { 0.0 };
+        }
+    }
+
+    /// `f(t, x, z)` at the current point (the step's start) into `rk.k[0]`, reusing a
+    /// known one.
+    fn first_stage(&mut self) {
+        if self.f_cur_valid {
+            self.rk.k[0].copy_from_slice(&self.f_cur);
+        } else {
+            self.model.rhs(self.t, &self.x, &self.z, &mut self.rk.k[0]);
+            self.stats.rhs_evals += 1;
+        }
+        self.f_cur_valid = false;
+    }
+
+    /// One fixed step of Euler or RK4 from `(t, x0, z0)` over `h` into `rk.y1`, with
+    /// `rk.k[0] = f(t, x0, z0)` given and `z` on the ramp `z0 + c h v` in the stages.
+    fn fixed_step(&mut self, h: f64) {
+        let t = self.t;
+        let (x, z, v) = (&self.x0, &self.z0, &self.v);
+        let model = &self.model;
+        let rk = &mut self.rk;
+        match self.set.integrator {
+            Integrator::Euler => {
+                for ((y, x), k) in rk.y1.iter_mut().zip(x).zip(&rk.k[0]) {
+                    *y = x + h * k;
+                }
+            }
+            _ => {
+                let (xs, zs) = (&mut self.xs, &mut self.zs);
+                set_axpy(xs, x, 0.5 * h, &rk.k[0]);
+                set_axpy(zs, z, 0.5 * h, v);
+                model.rhs(t + 0.5 * h, xs, zs, &mut rk.k[1]);
+                set_axpy(xs, x, 0.5 * h, &rk.k[1]);
+                model.rhs(t + 0.5 * h, xs, zs, &mut rk.k[2]);
+                set_axpy(xs, x, h, &rk.k[2]);
+                set_axpy(zs, z, h, v);
+                model.rhs(t + h, xs, zs, &mut rk.k[3]);
+                let c = h / 6.0;
+                let k = &rk.k;
+                for i in 0..x.len() {
+                    rk.y1[i] = x[i] + c * (k[0][i] + 2.0 * (k[1][i] + k[2][i]) + k[3][i]);
+                }
+                self.stats.rhs_evals += 3;
+            }
+        }
+        self.rk.fixed_done(&self.x0, h);
+    }
+
+    /// The end derivative of the last fixed step (for its Hermite dense output) at the
+    /// current point, its end.
+    fn fixed_end_derivative(&mut self) {
+        if self.rk.f1_known {
+            return;
+        }
+        self.model.rhs(self.t, &self.x, &self.z, &mut self.rk.f1);
+        self.stats.rhs_evals += 1;
+        self.rk.f1_known = true;
+    }
+
+    fn pair(&self) -> &'static Pair {
+        match self.set.integrator {
+            Integrator::BogackiShampine => &BOGACKI_SHAMPINE,
+            _ => &DORMAND_PRINCE,
+        }
+    }
+
+    /// One error-controlled step towards `target` (and the next fixed-period update),
+    /// with the crossing located inside it.
+    fn adaptive_step(&mut self, target: f64) -> Result<(), SimError> {
+        let pair = self.pair();
+        let tol = self.set.effective_tolerance();
+        let tol = (tol.rtol, tol.atol);
+        let t0 = self.t;
+        self.first_stage();
+        let mut end = target;
+        if let Policy::Fixed(p) = self.set.policy {
+            end = end.min(self.tb + p);
+        }
+        let remaining = end - t0;
+        let mut h_max = self.set.max_step.min(remaining);
+        if self.located() && self.set.policy == Policy::Monitor {
+            // Aim a little beyond the next crossing that s' predicts, so that the cut
+            // falls near the step's end: the dense output there is as accurate as the
+            // step itself, and one step usually spans a control interval.
+            h_max = h_max.min(AIM_PAST_CROSSING * self.predicted_crossing());
+        }
+        let (model, z0, v) = (&self.model, &self.z0, &self.v);
+        let zs = &mut self.zs;
+        let mut rhs = |dt: f64, y: &[f64], dy: &mut [f64]| {
+            for i in 0..zs.len() {
+                zs[i] = z0[i] + dt * v[i];
+            }
+            model.rhs(t0 + dt, y, zs, dy);
+        };
+        let mut h = match self.run.h_next {
+            Some(h) => h,
+            None => {
+                self.stats.rhs_evals += 1;
+                let (ys, fs) = (&mut self.xs, &mut self.f_cur);
+                rk::initial_step(pair, &self.x0, &self.rk.k[0], tol, h_max, ys, fs, &mut rhs)
+            }
+        };
+        let mut rejected_before = false;
+        let mut nonfinite = 0;
+        let mut last_nonfinite = None;
+        let outcome = loop {
+            h = h.min(h_max);
+            // No sliver of a step before the end of the piece.
+            if remaining - h <= 0.01 * h {
+                h = remaining;
+            }
+            let resolvable = h > 16.0 * f64::EPSILON * t0.abs().max(1.0);
+            if !resolvable {
+                // A step shrunk to nothing by non-finite trials is a value that left its
+                // domain (or overflowed): say which.
+                break Err(match last_nonfinite {
+                    Some((i, value)) => SimError::NonFinite {
+                        kind: Quantity::State,
+                        index: i,
+                        name: model.state_name(i).to_string(),
+                        value,
+                        t: t0,
+                    },
+                    None => SimError::StepUnderflow { t: t0, h },
+                });
+            }
+            let err = self.rk.embedded(pair, &self.x0, h, tol, &mut rhs);
+            self.stats.rhs_evals += pair.stages() as u64 - 1;
+            if let Some(i) = self.rk.y1.iter().position(|y| !y.is_finite()) {
+                nonfinite += 1;
+                last_nonfinite = Some((i, self.rk.y1[i]));
+                if nonfinite > MAX_NONFINITE_RETRIES {
+                    break Err(SimError::NonFinite {
+                        kind: Quantity::State,
+                        index: i,
+                        name: model.state_name(i).to_string(),
+                        value: self.rk.y1[i],
+                        t: t0 + h,
+                    });
+                }
+            } else if err <= 1.0 {
+                break Ok(err);
+            }
+            self.stats.rejected += 1;
+            h *= if nonfinite > 0 {
+                0.2
+            } else {
+                rk::step_factor(pair, err, true)
+            };
+            rejected_before = true;
+            if let Some(limit) = self.set.max_steps {
+                if self.stats.steps + self.stats.rejected >= limit {
+                    break Err(SimError::StepLimit { limit, t: t0 });
+                }
+            }
+        };
+        let err = match outcome {
+            Ok(err) => err,
+            Err(e) => {
+                self.t = t0;
+                return Err(e);
+            }
+        };
+        self.run.h_next = Some(h * rk::step_factor(pair, err, rejected_before));
+        self.x.copy_from_slice(&self.rk.y1);
+        self.t = if h >= remaining { end } else { t0 + h };
+        self.ramp_z();
+        self.eval_point(self.t);
+        // FSAL: the last stage is f at the new point.
+        self.f_cur.copy_from_slice(&self.rk.k[pair.stages() - 1]);
+        self.f_cur_valid = true;
+        if self.located() {
+            self.ctl.s_rate(&self.v, &mut self.ds);
+            self.locate(t0);
+        } else {
+            self.measure_ends(self.t - t0);
+        }
+        Ok(())
+    }
+
+    /// Time until the first sliding variable reaches its watched level if its rate
+    /// stayed as it is now (infinite if none moves towards one).
+    fn predicted_crossing(&self) -> f64 {
+        let mut t = f64::INFINITY;
+        for i in 0..self.s0.len() {
+            let level = self.watch(i).level;
+            let (s, ds) = (self.s0[i], self.ds0[i]);
+            let dist = if ds > 0.0 { level - s } else { level + s };
+            if dist > 0.0 && ds != 0.0 {
+                t = t.min(dist / ds.abs());
+            }
+        }
+        t
+    }
+
+    /// The watch of each sliding variable for the current phase.
+    ///
+    /// A variable that starts the step on its boundary and still moving outward was
+    /// just updated with a gain too small for the crossing condition; it is watched at
+    /// `(1 + tol)` times its current `|s|`, so that it gets a fresh control each time it
+    /// moves out by that fraction (as the step-end rule's update after every step did)
+    /// instead of running away for a whole long step, or stalling the integration with
+    /// events at the step's start.
+    fn watch(&self, i: usize) -> Watch {
+        let mut w = if self.steady() {
+            Watch {
+                level: self.set.eps[i],
+                surface_from: None,
+            }
+        } else {
+            Watch {
+                level: self.eps_k[i],
+                surface_from: self.outside_k[i].then_some(self.sgn_k[i]),
+            }
+        };
+        let tol = self.crossing_tol();
+        let (s0, ds0) = (self.s0[i], self.ds0[i]);
+        if s0.abs() >= w.level * (1.0 - tol) && s0 * ds0 > 0.0 {
+            w.level = w.level.max(s0.abs()) * (1.0 + tol);
+        }
+        w
+    }
+
+    /// The cubics of every `s_i` over the current step `[t0, t0 + h]`, from `s` and `s'`
+    /// at both ends, into `self.cubics`.
+    fn build_cubics(&mut self, h: f64) {
+        for (i, c) in self.cubics.iter_mut().enumerate() {
+            *c = Cubic::hermite(self.s0[i], self.ds0[i], self.ctl.s[i], self.ds[i], h);
+        }
+    }
+
+    /// Cut the step just taken from `t0` at the first event inside it (monitoring
+    /// only), and measure the accepted step on the cubic of each `s_i`.
+    fn locate(&mut self, t0: f64) {
+        let tol = self.crossing_tol();
+        self.build_cubics(self.t - t0);
+        if self.set.policy == Policy::Monitor {
+            let mut cut = false;
+            for _ in 0..MAX_CUTS {
+                let h = self.t - t0;
+                let Some(ev) = self.first_event() else {
+                    break;
+                };
+                let c = self.cubics[ev.i];
+                // The tolerance is relative to the layer (to eps for the surface).
+                let scale = match ev.target {
+                    Some(0.0) => self.set.eps[ev.i],
+                    _ => self.watch(ev.i).level,
+                };
+                if (c.eval(1.0) - c.eval(ev.theta)).abs() <= tol * scale {
+                    break;
+                }
+                let theta = self.refine(t0, h, &ev, &c, tol * scale);
+                self.cut(t0, t0 + theta * h);
+                cut = true;
+                self.build_cubics(self.t - t0);
+                // An outward motion that starts at an extremum (outside the layer, or on
+                // its boundary where the rate's sign is lost in rounding) asks for an
+                // update at the cut whatever the end-of-step test says; so does a cut
+                // too short to be a step, or the integration would stall there.
+                if ev.target.is_none() || theta * h <= 1e-9 * h.max(f64::MIN_POSITIVE) {
+                    self.run.force_update = true;
+                }
+            }
+            if cut {
+                self.stats.cuts += 1;
+            }
+        }
+        let h = self.t - t0;
+        let bound = 1.0 + self.set.bound_tol;
+        for (i, c) in self.cubics.iter().enumerate() {
+            self.measure.max_s[i] = c.max_abs();
+            self.measure.time_beyond[i] = c.time_beyond(bound * self.set.eps[i]) * h;
+        }
+    }
+
+    /// The earliest event of all sliding variables on the current step.
+    fn first_event(&self) -> Option<Event> {
+        let mut best: Option<Event> = None;
+        for (i, c) in self.cubics.iter().enumerate() {
+            let watch = self.watch(i);
+            let Some(theta) = c.first_event(watch) else {
+                continue;
+            };
+            if best.as_ref().is_some_and(|b| theta >= b.theta) {
+                continue;
+            }
+            let p = c.eval(theta);
+            let target = if watch.surface_from.is_some() && p.abs() < 0.5 * watch.level {
+                Some(0.0)
+            } else if (p.abs() - watch.level).abs() <= 1e-9 * watch.level {
+                Some(watch.level.copysign(p))
+            } else {
+                // An outward motion starting at an extremum outside the layer.
+                None
+            };
+            best = Some(Event { i, theta, target });
+        }
+        best
+    }
+
+    /// Newton iterations for `s_i(theta) = target` on the true `s` along the dense
+    /// output (slope from the cubic, bisection when a step leaves the bracket), until
+    /// within a quarter of `tol_abs`.
+    fn refine(&mut self, t0: f64, h: f64, ev: &Event, c: &Cubic, tol_abs: f64) -> f64 {
+        let Some(target) = ev.target else {
+            return ev.theta;
+        };
+        let mut theta = ev.theta;
+        let (mut lo, mut hi) = (0.0f64, 1.0f64);
+        let start_side = (c.eval(0.0) - target).signum();
+        for _ in 0..MAX_NEWTON {
+            let r = self.s_along(t0, h, theta, ev.i) - target;
+            if r.abs() <= 0.25 * tol_abs {
+                break;
+            }
+            // Before the event the variable is still on the side it started from.
+            if r.signum() == start_side {
+                lo = theta;
+            } else {
+                hi = theta;
+            }
+            let mut next = theta - r / c.rate(theta);
+            if !(next > lo && next < hi) {
+                next = 0.5 * (lo + hi);
+            }
+            theta = next;
+        }
+        theta
+    }
+
+    /// The true `s_i` at `t0 + theta h` along the dense output of `x` (which starts at
+    /// `t0`, the step's start) with `z` on its ramp.
+    fn s_along(&mut self, t0: f64, h: f64, theta: f64, i: usize) -> f64 {
+        let tau = t0 + theta * h;
+        if !self.set.integrator.is_adaptive() {
+            self.fixed_end_derivative();
+        }
+        let th = ((tau - t0) / self.rk.step_length()).clamp(0.0, 1.0);
+        self.rk.dense(th, &mut self.xs);
+        let dt = tau - self.tb;
+        for ((z, zb), v) in self.zs.iter_mut().zip(&self.zb).zip(&self.v) {
+            *z = zb + v * dt;
+        }
+        self.ctl.sliding(&self.model, tau, &self.xs, &self.zs);
+        self.ctl.s[i]
+    }
+
+    /// Shorten the current step from `t0` to `t_cut`: the dense output (embedded
+    /// pairs) or a new step (fixed-step integrators), then the end point evaluated.
+    fn cut(&mut self, t0: f64, t_cut: f64) {
+        if self.set.integrator.is_adaptive() {
+            let th = (t_cut - t0) / self.rk.step_length();
+            self.rk.dense(th, &mut self.x);
+            self.f_cur_valid = false;
+        } else {
+            // rk.k[0] still holds f at the step's start.
+            self.t = t0;
+            self.fixed_step(t_cut - t0);
+            self.x.copy_from_slice(&self.rk.y1);
+            self.t = t_cut;
+            self.restart_grid();
+        }
+        self.t = t_cut;
+        self.ramp_z();
+        self.eval_point(t_cut);
+        self.ctl.s_rate(&self.v, &mut self.ds);
+    }
+
+    /// One SPSM step: `(x, z)` as an ODE with `v` recomputed at every stage. `self.v`
+    /// holds the control at the step's start (computed after the previous step).
+    fn spsm_step(&mut self, h: f64) {
+        let (t, model) = (self.t, &self.model);
+        let k = &mut self.rk.k;
+        match self.set.integrator {
+            Integrator::Euler => {
+                model.rhs(t, &self.x, &self.z, &mut k[0]);
+                axpy_into(&mut self.x, h, &k[0]);
+                axpy_into(&mut self.z, h, &self.v);
+                self.stats.rhs_evals += 1;
+            }
+            _ => {
+                model.rhs(t, &self.x, &self.z, &mut k[0]);
+                self.kz[0].copy_from_slice(&self.v);
+                for (stage, c) in [(1, 0.5), (2, 0.5), (3, 1.0)] {
+                    set_axpy(&mut self.xs, &self.x, c * h, &k[stage - 1]);
+                    set_axpy(&mut self.zs, &self.z, c * h, &self.kz[stage - 1]);
+                    let ts = t + c * h;
+                    model.rhs(ts, &self.xs, &self.zs, &mut k[stage]);
+                    self.ctl.sliding(model, ts, &self.xs, &self.zs);
+                    // A singular J_s inside a step leaves v non-finite; it is reported at
+                    // the end of the step as a non-finite z (with its name and time).
+                    let ok = self.ctl.factor(model, ts, &self.xs, &self.zs).is_ok();
+                    if ok {
+                        self.ctl.law(
+                            model,
+                            ts,
+                            &self.xs,
+                            &self.zs,
+                            Switch::Saturation,
+                            Check::OFF,
+                            &mut self.kz[stage],
+                        );
+                    } else {
+                        self.kz[stage].fill(f64::NAN);
+                    }
+                }
+                rk4_combine(&mut self.x, h, &k[0], &k[1], &k[2], &k[3]);
+                let [z1, z2, z3, z4] = &self.kz;
+                rk4_combine(&mut self.z, h, z1, z2, z3, z4);
+                self.stats.rhs_evals += 4;
+                self.stats.updates += 3;
+            }
+        }
+    }
+}
+
+fn axpy_into(y: &mut [f64], a: f64, x: &[f64]) {
+    for (y, x) in y.iter_mut().zip(x) {
+        *y += a * x;
+    }
+}
+
+fn set_axpy(out: &mut [f64], y: &[f64], a: f64, x: &[f64]) {
+    for ((o, y), x) in out.iter_mut().zip(y).zip(x) {
+        *o = y + a * x;
+    }
+}
+
+fn rk4_combine(y: &mut [f64], h: f64, k1: &[f64], k2: &[f64], k3: &[f64], k4: &[f64]) {
+    let c = h / 6.0;
+    for i in 0..y.len() {
+        y[i] += c * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
+    }
+}
