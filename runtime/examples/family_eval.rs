@@ -79,7 +79,10 @@ fn exponent(points: &[(f64, f64)]) -> f64 {
     sxy / sxx
 }
 
-fn table(title: &str, rows: &[(String, usize, (f64, [f64; 4]))]) {
+/// A measured size: its label, its number of links, the step and per-function times.
+type Row = (String, usize, (f64, [f64; 4]));
+
+fn table(title: &str, rows: &[Row]) {
     println!("\n{title}");
     println!(
         "{:<10} {:>8} {:>12} {:>12} {:>12} {:>12} {:>12} {:>10}",

@@ -75,6 +75,43 @@
 //! }
 //! chain.set_param_named("free[7]", 0.0).unwrap();
 //! ```
+//!
+//! Driving an input during a run, in pieces: the pivot of the double pendulum sways
+//! along `x` as `A sin(w t)`; before each piece the caller gives the value and the three
+//! derivatives the index-3 links read, at the start of the piece (between two pieces the
+//! polynomial extrapolates the motion).
+//!
+//! ```
+//! use dae_runtime::family::{FamilyInstance, Interpreter, Spec};
+//! use dae_runtime::{Model, NoTrace, Settings, Simulator};
+//!
+//! let src = std::fs::read_to_string(concat!(
+//!     env!("CARGO_MANIFEST_DIR"),
+//!     "/../examples/models/double_pendulum_family.dae"
+//! ))
+//! .unwrap();
+//! let compiled = dae_lang::compile_source(&src).unwrap().remove(0);
+//! let pendulum =
+//!     FamilyInstance::interpreted(Interpreter::new(compiled).unwrap(), &Spec::default())
+//!         .unwrap();
+//! let pivot_x = pendulum.input_index("pivot.x").unwrap();
+//! assert_eq!(pendulum.input_order(pivot_x), 3);
+//! let settings = Settings::new(vec![0.2; 2], vec![0.076, 0.066], vec![7.5, 10.0]).t_end(0.5);
+//! let mut sim = Simulator::new(pendulum, settings)?;
+//! sim.start(&mut NoTrace)?;
+//! let (a, w) = (0.05, 2.0 * std::f64::consts::PI);
+//! for k in 1..=50 {
+//!     let t0 = sim.time();
+//!     let (s, c) = (w * t0).sin_cos();
+//!     let taylor = [a * s, a * w * c, -a * w * w * s, -a * w * w * w * c];
+//!     sim.model_mut().set_input(pivot_x, t0, &taylor).unwrap();
+//!     sim.advance_to(0.01 * k as f64, &mut NoTrace)?;
+//! }
+//! assert!(sim.model().input(pivot_x).0 > 0.48); // the data of the last piece
+//! let summary = sim.finish(&mut NoTrace)?;
+//! assert!(summary.bound_held());
+//! # Ok::<(), dae_runtime::SimError>(())
+//! ```
 
 mod inputs;
 mod instance;
