@@ -26,6 +26,17 @@ pub fn example_sources() -> Vec<(String, String)> {
     out
 }
 
+/// The example models without families (language version 1 and scalar models), which
+/// the Rust code generator compiles today; `(file stem, source text)`, sorted by name.
+pub fn scalar_example_sources() -> Vec<(String, String)> {
+    example_sources()
+        .into_iter()
+        .filter(|(_, text)| {
+            dae_lang::check_source(text).is_ok_and(|ms| ms.iter().all(|m| !m.is_family()))
+        })
+        .collect()
+}
+
 /// `|a - b| <= tol * max(1, |a|, |b|)`; two NaNs are equal (both evaluations failed
 /// the same way), a NaN against a number is not.
 pub fn close(a: f64, b: f64, tol: f64) -> bool {

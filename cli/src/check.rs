@@ -1,5 +1,6 @@
 //! `daec check FILE [--json]`: parse, check and analyse the models of a file.
 
+use crate::check_family::{self, FamilyCheck};
 use crate::{Reported, source};
 use dae_lang::Analysis;
 use dae_lang::model::Model;
@@ -33,12 +34,24 @@ pub(crate) struct Args {
 pub(crate) fn run(args: &Args) -> Result<(), Reported> {
     let (name, src) = source::read(&args.file)?;
     let analysed = dae_lang::analyze_source(&src).map_err(|d| source::report(&name, &src, &d))?;
+    let families = analysed
+        .iter()
+        .map(|(m, a)| m.is_family().then(|| check_family::check(a)).transpose())
+        .collect::<Result<Vec<_>, Reported>>()?;
     if args.json {
-        println!("{}", json(&analysed));
+        println!("{}", json(&analysed, &families));
     } else {
-        print!("{}", summary(&name, &analysed));
+        print!("{}", summary(&name, &analysed, &families));
     }
     Ok(())
+}
+
+/// The JSON form of a version-1 model (fields in this order) or of a family model.
+#[derive(Serialize)]
+#[serde(untagged)]
+enum AnyJson<'a> {
+    Scalar(ModelJson<'a>),
+    Family(serde_json::Value),
 }
 
 /// The JSON form of a model.
@@ -103,8 +116,15 @@ fn model_json<'a>(m: &'a Model, a: &'a Analysis) -> ModelJson<'a> {
 }
 
 /// One object for one model, an array for several.
-fn json(models: &[(Model, Analysis)]) -> String {
-    let all: Vec<ModelJson<'_>> = models.iter().map(|(m, a)| model_json(m, a)).collect();
+fn json(models: &[(Model, Analysis)], families: &[Option<FamilyCheck>]) -> String {
+    let all: Vec<AnyJson<'_>> = models
+        .iter()
+        .zip(families)
+        .map(|((m, a), f)| match f {
+            Some(f) => AnyJson::Family(check_family::json(m, a, f)),
+            None => AnyJson::Scalar(model_json(m, a)),
+        })
+        .collect();
     let value = match all.as_slice() {
         [one] => serde_json::to_string_pretty(one),
         _ => serde_json::to_string_pretty(&all),
@@ -116,7 +136,7 @@ fn json(models: &[(Model, Analysis)]) -> String {
 
 /// The text summary: per model its states, algebraics, parameters, definitions, and a
 /// table of the constraints with their index and the algebraic unknowns in their `Omega`.
-fn summary(file: &str, models: &[(Model, Analysis)]) -> String {
+fn summary(file: &str, models: &[(Model, Analysis)], families: &[Option<FamilyCheck>]) -> String {
     let mut out = String::new();
     let plural = |n: usize| if n == 1 { "" } else { "s" };
     out.push_str(&format!(
@@ -124,7 +144,11 @@ fn summary(file: &str, models: &[(Model, Analysis)]) -> String {
         models.len(),
         plural(models.len())
     ));
-    for (m, a) in models {
+    for ((m, a), f) in models.iter().zip(families) {
+        if let Some(f) = f {
+            out.push_str(&check_family::text(m, a, f));
+            continue;
+        }
         out.push_str(&format!("\nmodel {}\n", m.name));
         let names = |v: Vec<&str>| {
             if v.is_empty() {

@@ -2,8 +2,8 @@
 //! (one constraint) or from a pilot run of a model (every constraint).
 
 use crate::pilot::{PilotArgs, design_json, per_constraint};
-use crate::{Reported, messages, source};
-use dae_runtime::{ConstraintSpec, DesignError, MAX_INDEX, Model, MuSearch, Settings, optimise_mu};
+use crate::{Reported, family, messages};
+use dae_runtime::{ConstraintSpec, DesignError, MAX_INDEX, MuSearch, Settings, optimise_mu};
 use serde_json::json;
 use std::path::PathBuf;
 
@@ -137,7 +137,8 @@ fn from_pilot(args: &Args, file: &std::path::Path) -> Result<(), Reported> {
         )
     })?;
     args.pilot_args.validate()?;
-    let model = source::interpreted(file, args.model.as_deref())?;
+    let model = family::runnable(file, args.model.as_deref(), &[], None)?;
+    let model = &*model;
     let m = model.n_constraints();
     if m == 0 {
         // An ODE is a DAE without constraints: nothing to design, and it runs as is.
@@ -168,8 +169,8 @@ fn from_pilot(args: &Args, file: &std::path::Path) -> Result<(), Reported> {
         .step(args.step)
         .t_end(duration)
         .settle(args.settle);
-    let a = args.pilot_args.auto_design(&model, &base, None, None)?;
-    let out = design_json(&model, &a);
+    let a = args.pilot_args.auto_design(model, &base, None, None)?;
+    let out = design_json(model, &a);
     if args.json {
         println!("{out}");
     } else {

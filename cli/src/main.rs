@@ -19,10 +19,13 @@ macro_rules! println {
     ($($arg:tt)*) => { $crate::write_stdout(format_args!($($arg)*), true) };
 }
 
+mod bounded;
 mod check;
+mod check_family;
 mod derive;
 mod design;
 mod emit;
+mod family;
 mod messages;
 mod pilot;
 mod run;

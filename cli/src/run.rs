@@ -6,8 +6,9 @@
 //! what was chosen and whether the layer held; the exit status says it too
 //! ([`Outcome`]).
 
+use crate::Reported;
+use crate::bounded::{listed_constraints, values_text};
 use crate::pilot::{PilotArgs, design_json, per_constraint};
-use crate::{Reported, source};
 use dae_runtime::{
     AlphaChoice, Crossing, CsvSink, Decimate, Integrator, Model, NEAR_SINGULAR, Policy, Quantity,
     Reaching, Settings, SimError, Simulator, SolverChoice, Summary, Tee, Trace, plot_run,
@@ -55,6 +56,15 @@ pub(crate) struct Args {
     /// The model to run when the file holds several.
     #[arg(long)]
     model: Option<String>,
+    /// A size or a scalar parameter of the model: `--set N=1000 --set m_end=10`
+    /// (repeatable; for a version-1 model, its parameters).
+    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = crate::family::parse_assignment)]
+    set: Vec<(String, f64)>,
+    /// The sets and maps of a family model given at construction (`set P;`,
+    /// `map a[l in L] -> P;`): a file of `set NAME SIZE` lines and `edges SET: MAP ...`
+    /// blocks with one line per element (docs/language.md, "Topology files").
+    #[arg(long, value_name = "FILE")]
+    topology: Option<PathBuf>,
     /// End time (seconds; the run starts at 0).
     #[arg(long)]
     t_end: f64,
@@ -112,7 +122,7 @@ pub(crate) struct Args {
     #[command(flatten)]
     pilot_args: PilotArgs,
     /// Stream the trace to this CSV file (every step, or every k-th step so that at most
-    /// 200000 rows are written).
+    /// 200000 rows and 10^7 values are written).
     #[arg(long)]
     csv: Option<PathBuf>,
     /// Write the charts (sliding.svg, periods.svg, errors.svg) into this folder.
@@ -347,7 +357,13 @@ fn check_outputs(csv: Option<&Path>, plot: Option<&Path>) -> Result<(), Reported
 }
 
 pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
-    let model = source::interpreted(&args.file, args.model.as_deref())?;
+    let boxed = crate::family::runnable(
+        &args.file,
+        args.model.as_deref(),
+        &args.set,
+        args.topology.as_deref(),
+    )?;
+    let model: &dyn Model = &*boxed;
     let m = model.n_constraints();
     let policy = parse_policy(&args.policy)?;
     let integ = integration(args, policy);
@@ -418,21 +434,19 @@ pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
                     Some(k[0])
                 }
             };
-            let a = args
-                .pilot_args
-                .auto_design(&model, &pilot_base, mu, fixed)?;
+            let a = args.pilot_args.auto_design(model, &pilot_base, mu, fixed)?;
             settings.mu = a.design.constraints.iter().map(|c| c.mu).collect();
             settings.gains = a.design.constraints.iter().map(|c| c.k).collect();
             if fixed.is_some() && settings.alpha == AlphaChoice::Cheap {
-                warn_uncovered_beta(&model, &settings, &a);
+                warn_uncovered_beta(model, &settings, &a);
             }
             Some(DesignInfo {
-                json: design_json(&model, &a),
+                json: design_json(model, &a),
                 t_min: a.design.t_min,
             })
         }
     };
-    let summary = simulate(args, &model, settings.clone(), design.as_ref())?;
+    let summary = simulate(args, model, settings.clone(), design.as_ref())?;
     let outcome = if !summary.bound_held() && summary.reaching_time.is_none() {
         Outcome::NotReached
     } else if summary.bound_loss.is_some() {
@@ -442,7 +456,7 @@ pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
     };
     let report = Report {
         args,
-        model: &model,
+        model,
         settings: &settings,
         summary: &summary,
         design: design.as_ref(),
@@ -488,7 +502,7 @@ fn simulate(
     };
     let steps = ((settings.t_end - settings.t_start) / h).ceil();
     let every = if steps.is_finite() {
-        (steps as u64).div_ceil(MAX_ROWS).max(1)
+        crate::bounded::trace_every(model, steps as u64, MAX_ROWS)
     } else {
         1
     };
@@ -605,10 +619,9 @@ impl Report<'_> {
             eprintln!("error: {line}");
         }
         if self.args.json {
-            println!(
-                "{}",
-                serde_json::to_string_pretty(&self.json()).unwrap_or_default()
-            );
+            let mut v = self.json();
+            crate::bounded::summarise(&mut v, self.model);
+            println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
         } else {
             self.text();
         }
@@ -783,12 +796,12 @@ impl Report<'_> {
                 }
             };
             println!(
-                "  mu = {:?} ({}), gains = {:?} ({}), eps = {:?}",
-                st.mu,
+                "  mu = {} ({}), gains = {} ({}), eps = {}",
+                values_text(&st.mu),
                 how(&self.args.mu),
-                st.gains,
+                values_text(&st.gains),
                 how(&self.args.gain),
-                st.eps
+                values_text(&st.eps)
             );
         }
         println!(
@@ -819,7 +832,14 @@ impl Report<'_> {
             opt(s.min_period),
             opt(s.mean_period)
         );
-        for (i, c) in s.constraints.iter().enumerate() {
+        let listed = listed_constraints(s.max_abs_s.as_ref().unwrap_or(&s.seen_max_abs_s), &st.eps);
+        if listed.len() < m {
+            println!(
+                "  {m} constraints; the {} with the largest max |s| / eps:",
+                listed.len()
+            );
+        }
+        for (i, c) in listed.iter().map(|&i| (i, &s.constraints[i])) {
             match (&s.max_abs_s, &s.max_abs_w) {
                 (Some(ms), Some(mw)) => println!(
                     "  {c}: max |s| = {:.6} ({:.4} eps), max |w| = {:.6}",
@@ -834,11 +854,13 @@ impl Report<'_> {
             }
         }
         if m == 0 {
-            println!("  final x = {:?}", s.x);
+            println!("  final x = {}", values_text(&s.x));
         } else {
             println!(
-                "  final z = {:?}, z_eq = {:?}, z* = {:?}",
-                s.z, s.z_eq, s.z_star
+                "  final z = {}, z_eq = {}, z* = {}",
+                values_text(&s.z),
+                values_text(&s.z_eq),
+                values_text(&s.z_star)
             );
             println!(
                 "  solver {}: {} factorisations, {} solves, {} iterations, {} robustness failures",

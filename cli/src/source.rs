@@ -70,22 +70,25 @@ pub(crate) fn report(name: &str, source: &str, diags: &[Diagnostic]) -> Reported
     Reported
 }
 
-/// The interpreted model of a file: the one it holds, or the one called `wanted`.
-pub(crate) fn interpreted(
+/// The compiled model of a file (the one it holds, or the one called `wanted`), with
+/// the file's display name and text (to render later diagnostics).
+pub(crate) fn compiled(
     path: &Path,
     wanted: Option<&str>,
-) -> Result<daec::Interpreted, Reported> {
-    use dae_runtime::Model;
+) -> Result<(String, String, dae_lang::CompiledModel), Reported> {
     let (name, source) = read(path)?;
-    let mut models = daec::interpret_source(&source).map_err(|d| report(&name, &source, &d))?;
-    let names: Vec<String> = models.iter().map(|m| m.name().to_string()).collect();
+    let mut models = dae_lang::compile_source(&source).map_err(|d| report(&name, &source, &d))?;
+    let names: Vec<String> = models.iter().map(|m| m.name.clone()).collect();
     let pick = match (wanted, models.len()) {
         (Some(w), _) => names.iter().position(|n| n == w),
         (None, 1) => Some(0),
         (None, _) => None,
     };
     match pick {
-        Some(i) => Ok(models.swap_remove(i)),
+        Some(i) => {
+            let m = models.swap_remove(i);
+            Ok((name, source, m))
+        }
         None => {
             match wanted {
                 Some(w) => eprintln!(

@@ -181,8 +181,13 @@ pub fn rust_ident(name: &str) -> String {
     }
 }
 
-/// The tokens of the generated type and its `Model` implementation.
+/// The tokens of the generated type and its `Model` implementation; for a family model
+/// (`model.family` set), the kernels type implementing `dae_runtime::family::Kernels`
+/// (see the crate documentation).
 pub fn generate(model: &CompiledModel) -> TokenStream {
+    if let Some(fam) = &model.family {
+        return crate::family::generate_family(model, fam);
+    }
     let ty = format_ident!("{}", rust_ident(&model.name));
     let name = &model.name;
     let fields: Vec<Ident> = model
@@ -359,15 +364,15 @@ fn counted(n: usize, noun: &str) -> String {
     }
 }
 
-fn usize_lit(n: usize) -> Literal {
+pub(crate) fn usize_lit(n: usize) -> Literal {
     Literal::usize_unsuffixed(n)
 }
 
-fn slot(k: u32) -> Ident {
+pub(crate) fn slot(k: u32) -> Ident {
     Ident::new(&format!("v{k}"), Span::call_site())
 }
 
-fn number(c: f64) -> TokenStream {
+pub(crate) fn number(c: f64) -> TokenStream {
     if c.is_nan() {
         quote!(f64::NAN)
     } else if c == f64::INFINITY {
@@ -407,6 +412,16 @@ fn operand(o: Operand, fields: &[Ident]) -> TokenStream {
             quote!(mu[#i])
         }
         Operand::Input(VarRef::Time) => quote!(t),
+        // Family programs only: never in a version-1 tape (`generate` rejects family
+        // models first).
+        Operand::Input(VarRef::Input(..) | VarRef::Elem(_) | VarRef::Size(_))
+        | Operand::Gather(..)
+        | Operand::Array(_)
+        | Operand::ArrayAt(..) => {
+            quote!(::core::compile_error!(
+                "an element path in a version-1 tape"
+            ))
+        }
     }
 }
 
@@ -414,10 +429,11 @@ fn call_name(f: Func) -> Ident {
     Ident::new(f.name(), Span::call_site())
 }
 
-fn instr(i: &Instr, fields: &[Ident]) -> TokenStream {
+/// One instruction as an expression, its operands printed by `operand`.
+pub(crate) fn instr(i: &Instr, operand: &impl Fn(Operand) -> TokenStream) -> TokenStream {
     match *i {
         Instr::Unary(op, a) => {
-            let a = operand(a, fields);
+            let a = operand(a);
             match op {
                 UnaryOp::Neg => quote!(-#a),
                 UnaryOp::Powi(n) => quote!(f64::powi(#a, #n)),
@@ -432,8 +448,8 @@ fn instr(i: &Instr, fields: &[Ident]) -> TokenStream {
             }
         }
         Instr::Binary(op, a, b) => {
-            let a = operand(a, fields);
-            let b = operand(b, fields);
+            let a = operand(a);
+            let b = operand(b);
             match op {
                 BinaryOp::Add => quote!(#a + #b),
                 BinaryOp::Sub => quote!(#a - #b),
@@ -467,7 +483,7 @@ fn call2(f: Func, a: TokenStream, b: TokenStream) -> TokenStream {
 fn lets(tape: &Tape, fields: &[Ident]) -> TokenStream {
     let stmts = tape.instrs().iter().enumerate().map(|(k, i)| {
         let v = slot(k as u32);
-        let e = instr(i, fields);
+        let e = instr(i, &|o| operand(o, fields));
         quote!(let #v: f64 = #e;)
     });
     quote!(#(#stmts)*)

@@ -2,11 +2,14 @@
 //!
 //! Rust has already split the text into tokens (and dropped the comments). We print
 //! them back as text, one token after another with a space between, and remember
-//! which byte range of that text each token came from. The text then goes through the
+//! which byte range of that text each token came from. Punctuation that Rust marks as
+//! joined to the next character (`==`, `<=`, `->`: each is two `Punct`s, the first with
+//! `Spacing::Joint`) is printed without the space, so that multi-character operators of
+//! the language come back whole. The text then goes through the
 //! same parser as a `.dae` file, so both front ends produce the same AST by
 //! construction, and any diagnostic's byte span maps back to the token it points at.
 
-use proc_macro2::{Delimiter, Span, TokenStream, TokenTree};
+use proc_macro2::{Delimiter, Spacing, Span, TokenStream, TokenTree};
 
 use dae_lang::ast;
 
@@ -16,6 +19,8 @@ pub struct TokenSource {
     text: String,
     /// `(start, end, span)` of each token's text, in increasing `start` order.
     spans: Vec<(usize, usize, Span)>,
+    /// The last token was punctuation joined to the next one (no space follows).
+    joint: bool,
 }
 
 impl TokenSource {
@@ -24,6 +29,7 @@ impl TokenSource {
         let mut src = TokenSource {
             text: String::new(),
             spans: Vec::new(),
+            joint: false,
         };
         src.push_stream(tokens);
         src
@@ -57,9 +63,10 @@ impl TokenSource {
     }
 
     fn push_token(&mut self, text: &str, span: Span) {
-        if !self.text.is_empty() {
+        if !self.text.is_empty() && !self.joint {
             self.text.push(' ');
         }
+        self.joint = false;
         let start = self.text.len();
         self.text.push_str(text);
         self.spans.push((start, self.text.len(), span));
@@ -84,7 +91,10 @@ impl TokenSource {
                     }
                 }
                 TokenTree::Ident(i) => self.push_token(&i.to_string(), i.span()),
-                TokenTree::Punct(p) => self.push_token(&p.as_char().to_string(), p.span()),
+                TokenTree::Punct(p) => {
+                    self.push_token(&p.as_char().to_string(), p.span());
+                    self.joint = p.spacing() == Spacing::Joint;
+                }
                 TokenTree::Literal(l) => self.push_token(&l.to_string(), l.span()),
             }
         }
@@ -100,6 +110,23 @@ mod tests {
         let ts: TokenStream = "model M { der(x) = -x^2 * 1e-3; }".parse().unwrap();
         let src = TokenSource::new(ts);
         assert_eq!(src.text(), "model M { der ( x ) = - x ^ 2 * 1e-3 ; }");
+    }
+
+    #[test]
+    fn joined_punctuation_comes_back_whole() {
+        let ts: TokenStream = "map a[l in L] -> P = l; x == y; a <= b; c*-d"
+            .parse()
+            .unwrap();
+        let src = TokenSource::new(ts);
+        assert_eq!(
+            src.text(),
+            "map a [ l in L ] -> P = l ; x == y ; a <= b ; c *- d"
+        );
+        // Every byte of a joined operator maps to a token of it.
+        let at = src.text().find("->").unwrap();
+        let col = |b| src.span_of(ast::Span::new(b, b + 1)).start().column;
+        assert_eq!(col(at), 14);
+        assert_eq!(col(at + 1), 15);
     }
 
     #[test]

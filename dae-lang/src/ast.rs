@@ -1,4 +1,4 @@
-//! The abstract syntax tree of the `.dae` language, version 1.
+//! The abstract syntax tree of the `.dae` language (versions 1 and 2).
 //!
 //! Both front ends (the pest parser for `.dae` files and the `dae!` macro, which parses
 //! Rust tokens) produce these types. Every node carries the byte [`Span`] of its source
@@ -56,15 +56,41 @@ pub struct ModelAst {
     pub span: Span,
 }
 
-/// One `name = EXPR` in a `param`, `state`, `alg` or `let` item.
+/// One `name = EXPR` in a `param`, `state`, `alg`, `let` or `input` item; in version 2
+/// also `name[e in S]: TYPE = EXPR` (one value per element of `S`, of a vector type).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Decl {
     /// The declared name.
     pub name: Ident,
+    /// `[e in S]` (or `[S]`): a family over the set `S`; `None` for a scalar declaration.
+    pub binder: Option<Binder>,
+    /// `: vec3` after the name (and binder); `None` for a scalar.
+    pub ty: Option<Ident>,
     /// Its value (default, initial value or definition).
     pub value: Expr,
     /// `name = EXPR`.
     pub span: Span,
+}
+
+/// `[e in S]` after a declared name: the element name `e` (optional: `[S]`) and the set.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Binder {
+    /// The element's name, if written.
+    pub elem: Option<Ident>,
+    /// The set.
+    pub set: Ident,
+    /// `[e in S]`.
+    pub span: Span,
+}
+
+/// One declaration of an `input` item: a [`Decl`] with the number of time derivatives
+/// the caller gives (`with 3 derivatives`; 0 when not written).
+#[derive(Clone, Debug, PartialEq)]
+pub struct InputDecl {
+    /// Name, binder, type and default value.
+    pub decl: Decl,
+    /// `with K derivatives`: `K` and the span of the clause.
+    pub derivatives: Option<(u32, Span)>,
 }
 
 /// An item of a model.
@@ -78,19 +104,24 @@ pub enum Item {
     Alg(Vec<Decl>, Span),
     /// `let n = EXPR;`
     Let(Decl, Span),
-    /// `der(x) = EXPR;`
+    /// `der(x) = EXPR;` or `der(x[p]) = EXPR;`
     Der {
         /// The state inside `der(...)`.
         target: Ident,
+        /// `p` in `der(x[p])`: names the element of a state family.
+        elem: Option<Ident>,
         /// The right-hand side.
         rhs: Expr,
         /// The whole item.
         span: Span,
     },
-    /// `constraint NAME: lhs = rhs;` or `constraint lhs = rhs;`
+    /// `constraint NAME: lhs = rhs;`, `constraint lhs = rhs;` or a constraint family
+    /// `constraint NAME[e in S]: lhs = rhs;`
     Constraint {
         /// The name, if one was written.
         name: Option<Ident>,
+        /// `[e in S]` of a constraint family.
+        binder: Option<Binder>,
         /// Left-hand side.
         lhs: Expr,
         /// Right-hand side.
@@ -98,6 +129,39 @@ pub enum Item {
         /// The whole item.
         span: Span,
     },
+    /// `size N = 10;`
+    Size {
+        /// The size's name.
+        name: Ident,
+        /// Its default value.
+        value: Expr,
+        /// The whole item.
+        span: Span,
+    },
+    /// `set P = N + 1;` or `set L;` (size given at construction).
+    Set {
+        /// The set's name.
+        name: Ident,
+        /// Its size, a formula over sizes; `None` when given at construction.
+        size: Option<Expr>,
+        /// The whole item.
+        span: Span,
+    },
+    /// `map a[l in L] -> P = l;` or `map a[l in L] -> P;` (given at construction).
+    Map {
+        /// The map's name.
+        name: Ident,
+        /// The domain: `[l in L]`.
+        binder: Binder,
+        /// The codomain.
+        codomain: Ident,
+        /// The formula giving the image of the element; `None` when given at construction.
+        formula: Option<Expr>,
+        /// The whole item.
+        span: Span,
+    },
+    /// `input pin[p in P]: vec3 with 3 derivatives = vec3(0, 0, 0);`
+    Input(Vec<InputDecl>, Span),
 }
 
 /// An expression with its span.
@@ -124,6 +188,58 @@ pub enum BinOp {
     Pow,
 }
 
+/// Comparison operators (construction-time expressions only).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum CmpOp {
+    /// `==`
+    Eq,
+    /// `!=`
+    Ne,
+    /// `<`
+    Lt,
+    /// `<=`
+    Le,
+    /// `>`
+    Gt,
+    /// `>=`
+    Ge,
+}
+
+impl CmpOp {
+    /// The operator as written.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            CmpOp::Eq => "==",
+            CmpOp::Ne => "!=",
+            CmpOp::Lt => "<",
+            CmpOp::Le => "<=",
+            CmpOp::Gt => ">",
+            CmpOp::Ge => ">=",
+        }
+    }
+
+    /// Whether `a op b` holds.
+    pub fn holds<T: PartialOrd>(self, a: T, b: T) -> bool {
+        match self {
+            CmpOp::Eq => a == b,
+            CmpOp::Ne => a != b,
+            CmpOp::Lt => a < b,
+            CmpOp::Le => a <= b,
+            CmpOp::Gt => a > b,
+            CmpOp::Ge => a >= b,
+        }
+    }
+}
+
+/// `and`, `or` (construction-time expressions only).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum LogicOp {
+    /// `and`
+    And,
+    /// `or`
+    Or,
+}
+
 /// The kinds of expression.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ExprKind {
@@ -139,6 +255,29 @@ pub enum ExprKind {
     Binary(BinOp, Box<Expr>, Box<Expr>),
     /// A call of a built-in function; arity is checked by the checker.
     Call(Ident, Vec<Expr>),
+    /// `x[i]`: element `i` of a family or a map (version 2).
+    Index(Box<Expr>, Box<Expr>),
+    /// `e.x`: a component of a vector (version 2).
+    Field(Box<Expr>, Ident),
+    /// `sum(k in K where c) body` or `sum(k in K) body` (version 2).
+    Sum {
+        /// The summation element.
+        elem: Ident,
+        /// Its set.
+        set: Ident,
+        /// The condition after `where`.
+        cond: Option<Box<Expr>>,
+        /// The summed expression.
+        body: Box<Expr>,
+    },
+    /// `a == b` and the other comparisons (construction-time, version 2).
+    Compare(CmpOp, Box<Expr>, Box<Expr>),
+    /// `a and b`, `a or b` (construction-time, version 2).
+    Logic(LogicOp, Box<Expr>, Box<Expr>),
+    /// `not a` (construction-time, version 2).
+    Not(Box<Expr>),
+    /// `if c then a else b` (construction-time, version 2).
+    If(Box<Expr>, Box<Expr>, Box<Expr>),
 }
 
 impl File {
@@ -158,7 +297,23 @@ impl Decl {
     fn erase_spans(&mut self) {
         self.span = Span::default();
         self.name.span = Span::default();
+        if let Some(b) = &mut self.binder {
+            b.erase_spans();
+        }
+        if let Some(t) = &mut self.ty {
+            t.span = Span::default();
+        }
         self.value.erase_spans();
+    }
+}
+
+impl Binder {
+    fn erase_spans(&mut self) {
+        self.span = Span::default();
+        self.set.span = Span::default();
+        if let Some(e) = &mut self.elem {
+            e.span = Span::default();
+        }
     }
 }
 
@@ -173,13 +328,22 @@ impl Item {
                 *s = Span::default();
                 d.erase_spans();
             }
-            Item::Der { target, rhs, span } => {
+            Item::Der {
+                target,
+                elem,
+                rhs,
+                span,
+            } => {
                 *span = Span::default();
                 target.span = Span::default();
+                if let Some(e) = elem {
+                    e.span = Span::default();
+                }
                 rhs.erase_spans();
             }
             Item::Constraint {
                 name,
+                binder,
                 lhs,
                 rhs,
                 span,
@@ -188,8 +352,47 @@ impl Item {
                 if let Some(n) = name {
                     n.span = Span::default();
                 }
+                if let Some(b) = binder {
+                    b.erase_spans();
+                }
                 lhs.erase_spans();
                 rhs.erase_spans();
+            }
+            Item::Size { name, value, span } => {
+                *span = Span::default();
+                name.span = Span::default();
+                value.erase_spans();
+            }
+            Item::Set { name, size, span } => {
+                *span = Span::default();
+                name.span = Span::default();
+                if let Some(e) = size {
+                    e.erase_spans();
+                }
+            }
+            Item::Map {
+                name,
+                binder,
+                codomain,
+                formula,
+                span,
+            } => {
+                *span = Span::default();
+                name.span = Span::default();
+                binder.erase_spans();
+                codomain.span = Span::default();
+                if let Some(e) = formula {
+                    e.erase_spans();
+                }
+            }
+            Item::Input(ds, s) => {
+                *s = Span::default();
+                for d in ds {
+                    d.decl.erase_spans();
+                    if let Some((_, sp)) = &mut d.derivatives {
+                        *sp = Span::default();
+                    }
+                }
             }
         }
     }
@@ -209,6 +412,33 @@ impl Expr {
             ExprKind::Call(f, args) => {
                 f.span = Span::default();
                 args.iter_mut().for_each(Expr::erase_spans);
+            }
+            ExprKind::Index(a, b) | ExprKind::Compare(_, a, b) | ExprKind::Logic(_, a, b) => {
+                a.erase_spans();
+                b.erase_spans();
+            }
+            ExprKind::Field(a, f) => {
+                a.erase_spans();
+                f.span = Span::default();
+            }
+            ExprKind::Not(a) => a.erase_spans(),
+            ExprKind::If(c, a, b) => {
+                c.erase_spans();
+                a.erase_spans();
+                b.erase_spans();
+            }
+            ExprKind::Sum {
+                elem,
+                set,
+                cond,
+                body,
+            } => {
+                elem.span = Span::default();
+                set.span = Span::default();
+                if let Some(c) = cond {
+                    c.erase_spans();
+                }
+                body.erase_spans();
             }
         }
     }

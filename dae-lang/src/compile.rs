@@ -72,6 +72,7 @@ pub(crate) fn compile(
         sliding: emit(arena, &sliding),
         jacobian: emit_outputs(arena, &jac_ids),
         beta: emit(arena, &beta),
+        family: None,
     }
 }
 
@@ -102,14 +103,28 @@ fn emit_outputs(arena: &Arena, roots: &[Option<Id>]) -> Tape {
     e.tape
 }
 
-struct Emitter<'a> {
+/// Emits arena nodes into one tape (also used for the groups of family programs, with
+/// the operands of the nodes computed elsewhere entered in `done` first).
+pub(crate) struct Emitter<'a> {
     arena: &'a Arena,
-    tape: Tape,
+    pub(crate) tape: Tape,
     /// Operand of every node emitted so far.
-    done: HashMap<Id, Operand>,
+    pub(crate) done: HashMap<Id, Operand>,
     /// `(base, 2 * exponent)` -> operand, for powers with a half-integer or integer
     /// exponent, so that `sqrt(b)` and `b^k` are computed once per tape.
     powers: HashMap<(Id, i64), Operand>,
+}
+
+impl<'a> Emitter<'a> {
+    /// An emitter writing a new tape.
+    pub(crate) fn new(arena: &'a Arena) -> Emitter<'a> {
+        Emitter {
+            arena,
+            tape: Tape::new(),
+            done: HashMap::new(),
+            powers: HashMap::new(),
+        }
+    }
 }
 
 impl Emitter<'_> {
@@ -125,7 +140,8 @@ impl Emitter<'_> {
         self.tape.push(Instr::Binary(op, a, b))
     }
 
-    fn node(&mut self, id: Id) -> Operand {
+    /// Emits node `id` (its children are in `done`); its operand.
+    pub(crate) fn node(&mut self, id: Id) -> Operand {
         match self.arena.node(id) {
             Node::Const(c) => Operand::Const(c.0),
             Node::Var(v) => Operand::Input(*v),
@@ -150,6 +166,9 @@ impl Emitter<'_> {
                 let (a, b) = (self.get(*a), self.get(*b));
                 self.bin(BinaryOp::Call(*f), a, b)
             }
+            // A family program resolves gathers and sums before emitting a group (they
+            // are operands there); a version-1 arena has none.
+            Node::Gather(..) | Node::Sum(..) => Operand::Const(f64::NAN),
         }
     }
 

@@ -1,9 +1,14 @@
 //! The compiled form of a model: names, structure and one [`Tape`] per function.
 //!
 //! This is the hand-off between the analysis and its two back ends: the Rust code
-//! generator ([`crate::codegen`]) and the interpreter (which evaluates the tapes
+//! generator (crate `dae-codegen`) and the interpreter (which evaluates the tapes
 //! directly). Both implement the runtime's `Model` trait from the same `CompiledModel`,
 //! so they can be checked against each other.
+//!
+//! A family model (language version 2) is compiled into
+//! [`CompiledModel::family`] ([`crate::family::FamilyModel`]: programs over sets and
+//! everything construction needs); its version-1 tapes are then empty, and the name
+//! lists hold the templates' names (component families), not the instance's.
 
 use crate::tape::Tape;
 
@@ -41,9 +46,20 @@ pub struct CompiledModel {
     pub jacobian: Tape,
     /// Outputs: `beta` (m).
     pub beta: Tape,
+    /// The compiled form of a family model (`None` for a model without families). When
+    /// set, the tapes above are empty, `params` lists the scalar parameters with their
+    /// values at the default sizes, `states`, `algs` and `constraints` the names of the
+    /// component families and constraint families, `indices` the index of each
+    /// constraint family, and `jacobian_pattern` is empty (built at construction).
+    pub family: Option<Box<crate::family::FamilyModel>>,
 }
 
 impl CompiledModel {
+    /// Whether this is a family model (see [`CompiledModel::family`]).
+    pub fn is_family(&self) -> bool {
+        self.family.is_some()
+    }
+
     /// Total length of the flat w-derivative array (`sum r_i`).
     pub fn w_len(&self) -> usize {
         self.indices.iter().sum()

@@ -68,6 +68,7 @@
 #![warn(missing_docs)]
 
 pub mod ast;
+pub mod family;
 pub mod model;
 pub mod tape;
 
@@ -78,11 +79,15 @@ mod diag;
 mod check;
 mod func;
 mod ids;
+mod maps;
 mod syntax;
 
 pub use diag::{Diagnostic, Renderer, line_col};
 pub use func::Func;
-pub use ids::{AlgId, ConstraintId, LetId, ParamId, StateId, VarRef};
+pub use ids::{
+    AlgId, ArrayId, ConstraintId, InputId, LetId, MapId, ParamId, SetId, SizeId, StateId, VarRef,
+};
+pub use maps::MapTable;
 pub use syntax::MAX_SOURCE_BYTES;
 
 /// Parses a `.dae` source text into its syntax tree.
@@ -114,9 +119,12 @@ mod sym;
 pub use analysis::fixtures;
 pub use analysis::{Analysis, AnalysisOptions, ConstraintAnalysis, InitialPoint, analyze};
 #[cfg(feature = "internals")]
-pub use analysis::{ConstraintExprs, Lowered, SymbolicModel, lower};
+pub use analysis::{ConstraintExprs, Kernel, Lowered, SymbolicModel, lower};
 #[cfg(feature = "internals")]
-pub use sym::{Arena, DiffContext, Id, Names, Node, Num, Point};
+pub use sym::{
+    Arena, DiffContext, FamilyNames, Id, LeafSets, Names, Node, Num, Point, Term, TwoHop,
+    jacobian_terms,
+};
 
 pub use compiled::{CompiledModel, DENSE_JACOBIAN_MAX};
 

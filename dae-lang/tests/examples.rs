@@ -46,6 +46,7 @@ fn eval(e: &RExpr, p: &Point<'_>) -> f64 {
         RExpr::Var(VarRef::Alg(i)) => p.z[i.index()],
         RExpr::Var(VarRef::Time) => p.t,
         RExpr::Var(VarRef::Mu(_)) => panic!("a checked model has no realization parameter"),
+        RExpr::Var(v) => panic!("{v:?}: the version-1 examples have no family variables"),
         RExpr::Let(i) => p.lets[i.index()],
         RExpr::Neg(a) => -eval(a, p),
         RExpr::Binary(op, a, b) => {
@@ -67,6 +68,7 @@ fn eval(e: &RExpr, p: &Point<'_>) -> f64 {
                 other => panic!("function {other:?} not used by the examples"),
             }
         }
+        other => panic!("{other:?}: the version-1 examples have no family forms"),
     }
 }
 

@@ -335,6 +335,13 @@ pub use dae_macros::{dae, dae_file};
 #[cfg(feature = "plot")]
 mod charts;
 mod design;
+#[cfg(feature = "families")]
+pub mod family;
+/// `dae-lang` for the code that `dae-codegen` generates for family models (it builds the
+/// model's `Construction` from literals). Not an API of this crate.
+#[cfg(feature = "families")]
+#[doc(hidden)]
+pub use dae_lang as __dae_lang;
 mod model;
 
 #[cfg(feature = "plot")]

@@ -8,7 +8,7 @@
 //!   the derivative of `Omega` along `(t + d, x + d f)` with `z` fixed.
 
 use dae_runtime::{Model, w_offsets};
-use dae_tests::{Rng, close, example_sources};
+use dae_tests::{Rng, close, scalar_example_sources};
 
 mod generated {
     dae_runtime::dae_file!("../examples/models/chain3_planar.dae");
@@ -36,7 +36,7 @@ fn generated(stem: &str) -> Box<dyn Model> {
 
 /// Every example: (stem, generated, interpreted).
 fn pairs() -> Vec<(String, Box<dyn Model>, daec::Interpreted)> {
-    let sources = example_sources();
+    let sources = scalar_example_sources();
     assert_eq!(sources.len(), 7, "a new example model: add it to this test");
     sources
         .into_iter()

@@ -16,7 +16,7 @@
 use std::ops;
 
 use crate::ast::{BinOp, Span};
-use crate::model::{ConstraintDef, DerDef, LetDef, Model, ParamDef, RExpr, VarDef};
+use crate::model::{ConstraintDef, DerDef, Family, LetDef, Model, ParamDef, RExpr, VarDef};
 use crate::{AlgId, Func, LetId, ParamId, StateId, VarRef};
 
 /// A resolved expression with arithmetic operators, for building models in code.
@@ -129,6 +129,10 @@ impl ModelBuilder {
                 lets: vec![],
                 ders: vec![],
                 constraints: vec![],
+                sizes: vec![],
+                sets: vec![],
+                maps: vec![],
+                inputs: vec![],
             },
             ders: vec![],
             next: 1,
@@ -147,6 +151,8 @@ impl ModelBuilder {
             name: name.into(),
             default,
             span,
+            value: RExpr::Num(default),
+            family: Family::SCALAR,
         });
         E(RExpr::Var(VarRef::Param(ParamId::new(
             self.m.params.len() - 1,
@@ -160,6 +166,7 @@ impl ModelBuilder {
             name: name.into(),
             init: init.into().0,
             span,
+            family: Family::SCALAR,
         });
         self.ders.push(None);
         E(RExpr::Var(VarRef::State(StateId::new(
@@ -174,6 +181,7 @@ impl ModelBuilder {
             name: name.into(),
             init: init.into().0,
             span,
+            family: Family::SCALAR,
         });
         E(RExpr::Var(VarRef::Alg(AlgId::new(self.m.algs.len() - 1))))
     }
@@ -185,6 +193,7 @@ impl ModelBuilder {
             name: name.into(),
             expr: expr.0,
             span,
+            family: Family::SCALAR,
         });
         E(RExpr::Let(LetId::new(self.m.lets.len() - 1)))
     }
@@ -209,6 +218,7 @@ impl ModelBuilder {
             name: name.into(),
             residual,
             span,
+            over: None,
         });
     }
 

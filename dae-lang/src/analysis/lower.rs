@@ -1,8 +1,9 @@
 //! Lowering a checked [`Model`] into the symbolic arena.
 
 use crate::ast::BinOp;
+use crate::maps::MapTable;
 use crate::model::{Model, RExpr};
-use crate::sym::{Arena, Id};
+use crate::sym::{Arena, Id, LeafSets};
 use crate::{Func, VarRef};
 
 /// A model in the arena: lets as shared nodes, `f` per state, `g` per constraint.
@@ -22,7 +23,13 @@ pub struct Lowered {
 /// (for measuring). A let is lowered once and every use refers to its node, so lets are
 /// shared, not copied. The initial values are lowered separately, after the analysis.
 pub fn lower(model: &Model, simplify: bool) -> Lowered {
-    let mut arena = if simplify {
+    let mut arena = if model.is_family() {
+        Arena::with_families(
+            simplify,
+            leaf_sets(model),
+            MapTable::new(model.maps.clone()),
+        )
+    } else if simplify {
         Arena::new()
     } else {
         Arena::unsimplified()
@@ -44,6 +51,17 @@ pub fn lower(model: &Model, simplify: bool) -> Lowered {
         .map(|c| lowering.expr(&mut arena, &c.residual))
         .collect();
     Lowered { arena, f, g, lets }
+}
+
+/// The sets of a family model's leaves.
+pub(crate) fn leaf_sets(model: &Model) -> LeafSets {
+    LeafSets {
+        params: model.params.iter().map(|p| p.family.over).collect(),
+        states: model.states.iter().map(|p| p.family.over).collect(),
+        algs: model.algs.iter().map(|p| p.family.over).collect(),
+        inputs: model.inputs.iter().map(|p| p.family.over).collect(),
+        constraints: model.constraints.iter().map(|c| c.over).collect(),
+    }
 }
 
 /// Lower the initial values of the states and the initial guesses of the algebraic
@@ -69,25 +87,36 @@ pub(crate) fn lower_initial(arena: &mut Arena, model: &Model) -> (Vec<Id>, Vec<I
 /// initial-point check then reports, so that no tape ever reads outside its inputs.
 struct Lowering<'a> {
     lets: &'a [Id],
-    counts: [usize; 3],
+    /// Parameters, states, algebraic unknowns, inputs, sets, sizes.
+    counts: [usize; 6],
 }
 
 impl<'a> Lowering<'a> {
     fn new(model: &Model, lets: &'a [Id]) -> Self {
         Lowering {
             lets,
-            counts: [model.params.len(), model.states.len(), model.algs.len()],
+            counts: [
+                model.params.len(),
+                model.states.len(),
+                model.algs.len(),
+                model.inputs.len(),
+                model.sets.len(),
+                model.sizes.len(),
+            ],
         }
     }
 
     fn in_range(&self, v: VarRef) -> bool {
-        let [params, states, algs] = self.counts;
+        let [params, states, algs, inputs, sets, sizes] = self.counts;
         match v {
             VarRef::Param(i) => i.index() < params,
             VarRef::State(i) => i.index() < states,
             VarRef::Alg(i) => i.index() < algs,
             VarRef::Time => true,
             VarRef::Mu(_) => false,
+            VarRef::Input(i, _) => i.index() < inputs,
+            VarRef::Elem(s) => s.index() < sets,
+            VarRef::Size(s) => s.index() < sizes,
         }
     }
 
@@ -117,6 +146,24 @@ impl<'a> Lowering<'a> {
                 }
             }
             RExpr::Call(f, args) => self.call(arena, *f, args),
+            RExpr::Gather(m, _) | RExpr::Sum(m, _) if m.index() >= arena.maps().defs().len() => {
+                arena.num(f64::NAN)
+            }
+            RExpr::Gather(m, a) => {
+                let a = self.expr(arena, a);
+                arena.gather(*m, a)
+            }
+            RExpr::Sum(m, a) => {
+                let a = self.expr(arena, a);
+                arena.sum(*m, a)
+            }
+            // Construction-time forms have no node: a model whose equations held one
+            // would break the checked-model contract; NaN gets it reported.
+            RExpr::Compare(..)
+            | RExpr::Logic(..)
+            | RExpr::Not(_)
+            | RExpr::If(..)
+            | RExpr::Int(..) => arena.num(f64::NAN),
         }
     }
 

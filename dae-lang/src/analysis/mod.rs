@@ -12,6 +12,7 @@
 //! at the initial point, where non-finite values and a singular or ill-conditioned
 //! `J_Omega` are errors.
 
+mod family;
 #[cfg(any(test, feature = "fixtures"))]
 pub mod fixtures;
 mod init;
@@ -19,13 +20,14 @@ mod lower;
 #[cfg(test)]
 mod tests;
 mod text;
+mod text_family;
 
 use crate::ast::Span;
 use crate::compiled::CompiledModel;
 use crate::diag::Diagnostic;
 use crate::model::{ConstraintDef, Model};
 use crate::sym::{Arena, DiffContext, Id, Names, dep};
-use crate::{AlgId, ConstraintId};
+use crate::{AlgId, ConstraintId, MapId};
 
 pub use lower::{Lowered, lower};
 
@@ -73,8 +75,11 @@ pub struct ConstraintExprs {
     /// `Omega = w^(r-1)`, the first derivative that contains an algebraic unknown.
     pub omega: Id,
     /// The non-zero entries `(column = algebraic unknown, dOmega/dz_column)` of this row
-    /// of `J_Omega`, by column.
+    /// of `J_Omega`, by column (version 1; empty for a family model).
     pub jacobian_row: Vec<(AlgId, Id)>,
+    /// The kernels of this constraint's rows of `J_Omega` (a family model; empty for a
+    /// version-1 model), one per coupling.
+    pub kernels: Vec<Kernel>,
     /// `beta = dOmega/dt + (dOmega/dx) f` (may contain z).
     pub beta: Id,
     /// The realization parameter `mu` of this constraint (a leaf, printed `mu<i+1>`).
@@ -85,6 +90,21 @@ pub struct ConstraintExprs {
     pub alpha: Id,
     /// The cheap `alpha_hat = alpha - mu^(r-1) beta`.
     pub alpha_hat: Id,
+}
+
+/// The kernel of one coupling of `J_Omega`: the rows of a constraint (over `L`) and the
+/// columns of an algebraic unknown (over `K`) meet where `row_map(l) == col_map(k)`,
+/// and there `dOmega(l)/dz(k) = sum of row(l) * col(k)` over the terms.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Kernel {
+    /// The algebraic unknown of the columns.
+    pub alg: AlgId,
+    /// From the constraint's set to the meeting set.
+    pub row_map: MapId,
+    /// From the unknown's set to the meeting set.
+    pub col_map: MapId,
+    /// `(row factor, column factor)` of each term.
+    pub terms: Vec<(Id, Id)>,
 }
 
 /// A model and its realization as expressions in one arena: what `daec derive` prints
@@ -161,6 +181,9 @@ fn binomial(n: usize, k: usize) -> f64 {
 /// checks at the initial point. Every problem found is returned, each as a diagnostic
 /// with the span of the item concerned.
 pub fn analyze(model: &Model, opts: &AnalysisOptions) -> Result<Analysis, Vec<Diagnostic>> {
+    if model.is_family() {
+        return family::analyze(model, opts);
+    }
     let Lowered {
         mut arena,
         f,
@@ -282,6 +305,31 @@ fn realize(
     }
     let beta = derivatives.dt(arena, omega);
     let mu = arena.mu(ConstraintId::new(i));
+    let (s, alpha, alpha_hat) = sliding_exprs(arena, &w, beta, mu);
+    let summary = ConstraintAnalysis {
+        name: def.name.clone(),
+        span: def.span,
+        index: r,
+        depends_on: cols.iter().map(|&k| alg_name(names, k)).collect(),
+    };
+    let exprs = ConstraintExprs {
+        w,
+        omega,
+        jacobian_row,
+        kernels: Vec::new(),
+        beta,
+        mu,
+        s,
+        alpha,
+        alpha_hat,
+    };
+    (summary, exprs)
+}
+
+/// `s`, `alpha` and `alpha_hat` of a constraint from its derivatives `w`, `beta` and its
+/// realization parameter `mu`.
+fn sliding_exprs(arena: &mut Arena, w: &[Id], beta: Id, mu: Id) -> (Id, Id, Id) {
+    let r = w.len();
     let mu_pow = |arena: &mut Arena, j: usize| arena.powf(mu, j as f64);
     // s = sum_{j=0}^{r-1} C(r-1, j) mu^j w^(j)
     let mut s_terms = Vec::with_capacity(r);
@@ -300,23 +348,7 @@ fn realize(
     let m = mu_pow(arena, r - 1);
     let mb = arena.mul(m, beta);
     let alpha = arena.add(mb, alpha_hat);
-    let summary = ConstraintAnalysis {
-        name: def.name.clone(),
-        span: def.span,
-        index: r,
-        depends_on: cols.iter().map(|&k| alg_name(names, k)).collect(),
-    };
-    let exprs = ConstraintExprs {
-        w,
-        omega,
-        jacobian_row,
-        beta,
-        mu,
-        s,
-        alpha,
-        alpha_hat,
-    };
-    (summary, exprs)
+    (s, alpha, alpha_hat)
 }
 
 fn alg_name(names: &Names, k: AlgId) -> String {

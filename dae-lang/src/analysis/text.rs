@@ -50,7 +50,14 @@ impl Analysis {
     /// becomes the sum it squares). `J(i, k)` is `dOmega_i/dz_k` (row = constraint,
     /// column = algebraic unknown, both from 0), followed by a comment naming the
     /// constraint and the unknown; only structurally non-zero entries appear.
+    ///
+    /// For a family model, the templates: the same equations per constraint family,
+    /// written at its element (`w_link[l] = ...`), with `J_Omega` as kernels and the
+    /// conditions they hold in (`J(link[l], z[k]) = ... when b[l] == a[k]`).
     pub fn derive_text(&self) -> String {
+        if self.compiled.is_family() {
+            return self.family_text();
+        }
         let sym = &self.symbolic;
         let mut ids = Vec::new();
         for c in &sym.constraints {

@@ -153,6 +153,9 @@ impl Walk<'_, '_, '_, '_> {
                 };
                 self.report(e.span, constant, what, v)
             }
+            // The forms of version 2 (element access, sums, vectors, `if`): a model that
+            // uses one goes to the family checker, never here.
+            _ => None,
         }
     }
 

@@ -11,7 +11,17 @@ pub(super) fn eval(e: &RExpr, params: &[Option<f64>]) -> Option<f64> {
     Some(match e {
         RExpr::Num(v) => *v,
         RExpr::Var(VarRef::Param(i)) => (*params.get(i.index())?)?,
-        RExpr::Var(_) | RExpr::Let(_) => return None,
+        // The version-1 checker evaluates only what it resolves (the family checker has
+        // its own construction-time evaluator).
+        RExpr::Var(_)
+        | RExpr::Let(_)
+        | RExpr::Gather(..)
+        | RExpr::Sum(..)
+        | RExpr::Compare(..)
+        | RExpr::Logic(..)
+        | RExpr::Not(_)
+        | RExpr::If(..)
+        | RExpr::Int(..) => return None,
         RExpr::Neg(a) => -eval(a, params)?,
         RExpr::Binary(op, a, b) => {
             let (a, b) = (eval(a, params)?, eval(b, params)?);

@@ -4,20 +4,13 @@ use crate::model::RExpr;
 
 /// The `let`s used by `e` (indices in source order), each once, in order of appearance.
 pub(super) fn let_uses(e: &RExpr, out: &mut Vec<usize>) {
-    match e {
-        RExpr::Let(l) => {
+    e.visit(&mut |e| {
+        if let RExpr::Let(l) = e {
             if !out.contains(&l.index()) {
                 out.push(l.index());
             }
         }
-        RExpr::Num(_) | RExpr::Var(_) => {}
-        RExpr::Neg(a) => let_uses(a, out),
-        RExpr::Binary(_, a, b) => {
-            let_uses(a, out);
-            let_uses(b, out);
-        }
-        RExpr::Call(_, args) => args.iter().for_each(|a| let_uses(a, out)),
-    }
+    });
 }
 
 /// The result of ordering: a valid order, or the cycles found.
@@ -96,8 +89,18 @@ pub(super) fn renumber(e: &mut RExpr, new_index: &[usize]) {
             }
         }
         RExpr::Num(_) | RExpr::Var(_) => {}
-        RExpr::Neg(a) => renumber(a, new_index),
-        RExpr::Binary(_, a, b) => {
+        RExpr::Neg(a) | RExpr::Not(a) | RExpr::Gather(_, a) | RExpr::Sum(_, a) => {
+            renumber(a, new_index)
+        }
+        RExpr::Binary(_, a, b)
+        | RExpr::Compare(_, a, b)
+        | RExpr::Logic(_, a, b)
+        | RExpr::Int(_, a, b) => {
+            renumber(a, new_index);
+            renumber(b, new_index);
+        }
+        RExpr::If(c, a, b) => {
+            renumber(c, new_index);
             renumber(a, new_index);
             renumber(b, new_index);
         }

@@ -7,13 +7,14 @@
 
 mod domain;
 mod eval;
+mod family;
 mod lets;
 mod names;
 mod resolve;
 
 use crate::ast::{Decl, File, Item, ModelAst, Span};
 use crate::diag::Diagnostic;
-use crate::model::{ConstraintDef, DerDef, LetDef, Model, ParamDef, RExpr, VarDef};
+use crate::model::{ConstraintDef, DerDef, Family, LetDef, Model, ParamDef, RExpr, VarDef};
 use resolve::{Ctx, Entry, Kind, Scope};
 use std::collections::{HashMap, HashSet};
 
@@ -58,15 +59,21 @@ struct Decls<'a> {
     lets: Vec<&'a Decl>,
 }
 
-/// Checks one model.
+/// Checks one model: a model that uses anything of version 2 (families, vectors,
+/// construction-time forms) goes to the family checker; any other model is checked
+/// exactly as in version 1.
 pub(crate) fn check_model(m: &ModelAst) -> Result<Model, Vec<Diagnostic>> {
     check_model_with(m, true)
 }
 
 /// Checks one model; `at_start`: with the values of the equations at the initial point
 /// (see `domain`). Without, only for tests of the syntax and the printer, whose
-/// expressions need not be defined at any particular point.
+/// expressions need not be defined at any particular point. A model that uses anything
+/// of version 2 goes to the family checker (with its own checks at the default sizes).
 pub(crate) fn check_model_with(m: &ModelAst, at_start: bool) -> Result<Model, Vec<Diagnostic>> {
+    if family::uses_version_2(m) {
+        return family::check_model(m);
+    }
     let mut diags = Vec::new();
     if names::is_reserved(&m.name.name) {
         let (message, hint) = names::reserved_message(&m.name.name);
@@ -76,14 +83,15 @@ pub(crate) fn check_model_with(m: &ModelAst, at_start: bool) -> Result<Model, Ve
 
     // Parameters, in order: each default may use the ones before it.
     let mut values: Vec<Option<f64>> = Vec::with_capacity(decls.params.len());
+    let mut param_exprs: Vec<Option<RExpr>> = Vec::with_capacity(decls.params.len());
     for (i, d) in decls.params.iter().enumerate() {
         let ctx = Ctx::ParamDefault {
             index: i,
             name: &d.name.name,
         };
-        let value = scope
-            .resolve(&d.value, ctx, &mut diags)
-            .and_then(|e| eval::eval(&e, &values));
+        let resolved = scope.resolve(&d.value, ctx, &mut diags);
+        let value = resolved.as_ref().and_then(|e| eval::eval(e, &values));
+        param_exprs.push(resolved);
         let value = value.filter(|v| {
             let finite = v.is_finite();
             if !finite {
@@ -158,6 +166,7 @@ pub(crate) fn check_model_with(m: &ModelAst, at_start: bool) -> Result<Model, Ve
                     name: d.name.name.clone(),
                     init: e?,
                     span: d.span,
+                    family: Family::SCALAR,
                 })
             })
             .collect()
@@ -176,6 +185,7 @@ pub(crate) fn check_model_with(m: &ModelAst, at_start: bool) -> Result<Model, Ve
                 name: decls.lets[i].name.name.clone(),
                 expr,
                 span: decls.lets[i].span,
+                family: Family::SCALAR,
             })
         })
         .collect();
@@ -194,11 +204,14 @@ pub(crate) fn check_model_with(m: &ModelAst, at_start: bool) -> Result<Model, Ve
             .params
             .iter()
             .zip(values)
-            .filter_map(|(d, v)| {
+            .zip(param_exprs)
+            .filter_map(|((d, v), e)| {
                 Some(ParamDef {
                     name: d.name.name.clone(),
                     default: v?,
                     span: d.span,
+                    value: e?,
+                    family: Family::SCALAR,
                 })
             })
             .collect(),
@@ -207,6 +220,10 @@ pub(crate) fn check_model_with(m: &ModelAst, at_start: bool) -> Result<Model, Ve
         lets: lets_out,
         ders: ders_out,
         constraints: constraints_out,
+        sizes: Vec::new(),
+        sets: Vec::new(),
+        maps: Vec::new(),
+        inputs: Vec::new(),
     })
 }
 
@@ -227,7 +244,8 @@ fn declare<'a>(m: &'a ModelAst, diags: &mut Vec<Diagnostic>) -> (Scope<'a>, Decl
             Item::State(ds, _) => (Kind::State, ds.iter().collect()),
             Item::Alg(ds, _) => (Kind::Alg, ds.iter().collect()),
             Item::Let(d, _) => (Kind::Let, vec![d]),
-            Item::Der { .. } | Item::Constraint { .. } => continue,
+            // Version-2 items never reach this checker (see `check_model`).
+            _ => continue,
         };
         for d in list {
             let name = d.name.name.as_str();
@@ -325,7 +343,10 @@ fn ders(
     let mut out: Vec<Option<DerDef>> = vec![None; states.len()];
     let mut first_span: Vec<Option<Span>> = vec![None; states.len()];
     for item in &m.items {
-        let Item::Der { target, rhs, span } = item else {
+        let Item::Der {
+            target, rhs, span, ..
+        } = item
+        else {
             continue;
         };
         let expr = scope.resolve(rhs, Ctx::Equation, diags);
@@ -404,6 +425,7 @@ fn constraints(
             lhs,
             rhs,
             span,
+            ..
         } = item
         else {
             continue;
@@ -453,6 +475,7 @@ fn constraints(
             name: cname,
             residual,
             span: *span,
+            over: None,
         }));
     }
     out

@@ -104,6 +104,15 @@ fn distance_within(a: &[u8], b: &[u8], k: usize, work: &mut u64) -> Option<usize
     (prev[m] <= k).then_some(prev[m])
 }
 
+/// The suggestion for one name among `candidates` (see [`Suggestions`]; for a single
+/// question: a checker that asks many keeps one [`Suggestions`]).
+pub(super) fn suggest<'a>(
+    name: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> Option<&'a str> {
+    Suggestions::new(candidates).suggest(name)
+}
+
 /// "Did you mean" over a fixed list of names, with bounded work.
 ///
 /// The candidate closest to a name, if it is close enough to be a likely typo (see

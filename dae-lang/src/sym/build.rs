@@ -14,7 +14,8 @@
 //!   `x^a * x^b = x^(a+b)`, `x/x = 1`, `--x = x` fall out of the merge.
 
 use super::{Arena, Id, Node, Num};
-use crate::{AlgId, ConstraintId, Func, ParamId, StateId, VarRef};
+use crate::model::MapKind;
+use crate::{AlgId, ConstraintId, Func, MapId, ParamId, StateId, VarRef};
 
 /// `v ^ e` for constant folding.
 pub(super) fn pow_num(v: f64, e: f64) -> f64 {
@@ -359,6 +360,31 @@ impl Arena {
             }
         }
         self.intern(Node::F2(f, a, b))
+    }
+
+    /// `e` (in the context of `m`'s codomain) at the image of the element at hand under
+    /// `m`. A scalar is the same at every element (`Gather(m, scalar) = scalar`), the
+    /// identity changes nothing, and a gather of a gather is one gather through the
+    /// composed map. These rules hold whether or not the arena simplifies: they are the
+    /// meaning of contexts.
+    pub fn gather(&mut self, m: MapId, e: Id) -> Id {
+        if self.ctx(e).is_none() || self.maps().get(m).kind == MapKind::Identity {
+            return e;
+        }
+        if let Node::Gather(m1, inner) = *self.node(e) {
+            let composed = self.maps_mut().compose(m, m1);
+            return self.gather(composed, inner);
+        }
+        self.intern(Node::Gather(m, e))
+    }
+
+    /// The sum of `body` (in the context of `m`'s domain) over the elements `m` sends to
+    /// the element at hand. A zero body is zero.
+    pub fn sum(&mut self, m: MapId, body: Id) -> Id {
+        if self.as_const(body) == Some(0.0) {
+            return self.num(0.0);
+        }
+        self.intern(Node::Sum(m, body))
     }
 
     /// A call of a built-in function of the language (`args` has the function's arity).

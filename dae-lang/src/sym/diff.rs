@@ -4,7 +4,8 @@
 //! leaves: `d/dv` has `dv/dv = 1` and 0 for every other leaf; the total time derivative
 //! `D[e] = de/dt + sum_k (de/dx_k) f_k` has `D[t] = 1`, `D[x_k] = f_k` and 0 for
 //! parameters, algebraic unknowns (z is held constant, docs/method.md section 1) and the
-//! realization parameters. Walking once with these leaf rules gives the same expression as
+//! realization parameters; `D[input^(j)] = input^(j+1)`, and the derivative goes through
+//! gathers and sums (both are linear). Walking once with these leaf rules gives the same expression as
 //! summing partials, without building `n` partial derivatives first. A per-node bit set of
 //! the leaf kinds below it answers "is this a constant for this variable?" in O(1).
 //!
@@ -86,7 +87,7 @@ impl Walk<'_> {
     fn d(&mut self, e: Id, seed: Seed) -> Id {
         let relevant = match seed {
             Seed::Partial(v) => self.a.deps(v) & self.a.deps(e) != 0,
-            Seed::Time => self.a.deps(e) & (dep::STATE | dep::TIME) != 0,
+            Seed::Time => self.a.deps(e) & (dep::STATE | dep::TIME | dep::INPUT) != 0,
         };
         if !relevant {
             return self.a.num(0.0);
@@ -129,8 +130,23 @@ impl Walk<'_> {
                             .copied()
                             .unwrap_or_else(|| self.a.num(f64::NAN))
                     }
+                    // The derivative of an input is its next derivative.
+                    (Seed::Time, Node::Var(VarRef::Input(i, j))) => {
+                        let next = VarRef::Input(*i, j.saturating_add(1));
+                        self.a.var(next)
+                    }
                     _ => self.a.num(0.0),
                 }
+            }
+            // Linear in the gathered node and the summand: the time derivative of a
+            // gathered state is the gathered derivative.
+            Node::Gather(m, a) => {
+                let da = self.d(a, seed);
+                self.a.gather(m, da)
+            }
+            Node::Sum(m, a) => {
+                let da = self.d(a, seed);
+                self.a.sum(m, da)
             }
             Node::Add(_, ts) => {
                 let mut terms = Vec::with_capacity(ts.len());
@@ -183,7 +199,7 @@ impl Walk<'_> {
                 if self.is_zero(du) {
                     return du;
                 }
-                let outer = self.d_f1(f, u, e);
+                let outer = outer_derivative(self.a, f, u, e);
                 self.a.mul(outer, du)
             }
             Node::F2(f, a, b) => {
@@ -213,43 +229,44 @@ impl Walk<'_> {
             }
         }
     }
+}
 
-    /// The derivative of the outer function `f` at `u`; `e = f(u)` for reuse.
-    fn d_f1(&mut self, f: Func, u: Id, e: Id) -> Id {
-        match f {
-            Func::Sin => self.a.f1(Func::Cos, u),
-            Func::Cos => {
-                let s = self.a.f1(Func::Sin, u);
-                self.a.neg(s)
-            }
-            Func::Tan => {
-                let t2 = self.a.powf(e, 2.0);
-                self.a.lin(1.0, &[(t2, 1.0)])
-            }
-            Func::Asin | Func::Acos => {
-                let u2 = self.a.powf(u, 2.0);
-                let one_m = self.a.lin(1.0, &[(u2, -1.0)]);
-                let c = if f == Func::Asin { 1.0 } else { -1.0 };
-                self.a.product(c, &[(one_m, -0.5)])
-            }
-            Func::Atan => {
-                let u2 = self.a.powf(u, 2.0);
-                let one_p = self.a.lin(1.0, &[(u2, 1.0)]);
-                self.a.powf(one_p, -1.0)
-            }
-            Func::Sinh => self.a.f1(Func::Cosh, u),
-            Func::Cosh => self.a.f1(Func::Sinh, u),
-            Func::Tanh => {
-                let t2 = self.a.powf(e, 2.0);
-                self.a.lin(1.0, &[(t2, -1.0)])
-            }
-            Func::Exp => e,
-            Func::Ln => self.a.powf(u, -1.0),
-            Func::Abs => self.a.f1(Func::Sign, u),
-            Func::Sign => self.a.num(0.0),
-            Func::Sqrt => self.a.product(0.5, &[(u, -0.5)]),
-            // Not an F1 node (see `Arena::f1`).
-            Func::Atan2 | Func::Pow | Func::Min | Func::Max => self.a.num(f64::NAN),
+/// The derivative of the outer function `f` at `u`; `e = f(u)` for reuse (also used by
+/// the `J_Omega` kernels).
+pub(crate) fn outer_derivative(a: &mut Arena, f: Func, u: Id, e: Id) -> Id {
+    match f {
+        Func::Sin => a.f1(Func::Cos, u),
+        Func::Cos => {
+            let s = a.f1(Func::Sin, u);
+            a.neg(s)
         }
+        Func::Tan => {
+            let t2 = a.powf(e, 2.0);
+            a.lin(1.0, &[(t2, 1.0)])
+        }
+        Func::Asin | Func::Acos => {
+            let u2 = a.powf(u, 2.0);
+            let one_m = a.lin(1.0, &[(u2, -1.0)]);
+            let c = if f == Func::Asin { 1.0 } else { -1.0 };
+            a.product(c, &[(one_m, -0.5)])
+        }
+        Func::Atan => {
+            let u2 = a.powf(u, 2.0);
+            let one_p = a.lin(1.0, &[(u2, 1.0)]);
+            a.powf(one_p, -1.0)
+        }
+        Func::Sinh => a.f1(Func::Cosh, u),
+        Func::Cosh => a.f1(Func::Sinh, u),
+        Func::Tanh => {
+            let t2 = a.powf(e, 2.0);
+            a.lin(1.0, &[(t2, -1.0)])
+        }
+        Func::Exp => e,
+        Func::Ln => a.powf(u, -1.0),
+        Func::Abs => a.f1(Func::Sign, u),
+        Func::Sign => a.num(0.0),
+        Func::Sqrt => a.product(0.5, &[(u, -0.5)]),
+        // Not an F1 node (see `Arena::f1`).
+        Func::Atan2 | Func::Pow | Func::Min | Func::Max => a.num(f64::NAN),
     }
 }

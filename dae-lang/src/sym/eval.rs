@@ -52,6 +52,8 @@ impl Point<'_> {
             VarRef::Alg(i) => get(self.algs, i.index()),
             VarRef::Time => self.t,
             VarRef::Mu(i) => get(self.mu, i.index()),
+            // Family leaves need an instance (`Program::eval`).
+            VarRef::Input(..) | VarRef::Elem(_) | VarRef::Size(_) => f64::NAN,
         }
     }
 }
@@ -95,6 +97,8 @@ impl Arena {
                 Node::Pow(a, b) => buf[a.index()].powf(buf[b.index()]),
                 Node::F1(f, a) => f.apply1(buf[a.index()]),
                 Node::F2(f, a, b) => f.apply2(buf[a.index()], buf[b.index()]),
+                // Gathers and sums need an instance (`Program::eval`).
+                Node::Gather(..) | Node::Sum(..) => f64::NAN,
             };
             buf.push(v);
         }

@@ -36,15 +36,29 @@
 //! equations must have a finite value at the initial point (`check/domain.rs`).
 //! [`Arena::unsimplified`] builds an arena with all of this switched off
 //! (hash-consing stays), for measuring what the simplifier buys.
+//!
+//! # Families (language version 2)
+//!
+//! Every node has a *context* ([`Arena::ctx`]): the set whose element it is evaluated at,
+//! or `None` for a scalar. A leaf of a family is in the context of its set and means
+//! "the variable at the element at hand"; the children of an arithmetic node are in its
+//! context or scalar (a scalar is the same for every element). [`Node::Gather`] reads a
+//! node of another context through a map (its context is the map's domain), and
+//! [`Node::Sum`] adds a node over the elements a map sends to the element at hand (its
+//! context is the map's codomain). The maps live in the arena's [`MapTable`], so that
+//! composing gathers makes canonical maps. An arena of a version-1 model has no maps and
+//! every node is scalar.
 
 mod build;
 mod diff;
+mod kernels;
 // The compiler evaluates tapes, never the arena: this evaluator serves the tests.
 #[cfg(any(test, feature = "internals"))]
 mod eval;
 #[cfg(test)]
 mod parse_back;
 mod print;
+mod print_family;
 #[cfg(test)]
 pub(crate) mod reader;
 #[cfg(test)]
@@ -53,12 +67,19 @@ mod tests;
 use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
 
-use crate::{AlgId, Func, VarRef};
+use crate::maps::MapTable;
+use crate::{AlgId, ConstraintId, Func, MapId, SetId, VarRef};
 
 pub use diff::DiffContext;
 #[cfg(any(test, feature = "internals"))]
 pub use eval::Point;
+pub use kernels::jacobian_terms;
+#[cfg(any(test, feature = "internals"))]
+pub use kernels::{Term, TwoHop};
 pub use print::Names;
+#[cfg(any(test, feature = "internals"))]
+pub use print_family::FamilyNames;
+pub(crate) use print_family::primes;
 
 /// The id of a node in an [`Arena`]; children always have smaller ids than parents.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -119,6 +140,49 @@ pub enum Node {
     F1(Func, Id),
     /// `atan2`, `min` or `max` (`pow` is [`Node::Pow`] or a numeric exponent).
     F2(Func, Id, Id),
+    /// The node (in the context of the map's codomain) at the image of the element at
+    /// hand (of the map's domain).
+    Gather(MapId, Id),
+    /// The sum of the node (in the context of the map's domain) over the elements the map
+    /// sends to the element at hand (of the map's codomain; the unit for a full sum).
+    Sum(MapId, Id),
+}
+
+/// The sets of the leaves of a family model (`None`: a scalar). Empty lists (a version-1
+/// model) make every leaf scalar.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LeafSets {
+    /// By parameter component.
+    pub params: Vec<Option<SetId>>,
+    /// By state component.
+    pub states: Vec<Option<SetId>>,
+    /// By algebraic component.
+    pub algs: Vec<Option<SetId>>,
+    /// By input component.
+    pub inputs: Vec<Option<SetId>>,
+    /// By constraint (the set of the realization parameter `mu`).
+    pub constraints: Vec<Option<SetId>>,
+}
+
+impl LeafSets {
+    /// The set of a leaf.
+    pub fn of(&self, v: VarRef) -> Option<SetId> {
+        let get = |l: &[Option<SetId>], i: usize| l.get(i).copied().flatten();
+        match v {
+            VarRef::Param(i) => get(&self.params, i.index()),
+            VarRef::State(i) => get(&self.states, i.index()),
+            VarRef::Alg(i) => get(&self.algs, i.index()),
+            VarRef::Input(i, _) => get(&self.inputs, i.index()),
+            VarRef::Mu(c) => get(&self.constraints, c.index()),
+            VarRef::Elem(s) => Some(s),
+            VarRef::Time | VarRef::Size(_) => None,
+        }
+    }
+
+    /// The set of a constraint.
+    pub fn constraint(&self, c: ConstraintId) -> Option<SetId> {
+        self.constraints.get(c.index()).copied().flatten()
+    }
 }
 
 /// Which kinds of leaves a node depends on (bit set), kept per node for O(1) pruning.
@@ -130,15 +194,19 @@ pub(crate) mod dep {
     pub const ALG: u8 = 4;
     pub const TIME: u8 = 8;
     pub const MU: u8 = 16;
+    /// An input of a family model (it changes with time: its derivative is the next
+    /// input derivative).
+    pub const INPUT: u8 = 32;
 
-    /// The bit of a leaf.
+    /// The bit of a leaf (elements and sizes are constants, like parameters).
     pub fn of(v: VarRef) -> u8 {
         match v {
-            VarRef::Param(_) => PARAM,
+            VarRef::Param(_) | VarRef::Elem(_) | VarRef::Size(_) => PARAM,
             VarRef::State(_) => STATE,
             VarRef::Alg(_) => ALG,
             VarRef::Time => TIME,
             VarRef::Mu(_) => MU,
+            VarRef::Input(..) => INPUT,
         }
     }
 }
@@ -148,12 +216,15 @@ pub(crate) mod dep {
 pub struct Arena {
     nodes: Vec<Node>,
     deps: Vec<u8>,
+    ctx: Vec<Option<SetId>>,
     /// The value of each node without leaves (a constant expression), as IEEE 754
     /// evaluates it; unused for the others. What the simplifier asks before it drops a
     /// constant sub-expression (see `build.rs`).
     values: Vec<f64>,
     memo: HashMap<Node, Id>,
     simplify: bool,
+    leaf_sets: LeafSets,
+    maps: MapTable,
 }
 
 impl Default for Arena {
@@ -168,10 +239,43 @@ impl Arena {
         Arena {
             nodes: Vec::new(),
             deps: Vec::new(),
+            ctx: Vec::new(),
             values: Vec::new(),
             memo: HashMap::new(),
             simplify: true,
+            leaf_sets: LeafSets::default(),
+            maps: MapTable::default(),
         }
+    }
+
+    /// An arena for a family model: the sets of its leaves and its maps.
+    pub fn with_families(simplify: bool, leaf_sets: LeafSets, maps: MapTable) -> Arena {
+        Arena {
+            simplify,
+            leaf_sets,
+            maps,
+            ..Arena::new()
+        }
+    }
+
+    /// The context of a node: the set whose element it is evaluated at (`None`: scalar).
+    pub fn ctx(&self, id: Id) -> Option<SetId> {
+        self.ctx[id.index()]
+    }
+
+    /// The maps of the arena.
+    pub fn maps(&self) -> &MapTable {
+        &self.maps
+    }
+
+    /// The maps of the arena, to make new ones.
+    pub fn maps_mut(&mut self) -> &mut MapTable {
+        &mut self.maps
+    }
+
+    /// The sets of the leaves.
+    pub fn leaf_sets(&self) -> &LeafSets {
+        &self.leaf_sets
     }
 
     /// An empty arena whose constructors do not simplify (only hash-consing), for measuring.
@@ -219,9 +323,10 @@ impl Arena {
         self.deps(id) & dep::ALG != 0
     }
 
-    /// Whether the expression contains any state or `t` (so its time derivative may be non-zero).
+    /// Whether the expression contains any state, input or `t` (so its time derivative
+    /// may be non-zero).
     pub fn has_state_or_time(&self, id: Id) -> bool {
-        self.deps(id) & (dep::STATE | dep::TIME) != 0
+        self.deps(id) & (dep::STATE | dep::TIME | dep::INPUT) != 0
     }
 
     /// Insert a node as is (hash-consed), returning its id.
@@ -234,7 +339,24 @@ impl Arena {
             Node::Var(v) => dep::of(*v),
             Node::Add(_, ts) | Node::Mul(_, ts) => ts.iter().fold(0, |d, (t, _)| d | self.deps(*t)),
             Node::Pow(a, b) | Node::F2(_, a, b) => self.deps(*a) | self.deps(*b),
-            Node::F1(_, a) => self.deps(*a),
+            Node::F1(_, a) | Node::Gather(_, a) => self.deps(*a),
+            // A sum of a constant depends on the instance (how many elements meet the
+            // element at hand), like a size: never a constant expression to fold.
+            Node::Sum(_, a) => match self.deps(*a) {
+                0 => dep::PARAM,
+                d => d,
+            },
+        };
+        let ctx = match &node {
+            Node::Const(_) => None,
+            Node::Var(v) => self.leaf_sets.of(*v),
+            Node::Gather(m, _) => self.maps.domain(*m),
+            Node::Sum(m, _) => self.maps.codomain(*m),
+            _ => {
+                let mut c = None;
+                self.for_each_child_of(&node, |k| c = c.or(self.ctx[k.index()]));
+                c
+            }
         };
         let value = if d == 0 {
             self.constant_value(&node)
@@ -244,6 +366,7 @@ impl Arena {
         let id = Id(u32::try_from(self.nodes.len()).expect("arena holds fewer than 2^32 nodes"));
         self.nodes.push(node.clone());
         self.deps.push(d);
+        self.ctx.push(ctx);
         self.values.push(value);
         self.memo.insert(node, id);
         id
@@ -262,6 +385,10 @@ impl Arena {
             Node::Pow(a, b) => v(a).powf(v(b)),
             Node::F1(f, a) => f.apply1(v(a)),
             Node::F2(f, a, b) => f.apply2(v(a), v(b)),
+            // A gather of a constant is the constant (`Arena::gather` never makes one); a
+            // sum is never constant (see `intern`).
+            Node::Gather(_, a) => v(a),
+            Node::Sum(..) => f64::NAN,
         }
     }
 
@@ -283,15 +410,19 @@ impl Arena {
         out
     }
 
-    fn for_each_child(&self, id: Id, mut f: impl FnMut(Id)) {
-        match self.node(id) {
+    fn for_each_child(&self, id: Id, f: impl FnMut(Id)) {
+        self.for_each_child_of(self.node(id), f)
+    }
+
+    fn for_each_child_of(&self, node: &Node, mut f: impl FnMut(Id)) {
+        match node {
             Node::Add(_, ts) | Node::Mul(_, ts) => ts.iter().for_each(|(t, _)| f(*t)),
             Node::Pow(a, b) | Node::F2(_, a, b) => {
                 f(*a);
                 f(*b)
             }
-            Node::F1(_, a) => f(*a),
-            _ => {}
+            Node::F1(_, a) | Node::Gather(_, a) | Node::Sum(_, a) => f(*a),
+            Node::Const(_) | Node::Var(_) => {}
         }
     }
 
@@ -370,7 +501,7 @@ impl Arena {
                 let neg = u64::from(c.0 == -1.0);
                 parts.saturating_sub(1) + powers + recip + neg
             }
-            Node::Pow(..) | Node::F1(..) | Node::F2(..) => 1,
+            Node::Pow(..) | Node::F1(..) | Node::F2(..) | Node::Sum(..) => 1,
             _ => 0,
         }
     }

@@ -13,8 +13,11 @@
 use std::collections::HashMap;
 
 use super::{Arena, Id, Node, Num};
-use crate::VarRef;
 use crate::model::Model;
+use crate::{SetId, VarRef};
+
+pub use super::print_family::FamilyNames;
+use super::print_family::{primes, split_component};
 
 /// Names of the leaves for printing. Missing names fall back to `p<i>`, `x<i>`, `z<i>`.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -25,6 +28,9 @@ pub struct Names {
     pub states: Vec<String>,
     /// Algebraic names.
     pub algs: Vec<String>,
+    /// The names of a family model's sizes, sets, inputs and constraints (`None` for a
+    /// version-1 model).
+    pub family: Option<Box<FamilyNames>>,
 }
 
 impl Names {
@@ -34,6 +40,7 @@ impl Names {
             params: m.params.iter().map(|p| p.name.clone()).collect(),
             states: m.states.iter().map(|s| s.name.clone()).collect(),
             algs: m.algs.iter().map(|a| a.name.clone()).collect(),
+            family: m.is_family().then(|| Box::new(FamilyNames::from_model(m))),
         }
     }
 
@@ -50,14 +57,54 @@ impl Names {
             VarRef::State(i) => named(&self.states, "x", i.index()),
             VarRef::Alg(i) => named(&self.algs, "z", i.index()),
             VarRef::Time => "t".into(),
-            VarRef::Mu(i) => format!("mu{}", i.index() + 1),
+            VarRef::Mu(i) => match &self.family {
+                Some(f) if f.constraint_families.get(i.index()) == Some(&true) => {
+                    format!("mu_{}", f.constraints[i.index()])
+                }
+                _ => format!("mu{}", i.index() + 1),
+            },
+            VarRef::Input(i, j) => {
+                let name = self
+                    .family
+                    .as_ref()
+                    .and_then(|f| f.inputs.get(i.index()).cloned())
+                    .unwrap_or_else(|| format!("u{}", i.index()));
+                let (base, comp) = split_component(&name);
+                format!("{base}{}{comp}", primes(j as usize))
+            }
+            VarRef::Elem(s) => self.elem(s),
+            VarRef::Size(i) => self
+                .family
+                .as_ref()
+                .and_then(|f| f.sizes.get(i.index()).cloned())
+                .unwrap_or_else(|| format!("n{}", i.index())),
+        }
+    }
+
+    /// The element name of a set (`s<i>` without family names).
+    pub fn elem(&self, s: SetId) -> String {
+        self.family
+            .as_ref()
+            .and_then(|f| f.elems.get(s.index()).cloned())
+            .unwrap_or_else(|| format!("s{}", s.index()))
+    }
+
+    /// The name of a set (`the unit` for `None`).
+    pub fn set(&self, s: Option<SetId>) -> String {
+        match s {
+            None => "the unit".into(),
+            Some(s) => self
+                .family
+                .as_ref()
+                .and_then(|f| f.sets.get(s.index()).cloned())
+                .unwrap_or_else(|| format!("S{}", s.index())),
         }
     }
 }
 
 /// Binding strength of the outermost operator of a printed piece.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-enum Kind {
+pub(super) enum Kind {
     Sum,
     Neg,
     Prod,
@@ -65,9 +112,9 @@ enum Kind {
     Atom,
 }
 
-type Piece = (String, Kind);
+pub(super) type Piece = (String, Kind);
 
-fn wrap((s, k): Piece, min: Kind) -> String {
+pub(super) fn wrap((s, k): Piece, min: Kind) -> String {
     if k < min { format!("({s})") } else { s }
 }
 
@@ -80,7 +127,7 @@ fn unsigned(v: f64) -> String {
     }
 }
 
-fn number(v: f64) -> Piece {
+pub(super) fn number(v: f64) -> Piece {
     if v.is_nan() {
         ("(0/0)".into(), Kind::Atom)
     } else if v.is_infinite() {
@@ -100,7 +147,7 @@ fn exact_reciprocal(v: f64) -> Option<f64> {
 
 /// Names written in place of nodes (a model's `let`s), added one at a time.
 #[derive(Default)]
-struct Abbreviations {
+pub(super) struct Abbreviations {
     /// Node -> the name written for it (the latest added for that node).
     names: HashMap<Id, String>,
     /// Abbreviations that are a power of one base, `name = base^e0` (a let `l =
@@ -135,7 +182,7 @@ fn count_entry() {
 
 impl Abbreviations {
     /// Writes `name` for node `id` from now on.
-    fn add(&mut self, arena: &Arena, id: Id, name: &str) {
+    pub(super) fn add(&mut self, arena: &Arena, id: Id, name: &str) {
         count_entry();
         self.names.insert(id, name.to_string());
         if let Node::Mul(c, fs) = arena.node(id) {
@@ -161,28 +208,38 @@ impl Abbreviations {
     }
 }
 
-struct Printer<'a> {
-    arena: &'a Arena,
-    names: &'a Names,
-    abbrev: &'a Abbreviations,
+pub(super) struct Printer<'a> {
+    pub(super) arena: &'a Arena,
+    pub(super) names: &'a Names,
+    /// By node and the element name bound to its context (interned; 0 for a scalar).
+    pub(super) memo: HashMap<(Id, u32), Piece>,
+    /// Nodes written by name (a model's `let`s): `d.x` prints `d[l].x` in the context of
+    /// `l`.
+    pub(super) abbrev: Abbreviations,
     /// The node being defined: never written as its own abbreviation.
-    defining: Option<Id>,
-    memo: HashMap<Id, Piece>,
+    pub(super) defining: Option<Id>,
+    /// The element name bound to each set (family models).
+    pub(super) env: Vec<String>,
+    /// Interned bindings, for the memo.
+    pub(super) bindings: HashMap<String, u32>,
 }
 
 impl Printer<'_> {
-    fn pr(&mut self, id: Id) -> Piece {
+    pub(super) fn pr(&mut self, id: Id) -> Piece {
         if Some(id) != self.defining {
             if let Some(name) = self.abbrev.names.get(&id) {
-                return (name.clone(), Kind::Atom);
+                return (self.at_element(name, self.arena.ctx(id)), Kind::Atom);
             }
         }
-        if let Some(p) = self.memo.get(&id) {
+        let key = self.key(id);
+        if let Some(p) = self.memo.get(&key) {
             return p.clone();
         }
         let p = match self.arena.node(id) {
             Node::Const(v) => number(v.0),
-            Node::Var(v) => (self.names.var(*v), Kind::Atom),
+            Node::Var(v) => (self.leaf(*v), Kind::Atom),
+            Node::Gather(m, e) => self.gather(*m, *e),
+            Node::Sum(m, b) => self.sum_over(*m, *b),
             Node::Add(c, ts) => self.sum(c.0, ts),
             Node::Mul(c, fs) => self.product(c.0, fs),
             Node::Pow(a, b) => {
@@ -197,7 +254,7 @@ impl Printer<'_> {
             ),
         };
         count_entry();
-        self.memo.insert(id, p.clone());
+        self.memo.insert(key, p.clone());
         p
     }
 
@@ -297,11 +354,12 @@ impl Printer<'_> {
                 before.as_ref()
             }
         });
-        if let Some(Root { name, e0, .. }) = root {
+        if let Some(Root { name, e0, node }) = root.cloned() {
             let k = e / e0;
             if k.fract() == 0.0 && k > 0.0 && k < 1e6 {
+                let name = self.at_element(&name, self.arena.ctx(node));
                 return if k == 1.0 {
-                    (name.clone(), Kind::Atom)
+                    (name, Kind::Atom)
                 } else {
                     (format!("{name}^{}", wrap(number(k), Kind::Pow)), Kind::Pow)
                 };
@@ -407,18 +465,7 @@ impl Arena {
         names: &Names,
         abbrev: &[(Id, String)],
     ) -> Vec<String> {
-        let mut abbreviations = Abbreviations::default();
-        for (id, name) in abbrev {
-            abbreviations.add(self, *id, name);
-        }
-        let mut p = Printer {
-            arena: self,
-            names,
-            abbrev: &abbreviations,
-            defining: None,
-            memo: HashMap::new(),
-        };
-        ids.iter().map(|&id| p.pr(id).0).collect()
+        self.display_in(ids, names, abbrev, &[])
     }
 
     /// Definitions `(node, name, abbreviate)` in order, each written in terms of the
@@ -426,19 +473,14 @@ impl Arena {
     /// size of the text: the abbreviations grow by one per definition, each definition
     /// is printed with a memo of its own.
     pub fn display_definitions(&self, defs: &[(Id, &str, bool)], names: &Names) -> Vec<String> {
-        let mut abbreviations = Abbreviations::default();
+        let mut p = Printer::new(self, names);
         let mut out = Vec::with_capacity(defs.len());
         for &(id, name, abbreviate) in defs {
-            let mut p = Printer {
-                arena: self,
-                names,
-                abbrev: &abbreviations,
-                defining: Some(id),
-                memo: HashMap::new(),
-            };
+            p.defining = Some(id);
+            p.memo = HashMap::new();
             out.push(p.pr(id).0);
             if abbreviate {
-                abbreviations.add(self, id, name);
+                p.abbrev.add(self, id, name);
             }
         }
         out

@@ -11,6 +11,7 @@ pub(super) fn names() -> Names {
         params: vec!["p".into()],
         states: vec!["x".into(), "y".into()],
         algs: vec!["z".into()],
+        family: None,
     }
 }
 

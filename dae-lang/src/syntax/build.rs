@@ -1,18 +1,19 @@
-//! From the pest parse tree to the AST.
+//! From the pest parse tree to the AST: models and items (expressions are in
+//! `build_expr.rs`).
 //!
 //! The grammar already guarantees the shape of every pair, so the functions here only
 //! walk it; the few things the grammar cannot check (a literal too large for `f64`, an
 //! expression nested too deeply) become diagnostics. All of them are collected.
 
-use super::{MAX_DEPTH, Rule};
-use crate::ast::{BinOp, Decl, Expr, ExprKind, File, Ident, Item, ModelAst, Span};
+use super::Rule;
+use crate::ast::{Binder, Decl, Expr, ExprKind, File, Ident, InputDecl, Item, ModelAst, Span};
 use crate::diag::Diagnostic;
 use pest::iterators::Pair;
 
 /// Collects the diagnostics found while building.
 #[derive(Default)]
-struct Builder {
-    diags: Vec<Diagnostic>,
+pub(super) struct Builder {
+    pub(super) diags: Vec<Diagnostic>,
 }
 
 pub(super) fn file(pair: Pair<'_, Rule>) -> Result<File, Vec<Diagnostic>> {
@@ -29,12 +30,12 @@ pub(super) fn file(pair: Pair<'_, Rule>) -> Result<File, Vec<Diagnostic>> {
     }
 }
 
-fn span(p: &Pair<'_, Rule>) -> Span {
+pub(super) fn span(p: &Pair<'_, Rule>) -> Span {
     let s = p.as_span();
     Span::new(s.start(), s.end())
 }
 
-fn ident(p: Pair<'_, Rule>) -> Ident {
+pub(super) fn ident(p: Pair<'_, Rule>) -> Ident {
     Ident {
         name: p.as_str().to_string(),
         span: span(&p),
@@ -42,7 +43,7 @@ fn ident(p: Pair<'_, Rule>) -> Ident {
 }
 
 /// The pairs of a node without its keywords and punctuation.
-fn significant<'i>(p: Pair<'i, Rule>) -> impl Iterator<Item = Pair<'i, Rule>> {
+pub(super) fn significant<'i>(p: Pair<'i, Rule>) -> impl Iterator<Item = Pair<'i, Rule>> {
     p.into_inner().filter(|c| {
         !matches!(
             c.as_rule(),
@@ -53,21 +54,38 @@ fn significant<'i>(p: Pair<'i, Rule>) -> impl Iterator<Item = Pair<'i, Rule>> {
                 | Rule::kw_let
                 | Rule::kw_der
                 | Rule::kw_constraint
+                | Rule::kw_size
+                | Rule::kw_set
+                | Rule::kw_map
+                | Rule::kw_input
+                | Rule::kw_in
+                | Rule::kw_with
+                | Rule::kw_derivatives
+                | Rule::kw_derivative
+                | Rule::kw_sum
+                | Rule::kw_where
+                | Rule::kw_if
+                | Rule::kw_then
+                | Rule::kw_else
                 | Rule::lbrace
                 | Rule::rbrace
                 | Rule::lparen
                 | Rule::rparen
+                | Rule::lbracket
+                | Rule::rbracket
                 | Rule::comma
                 | Rule::semi
                 | Rule::colon
                 | Rule::assign
+                | Rule::arrow
+                | Rule::dot
         )
     })
 }
 
 /// A placeholder for an expression that could not be built; the diagnostic explaining
 /// why has already been recorded, so the result is discarded.
-fn error_expr(span: Span) -> (Expr, usize) {
+pub(super) fn error_expr(span: Span) -> (Expr, usize) {
     (
         Expr {
             kind: ExprKind::Num(0.0),
@@ -120,22 +138,33 @@ impl Builder {
                 Item::Let(decl, item_span)
             }
             Rule::der_item => {
-                let mut it = parts.into_iter();
+                let mut it = parts.into_iter().peekable();
                 let target = it.next().map(ident);
+                let elem = match it.peek() {
+                    Some(e) if e.as_rule() == Rule::der_elem => {
+                        it.next().and_then(|e| significant(e).next()).map(ident)
+                    }
+                    _ => None,
+                };
                 let rhs = it.next().map(|e| self.expr(e).0);
                 match (target, rhs) {
                     (Some(target), Some(rhs)) => Item::Der {
                         target,
+                        elem,
                         rhs,
                         span: item_span,
                     },
                     _ => Item::Let(self.missing(item_span), item_span),
                 }
             }
-            _ => {
-                // constraint_item: an optional name, then lhs and rhs.
+            Rule::constraint_item => {
+                // An optional name (with an optional binder), then lhs and rhs.
                 let name = match parts.first() {
                     Some(first) if first.as_rule() == Rule::ident => Some(ident(parts.remove(0))),
+                    _ => None,
+                };
+                let binder = match parts.first() {
+                    Some(first) if first.as_rule() == Rule::binder => Some(binder(parts.remove(0))),
                     _ => None,
                 };
                 let mut it = parts.into_iter();
@@ -144,6 +173,7 @@ impl Builder {
                 match (lhs, rhs) {
                     (Some(lhs), Some(rhs)) => Item::Constraint {
                         name,
+                        binder,
                         lhs,
                         rhs,
                         span: item_span,
@@ -151,12 +181,52 @@ impl Builder {
                     _ => Item::Let(self.missing(item_span), item_span),
                 }
             }
+            Rule::size_item => {
+                let mut it = parts.into_iter();
+                match (it.next(), it.next()) {
+                    (Some(name), Some(value)) => Item::Size {
+                        name: ident(name),
+                        value: self.expr(value).0,
+                        span: item_span,
+                    },
+                    _ => Item::Let(self.missing(item_span), item_span),
+                }
+            }
+            Rule::set_item => {
+                let mut it = parts.into_iter();
+                match it.next() {
+                    Some(name) => Item::Set {
+                        name: ident(name),
+                        size: it.next().map(|e| self.expr(e).0),
+                        span: item_span,
+                    },
+                    None => Item::Let(self.missing(item_span), item_span),
+                }
+            }
+            Rule::map_item => {
+                let mut it = parts.into_iter();
+                match (it.next(), it.next(), it.next()) {
+                    (Some(name), Some(b), Some(codomain)) => Item::Map {
+                        name: ident(name),
+                        binder: binder(b),
+                        codomain: ident(codomain),
+                        formula: it.next().map(|e| self.expr(e).0),
+                        span: item_span,
+                    },
+                    _ => Item::Let(self.missing(item_span), item_span),
+                }
+            }
+            Rule::input_item => {
+                let decls = parts.into_iter().map(|d| self.input_decl(d)).collect();
+                Item::Input(decls, item_span)
+            }
+            _ => Item::Let(self.missing(item_span), item_span),
         }
     }
 
     /// Records that the parse tree lacked a part the grammar requires. It cannot happen
     /// with the grammar as written; it is reported instead of panicking all the same.
-    fn missing(&mut self, at: Span) -> Decl {
+    pub(super) fn missing(&mut self, at: Span) -> Decl {
         self.diags.push(
             Diagnostic::new("internal error: incomplete parse tree", at, "here")
                 .hint("please report this model as a bug of the `.dae` parser"),
@@ -167,6 +237,8 @@ impl Builder {
         };
         Decl {
             name,
+            binder: None,
+            ty: None,
             value: error_expr(at).0,
             span: at,
         }
@@ -174,211 +246,106 @@ impl Builder {
 
     fn decl(&mut self, p: Pair<'_, Rule>) -> Decl {
         let decl_span = span(&p);
-        let mut it = significant(p);
-        match (it.next(), it.next()) {
+        let mut name = None;
+        let mut binder_ = None;
+        let mut ty = None;
+        let mut value = None;
+        for c in significant(p) {
+            match c.as_rule() {
+                Rule::ident => name = Some(ident(c)),
+                Rule::binder => binder_ = Some(binder(c)),
+                Rule::type_ann => ty = significant(c).next().map(ident),
+                _ => value = Some(self.expr(c).0),
+            }
+        }
+        match (name, value) {
             (Some(name), Some(value)) => Decl {
-                name: ident(name),
-                value: self.expr(value).0,
+                name,
+                binder: binder_,
+                ty,
+                value,
                 span: decl_span,
             },
             _ => self.missing(decl_span),
         }
     }
 
-    /// Builds an expression and returns it with its depth (a leaf has depth 1).
-    fn expr(&mut self, p: Pair<'_, Rule>) -> (Expr, usize) {
-        let s = span(&p);
-        match p.as_rule() {
-            Rule::expr | Rule::product => self.chain(p),
-            Rule::unary => self.unary(p),
-            Rule::power => self.power(p),
-            Rule::number => (self.number(&p), 1),
-            Rule::name => {
-                let text = p.as_str();
-                let kind = if text == "t" {
-                    ExprKind::Time
-                } else {
-                    ExprKind::Name(text.to_string())
-                };
-                (Expr { kind, span: s }, 1)
-            }
-            Rule::call => self.call(p),
-            _ => {
-                self.missing(s);
-                error_expr(s)
-            }
-        }
-    }
-
-    /// `a op b op c ...`, folded to the left.
-    fn chain(&mut self, p: Pair<'_, Rule>) -> (Expr, usize) {
-        let s = span(&p);
-        let mut it = p.into_inner();
-        let Some(first) = it.next() else {
-            self.missing(s);
-            return error_expr(s);
-        };
-        let (mut acc, mut depth) = self.expr(first);
-        while let (Some(op), Some(rhs)) = (it.next(), it.next()) {
-            let op = match op.as_str() {
-                "+" => BinOp::Add,
-                "-" => BinOp::Sub,
-                "*" => BinOp::Mul,
-                _ => BinOp::Div,
-            };
-            let (rhs, rdepth) = self.expr(rhs);
-            depth = depth.max(rdepth) + 1;
-            let span = acc.span.join(rhs.span);
-            acc = Expr {
-                kind: ExprKind::Binary(op, Box::new(acc), Box::new(rhs)),
-                span,
-            };
-            if depth > MAX_DEPTH {
-                return self.too_deep(s);
-            }
-        }
-        (acc, depth)
-    }
-
-    /// `- - x`: the minus signs wrap the power expression, innermost last.
-    fn unary(&mut self, p: Pair<'_, Rule>) -> (Expr, usize) {
-        let s = span(&p);
-        let mut signs = Vec::new();
-        let mut operand = None;
-        for c in p.into_inner() {
-            if c.as_rule() == Rule::neg {
-                signs.push(span(&c).start);
-            } else {
-                operand = Some(self.expr(c));
-            }
-        }
-        let Some((mut e, mut depth)) = operand else {
-            self.missing(s);
-            return error_expr(s);
-        };
-        if depth + signs.len() > MAX_DEPTH {
-            return self.too_deep(s);
-        }
-        for start in signs.into_iter().rev() {
-            let span = Span::new(start, e.span.end);
-            e = Expr {
-                kind: ExprKind::Neg(Box::new(e)),
-                span,
-            };
-            depth += 1;
-        }
-        (e, depth)
-    }
-
-    /// `atom` or `atom ^ unary`, where `atom` may be `( expr )`.
-    fn power(&mut self, p: Pair<'_, Rule>) -> (Expr, usize) {
-        let s = span(&p);
-        let mut base: Option<(Expr, usize)> = None;
-        let mut open = None;
-        let mut exponent = None;
-        let mut after_pow = false;
-        for c in p.into_inner() {
-            match c.as_rule() {
-                Rule::lparen => open = Some(span(&c).start),
-                Rule::rparen => {
-                    // Parentheses widen the span of what they enclose.
-                    if let (Some(start), Some((e, _))) = (open, base.as_mut()) {
-                        e.span = Span::new(start, span(&c).end);
-                    }
-                }
-                Rule::pow_op => after_pow = true,
-                _ if after_pow => exponent = Some(self.expr(c)),
-                _ => base = Some(self.expr(c)),
-            }
-        }
-        let Some((base, bdepth)) = base else {
-            self.missing(s);
-            return error_expr(s);
-        };
-        match exponent {
-            None => (base, bdepth),
-            Some((exp, edepth)) => {
-                let depth = bdepth.max(edepth) + 1;
-                if depth > MAX_DEPTH {
-                    return self.too_deep(s);
-                }
-                let span = base.span.join(exp.span);
-                let kind = ExprKind::Binary(BinOp::Pow, Box::new(base), Box::new(exp));
-                (Expr { kind, span }, depth)
-            }
-        }
-    }
-
-    fn call(&mut self, p: Pair<'_, Rule>) -> (Expr, usize) {
-        let s = span(&p);
-        let mut func = None;
-        let mut args = Vec::new();
-        let mut depth = 1;
+    fn input_decl(&mut self, p: Pair<'_, Rule>) -> InputDecl {
+        let decl_span = span(&p);
+        let mut name = None;
+        let mut binder_ = None;
+        let mut ty = None;
+        let mut value = None;
+        let mut derivatives = None;
         for c in significant(p) {
-            if c.as_rule() == Rule::ident {
-                func = Some(ident(c));
-            } else {
-                let (arg, d) = self.expr(c);
-                depth = depth.max(d + 1);
-                args.push(arg);
+            match c.as_rule() {
+                Rule::ident => name = Some(ident(c)),
+                Rule::binder => binder_ = Some(binder(c)),
+                Rule::type_ann => ty = significant(c).next().map(ident),
+                Rule::with_clause => derivatives = Some(self.with_clause(c)),
+                _ => value = Some(self.expr(c).0),
             }
         }
-        if depth > MAX_DEPTH {
-            return self.too_deep(s);
-        }
-        match func {
-            Some(f) => (
-                Expr {
-                    kind: ExprKind::Call(f, args),
-                    span: s,
-                },
-                depth,
-            ),
-            None => {
-                self.missing(s);
-                error_expr(s)
+        let decl = match (name, value) {
+            (Some(name), Some(value)) => Decl {
+                name,
+                binder: binder_,
+                ty,
+                value,
+                span: decl_span,
+            },
+            _ => self.missing(decl_span),
+        };
+        InputDecl { decl, derivatives }
+    }
+
+    /// `with K derivatives`: K (too large a K is reported) and the clause's span.
+    fn with_clause(&mut self, p: Pair<'_, Rule>) -> (u32, Span) {
+        let s = span(&p);
+        let text = significant(p)
+            .find(|c| c.as_rule() == Rule::integer)
+            .map(|c| c.as_str().to_string())
+            .unwrap_or_default();
+        match text.parse::<u32>() {
+            Ok(k) => (k, s),
+            Err(_) => {
+                self.diags.push(
+                    Diagnostic::new(
+                        format!("`{text}` derivatives is too many"),
+                        s,
+                        "too large",
+                    )
+                    .hint("an input gives at most a few time derivatives (the index needs at most 8)"),
+                );
+                (0, s)
             }
         }
     }
+}
 
-    fn number(&mut self, p: &Pair<'_, Rule>) -> Expr {
-        let s = span(p);
-        let value = p.as_str().parse::<f64>().unwrap_or(f64::INFINITY);
-        if !value.is_finite() {
-            self.diags.push(
-                Diagnostic::new(
-                    format!("number `{}` is too large", p.as_str()),
-                    s,
-                    "too large",
-                )
-                .hint("numbers must fit in a 64-bit float (at most about 1.8e308)"),
-            );
-        }
-        Expr {
-            kind: ExprKind::Num(value),
+/// `[e in S]` or `[S]`.
+fn binder(p: Pair<'_, Rule>) -> Binder {
+    let s = span(&p);
+    let ids: Vec<Ident> = significant(p).map(ident).collect();
+    match ids.as_slice() {
+        [elem, set] => Binder {
+            elem: Some(elem.clone()),
+            set: set.clone(),
             span: s,
-        }
-    }
-
-    fn too_deep(&mut self, s: Span) -> (Expr, usize) {
-        // One report per expression: an enclosing expression that is also too deep
-        // overlaps this span and is not reported again.
-        if !self
-            .diags
-            .iter()
-            .any(|d| d.span.start <= s.start && s.end <= d.span.end)
-        {
-            self.diags
-                .retain(|d| !(s.start <= d.span.start && d.span.end <= s.end));
-            self.diags.push(
-                Diagnostic::new(
-                    format!("expression too deep (more than {MAX_DEPTH} levels of operations)"),
-                    s,
-                    "this expression",
-                )
-                .hint("split it into several `let` definitions"),
-            );
-        }
-        error_expr(s)
+        },
+        [set] => Binder {
+            elem: None,
+            set: set.clone(),
+            span: s,
+        },
+        // The grammar allows nothing else; an empty set name is reported by the checker.
+        _ => Binder {
+            elem: None,
+            set: Ident {
+                name: String::new(),
+                span: s,
+            },
+            span: s,
+        },
     }
 }

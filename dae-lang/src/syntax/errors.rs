@@ -13,6 +13,7 @@ enum Expected {
     Item,
     Keyword(&'static str),
     Name,
+    Integer,
     Expression,
     Token(&'static str),
     Operator,
@@ -28,6 +29,7 @@ impl Expected {
             }
             Expected::Keyword(k) => format!("`{k}`"),
             Expected::Name => "a name".into(),
+            Expected::Integer => "a whole number".into(),
             Expected::Expression => "an expression".into(),
             Expected::Token(t) => format!("`{t}`"),
             Expected::Operator => "an operator (`+ - * / ^`)".into(),
@@ -45,6 +47,10 @@ const ITEM_KEYWORDS: [Rule; 6] = [
     Rule::kw_constraint,
 ];
 
+/// The item keywords of version 2: folded into "an item" with the six above (the message
+/// names the version-1 items; the hint lists these too).
+const FAMILY_ITEM_KEYWORDS: [Rule; 4] = [Rule::kw_size, Rule::kw_set, Rule::kw_map, Rule::kw_input];
+
 fn expected_of(rule: Rule) -> Option<Expected> {
     Some(match rule {
         Rule::model | Rule::kw_model => Expected::Model,
@@ -54,10 +60,31 @@ fn expected_of(rule: Rule) -> Option<Expected> {
         Rule::let_item | Rule::kw_let => Expected::Keyword("let"),
         Rule::der_item | Rule::kw_der => Expected::Keyword("der"),
         Rule::constraint_item | Rule::kw_constraint => Expected::Keyword("constraint"),
-        Rule::ident | Rule::decl => Expected::Name,
+        Rule::size_item | Rule::kw_size => Expected::Keyword("size"),
+        Rule::set_item | Rule::kw_set => Expected::Keyword("set"),
+        Rule::map_item | Rule::kw_map => Expected::Keyword("map"),
+        Rule::input_item | Rule::kw_input => Expected::Keyword("input"),
+        Rule::kw_in => Expected::Keyword("in"),
+        Rule::kw_where => Expected::Keyword("where"),
+        Rule::with_clause | Rule::kw_with => Expected::Keyword("with"),
+        Rule::kw_derivatives | Rule::kw_derivative => Expected::Keyword("derivatives"),
+        Rule::kw_then => Expected::Keyword("then"),
+        Rule::kw_else => Expected::Keyword("else"),
+        Rule::ident | Rule::decl | Rule::input_decl => Expected::Name,
+        Rule::integer => Expected::Integer,
         Rule::expr
+        | Rule::if_expr
+        | Rule::kw_if
+        | Rule::disj
+        | Rule::conj
+        | Rule::negation
+        | Rule::kw_not
+        | Rule::comparison
+        | Rule::arith
         | Rule::product
         | Rule::unary
+        | Rule::sum_expr
+        | Rule::kw_sum
         | Rule::power
         | Rule::number
         | Rule::name
@@ -71,7 +98,14 @@ fn expected_of(rule: Rule) -> Option<Expected> {
         Rule::semi => Expected::Token(";"),
         Rule::colon => Expected::Token(":"),
         Rule::assign => Expected::Token("="),
-        Rule::add_op | Rule::mul_op | Rule::pow_op => Expected::Operator,
+        Rule::lbracket | Rule::binder | Rule::der_elem | Rule::index => Expected::Token("["),
+        Rule::rbracket => Expected::Token("]"),
+        Rule::dot | Rule::field => Expected::Token("."),
+        Rule::arrow => Expected::Token("->"),
+        Rule::type_ann => Expected::Token(":"),
+        Rule::add_op | Rule::mul_op | Rule::pow_op | Rule::cmp_op | Rule::kw_and | Rule::kw_or => {
+            Expected::Operator
+        }
         Rule::EOI => Expected::EndOfFile,
         _ => return None,
     })
@@ -86,13 +120,19 @@ fn expected_list(positives: &[Rule]) -> Vec<Expected> {
         .iter()
         .all(|&k| list.contains(&expected_of(k).unwrap_or(Expected::Item)))
     {
-        list.retain(|e| !is_item_kw(e));
+        let is_family_kw = |e: &Expected| {
+            FAMILY_ITEM_KEYWORDS
+                .iter()
+                .any(|&k| expected_of(k) == Some(*e))
+        };
+        list.retain(|e| !is_item_kw(e) && !is_family_kw(e));
         list.push(Expected::Item);
     }
-    // After a name, `(` would start a call; listing it next to the operators only
-    // confuses ("expected `(`, `;` or an operator").
+    // After a name, `(` would start a call, `[` an element access and `.` a component;
+    // listing them next to the operators only confuses ("expected `(`, `;` or an
+    // operator").
     if list.contains(&Expected::Operator) {
-        list.retain(|e| *e != Expected::Token("("));
+        list.retain(|e| !matches!(e, Expected::Token("(" | "[" | ".")));
     }
     list.sort();
     list.dedup();
@@ -146,7 +186,19 @@ fn starts_with_keyword(text: &str) -> bool {
         .next();
     matches!(
         word,
-        Some("model" | "param" | "state" | "alg" | "let" | "der" | "constraint")
+        Some(
+            "model"
+                | "param"
+                | "state"
+                | "alg"
+                | "let"
+                | "der"
+                | "constraint"
+                | "size"
+                | "set"
+                | "map"
+                | "input"
+        )
     )
 }
 
@@ -156,6 +208,12 @@ fn last_keyword(src: &str, pos: usize) -> Option<&str> {
         .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
         .rev()
         .find(|w| starts_with_keyword(w))
+}
+
+/// The text of the current item up to `pos` (from the last `;`, `{` or `}` before it).
+fn item_text(src: &str, pos: usize) -> &str {
+    let start = src[..pos].rfind([';', '{', '}']).map_or(0, |i| i + 1);
+    &src[start..pos]
 }
 
 /// A hint for the most common mistakes at this place; a general one otherwise.
@@ -172,6 +230,10 @@ fn hint(src: &str, pos: usize, expected: &[Expected]) -> String {
     }
     if rest.starts_with('=') && prev == Some('=') {
         return "equations use a single `=`".into();
+    }
+    if expects(Expected::Token("=")) && item_text(src, pos).contains("==") {
+        return "equations use a single `=` (`==` compares, in construction-time expressions)"
+            .into();
     }
     if expects(Expected::Operator)
         && prev_end == pos
@@ -209,7 +271,8 @@ fn hint(src: &str, pos: usize, expected: &[Expected]) -> String {
     }
     if expects(Expected::Item) {
         return "a model holds items that start with `param`, `state`, `alg`, `let`, `der` \
-                or `constraint`, each ending with `;`"
+                or `constraint` (and, for families, `size`, `set`, `map` or `input`), each \
+                ending with `;`"
             .into();
     }
     if expects(Expected::Model) {

@@ -2,6 +2,7 @@
 //! parse tree into the [`crate::ast`].
 
 mod build;
+mod build_expr;
 mod errors;
 // Generated from `dae.pest` and checked in (see its header), so that dae-lang needs no
 // proc-macro toolchain; a test in dae-tests fails when it is stale.
@@ -20,7 +21,8 @@ use pest::Parser as _;
 /// every later stage.
 pub const MAX_SOURCE_BYTES: usize = 16 * 1024 * 1024;
 
-/// Deepest nesting of parentheses, calls and `^` chains accepted (see [`too_deep`]).
+/// Deepest nesting of parentheses, brackets, calls, `^` chains and `if`/`sum` forms
+/// accepted (see [`too_deep`]).
 /// The parser and the tree builder recurse through several frames per level; 64 levels
 /// stay well inside a 2 MB thread stack even in an unoptimised build.
 pub(crate) const MAX_NESTING: usize = 64;
@@ -50,7 +52,7 @@ pub(crate) fn parse(src: &str) -> Result<File, Vec<Diagnostic>> {
             Diagnostic::new(
                 format!(
                     "expression nested too deeply (more than {MAX_NESTING} levels of \
-                     parentheses, calls and `^`)"
+                     parentheses, brackets, calls, `^`, `if` and `sum`)"
                 ),
                 at,
                 "too deep here",
@@ -90,9 +92,12 @@ fn too_long(src: &str) -> Diagnostic {
 /// found by a scan of the text before parsing.
 ///
 /// The parser and the tree builder recurse once per level of parentheses (calls
-/// included) and once per `^` of a chain such as `a^b^c` (right associative); sums and
-/// chains of unary minus are handled by loops. Bounding these levels before pest runs
-/// keeps every recursion far from the end of the stack, whatever the input.
+/// included) and brackets, and once per `^` of a chain such as `a^b^c` (right
+/// associative); sums and chains of unary minus are handled by loops. The forms
+/// `if ... then ... else ...`, `not ...` and `sum(...) body` recurse without brackets; each counts
+/// as one level until the end of the item (a rough but safe bound: no model nests 64 of
+/// them). Bounding these levels before pest runs keeps every recursion far from the end
+/// of the stack, whatever the input.
 fn too_deep(src: &str) -> Option<Span> {
     let bytes = src.as_bytes();
     // For each open parenthesis level, the `^` counted so far in its current chain.
@@ -101,6 +106,7 @@ fn too_deep(src: &str) -> Option<Span> {
     // the current chains. `((x))` is 2 levels, `2^2^x` is 2, `sin(2^x)` is 2.
     let mut depth = 0usize;
     let mut prev = b' '; // previous significant byte
+    let mut keyword_levels = 0usize; // `if` and `sum` seen in the current item
     let mut i = 0;
     while i < bytes.len() {
         let b = bytes[i];
@@ -120,7 +126,14 @@ fn too_deep(src: &str) -> Option<Span> {
             // Names and numbers are skipped whole, so that the sign of an exponent
             // (`1e-3`) is not taken for a minus that ends a `^` chain.
             b'a'..=b'z' | b'A'..=b'Z' | b'_' => {
-                i += token_len(&bytes[i..], |c| c.is_ascii_alphanumeric() || c == b'_');
+                let len = token_len(&bytes[i..], |c| c.is_ascii_alphanumeric() || c == b'_');
+                if matches!(&src[i..i + len], "if" | "sum" | "not") {
+                    keyword_levels += 1;
+                    if depth + keyword_levels > MAX_NESTING {
+                        return Some(Span::new(i, i + len));
+                    }
+                }
+                i += len;
                 prev = b'a';
                 continue;
             }
@@ -129,11 +142,11 @@ fn too_deep(src: &str) -> Option<Span> {
                 prev = b'0';
                 continue;
             }
-            b'(' => {
+            b'(' | b'[' => {
                 pows.push(0);
                 depth += 1;
             }
-            b')' if pows.len() > 1 => depth -= 1 + pows.pop().unwrap_or(0),
+            b')' | b']' if pows.len() > 1 => depth -= 1 + pows.pop().unwrap_or(0),
             b'^' => {
                 if let Some(p) = pows.last_mut() {
                     *p += 1;
@@ -141,10 +154,14 @@ fn too_deep(src: &str) -> Option<Span> {
                 depth += 1;
             }
             b'-' if !(prev.is_ascii_alphanumeric() || matches!(prev, b'_' | b'.' | b')')) => {}
-            b'+' | b'-' | b'*' | b'/' | b',' | b';' | b'=' | b':' | b'{' | b'}' => {
+            b'+' | b'-' | b'*' | b'/' | b',' | b';' | b'=' | b':' | b'{' | b'}' | b'<' | b'>'
+            | b'!' => {
                 if let Some(p) = pows.last_mut() {
                     depth -= *p;
                     *p = 0;
+                }
+                if matches!(b, b';' | b'{' | b'}') {
+                    keyword_levels = 0;
                 }
             }
             _ => {}
@@ -152,7 +169,7 @@ fn too_deep(src: &str) -> Option<Span> {
         if !b.is_ascii_whitespace() {
             prev = b;
         }
-        if depth > MAX_NESTING {
+        if depth + keyword_levels > MAX_NESTING {
             return Some(Span::new(i, i + 1));
         }
         i += 1;

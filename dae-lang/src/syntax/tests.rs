@@ -25,6 +25,28 @@ fn sx(e: &Expr) -> String {
             let args: Vec<String> = args.iter().map(sx).collect();
             format!("({} {})", f.name, args.join(" "))
         }
+        ExprKind::Index(a, i) => format!("([] {} {})", sx(a), sx(i)),
+        ExprKind::Field(a, f) => format!("(. {} {})", sx(a), f.name),
+        ExprKind::Sum {
+            elem,
+            set,
+            cond,
+            body,
+        } => match cond {
+            Some(c) => format!("(sum {} {} {} {})", elem.name, set.name, sx(c), sx(body)),
+            None => format!("(sum {} {} {})", elem.name, set.name, sx(body)),
+        },
+        ExprKind::Compare(op, a, b) => format!("({} {} {})", op.symbol(), sx(a), sx(b)),
+        ExprKind::Logic(op, a, b) => {
+            let w = if *op == crate::ast::LogicOp::And {
+                "and"
+            } else {
+                "or"
+            };
+            format!("({w} {} {})", sx(a), sx(b))
+        }
+        ExprKind::Not(a) => format!("(not {})", sx(a)),
+        ExprKind::If(c, a, b) => format!("(if {} {} {})", sx(c), sx(a), sx(b)),
     }
 }
 
@@ -236,7 +258,9 @@ fn spans_cover_the_source_text() {
         other => panic!("{other:?}"),
     }
     match &m.items[1] {
-        Item::Der { target, rhs, span } => {
+        Item::Der {
+            target, rhs, span, ..
+        } => {
             assert_eq!(text(*span), "der(x) = -(a + b) * c;");
             assert_eq!(text(target.span), "x");
             assert_eq!(text(rhs.span), "-(a + b) * c");
@@ -259,6 +283,7 @@ fn spans_cover_the_source_text() {
             lhs,
             rhs,
             span,
+            ..
         } => {
             assert_eq!(text(*span), "constraint k: x = y;");
             assert_eq!(name.as_ref().map(|n| text(n.span)), Some("k"));

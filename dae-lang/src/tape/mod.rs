@@ -7,18 +7,33 @@
 //! are constants, inputs or earlier slots. Two back ends read it: the Rust code generator
 //! (one `let` per slot) and the interpreter ([`Tape::eval`]), so the interpreter is an
 //! oracle for the generated code that shares no evaluation code with it.
+//!
+//! The tapes of a family model's programs ([`crate::family::Program`]) run once per
+//! element of a set; their operands may read at *element paths* ([`Operand::Gather`],
+//! [`Operand::Array`], [`Operand::ArrayAt`]); [`crate::family::Program`] documents what
+//! they read. A version-1 tape has none of these.
 
-use crate::{Func, VarRef};
+use crate::{ArrayId, Func, MapId, VarRef};
 
 /// An operand of an instruction.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Operand {
     /// A literal.
     Const(f64),
-    /// A variable read from the caller's [`Inputs`].
+    /// A variable read from the caller's [`Inputs`]; in a family program, a scalar
+    /// variable, or a family variable at the element at hand.
     Input(VarRef),
     /// The result of an earlier instruction.
     Slot(u32),
+    /// A family variable read at the image of the element at hand under the map (family
+    /// programs only; `Gather(Elem(Q), m)` is the image itself, as a number).
+    Gather(VarRef, MapId),
+    /// A scratch array at the element at hand (its only value for a scalar array)
+    /// (family programs only).
+    Array(ArrayId),
+    /// A scratch array at the image of the element at hand under the map (family
+    /// programs only).
+    ArrayAt(ArrayId, MapId),
 }
 
 /// One-operand operations.
@@ -80,7 +95,8 @@ pub struct Inputs<'a> {
 }
 
 impl Inputs<'_> {
-    /// The value of a variable.
+    /// The value of a variable. The variables of family models (inputs, elements,
+    /// sizes) are NaN here: a version-1 tape never reads them.
     ///
     /// # Panics
     /// If its index is out of range for these inputs.
@@ -91,6 +107,7 @@ impl Inputs<'_> {
             VarRef::Alg(i) => self.algs[i.index()],
             VarRef::Mu(i) => self.mu[i.index()],
             VarRef::Time => self.t,
+            VarRef::Input(..) | VarRef::Elem(_) | VarRef::Size(_) => f64::NAN,
         }
     }
 }
@@ -137,6 +154,19 @@ impl Tape {
         self.instrs.len()
     }
 
+    /// The operands of every instruction and output, in order (for back ends that
+    /// prepare what a tape reads).
+    pub fn operands(&self) -> impl Iterator<Item = Operand> + '_ {
+        self.instrs
+            .iter()
+            .flat_map(|i| match *i {
+                Instr::Unary(_, a) => [Some(a), None],
+                Instr::Binary(_, a, b) => [Some(a), Some(b)],
+            })
+            .flatten()
+            .chain(self.outputs.iter().copied())
+    }
+
     fn operands_valid(&self, instr: &Instr) -> bool {
         let ok = |o: &Operand| match o {
             Operand::Slot(k) => (*k as usize) < self.instrs.len(),
@@ -175,10 +205,13 @@ fn read(o: Operand, inputs: &Inputs<'_>, slots: &[f64]) -> f64 {
         Operand::Const(c) => c,
         Operand::Slot(k) => slots[k as usize],
         Operand::Input(v) => inputs.var(v),
+        // Element paths belong to family programs (`Program::eval`), never to a
+        // version-1 tape.
+        Operand::Gather(..) | Operand::Array(_) | Operand::ArrayAt(..) => f64::NAN,
     }
 }
 
-fn unary(op: UnaryOp, a: f64) -> f64 {
+pub(crate) fn unary(op: UnaryOp, a: f64) -> f64 {
     match op {
         UnaryOp::Neg => -a,
         UnaryOp::Powi(n) => a.powi(n),
@@ -186,7 +219,7 @@ fn unary(op: UnaryOp, a: f64) -> f64 {
     }
 }
 
-fn binary(op: BinaryOp, a: f64, b: f64) -> f64 {
+pub(crate) fn binary(op: BinaryOp, a: f64, b: f64) -> f64 {
     match op {
         BinaryOp::Add => a + b,
         BinaryOp::Sub => a - b,

@@ -1,0 +1,366 @@
+//! `daec` on family models: `check` and `derive` print the templates, `run` sizes a
+//! model with `--set` and a topology file, keeps its output bounded for large models,
+//! and reports bad input (an unknown or malformed `--set`, a size of 0, a topology
+//! pointing outside its set) with a clear, located error.
+
+mod common;
+
+use common::daec;
+use std::path::Path;
+
+fn example(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../examples/models")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+fn fixture(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// Runs `daec`, returns (status, stdout, stderr).
+fn run(args: &[&str]) -> (Option<i32>, String, String) {
+    let o = daec(args);
+    (o.status.code(), text(&o.stdout), text(&o.stderr))
+}
+
+#[test]
+fn check_prints_the_templates_and_the_model_at_its_default_sizes() {
+    let (code, out, err) = run(&["check", &example("chain.dae")]);
+    assert_eq!(code, Some(0), "{err}");
+    for line in [
+        "model Chain (families: templates for any sizes)",
+        "  sizes: N = 10",
+        "  sets: P = N + 1 (element p), L = N (element l)",
+        "  maps: a[l in L] -> P = l, b[l in L] -> P = l + 1",
+        "  states      (2): x[p in P]: vec3, v[p in P]: vec3",
+        "  inputs      (1): pin[p in P]: vec3 with 3 derivatives",
+        "  parameters  (5): g = 9.81, m_end = 1, L0 = 0.1, m[p in P], free[p in P]",
+        "    link[l in L]      3  z",
+        "  J_Omega kernel J(link[l], z[k]): 4 cases (when b[l] == a[k]; when b[l] == b[k]; when a[l] == a[k]; when a[l] == b[k])",
+        "  at the default sizes (N = 10): 66 states, 10 constraints; J_Omega with 28 entries, structural rank 10, nonsingular at t = 0 (dense solver)",
+    ] {
+        assert!(out.lines().any(|l| l == line), "missing `{line}` in\n{out}");
+    }
+    let (code, out, err) = run(&["check", "--json", &example("cloth.dae")]);
+    assert_eq!(code, Some(0), "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["family"], true);
+    assert_eq!(v["constraints"][0]["name"], "link[l in L]");
+    assert_eq!(v["constraints"][0]["index"], 3);
+    let d = &v["jacobian"]["at_default_sizes"];
+    assert_eq!(d["constraints"], 2 * 32 * 31);
+    assert_eq!(d["structural_rank"], 2 * 32 * 31);
+    assert_eq!(v["jacobian"]["nonsingular"], true);
+    assert_eq!(
+        v["jacobian"]["kernels"][0]["cases"]
+            .as_array()
+            .unwrap()
+            .len(),
+        4
+    );
+}
+
+#[test]
+fn check_of_a_model_with_given_sets_says_where_j_is_checked() {
+    let (code, out, err) = run(&["check", &fixture("star.dae")]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(
+        out.contains("  sets: P given (element p), L given (element l)"),
+        "{out}"
+    );
+    assert!(out.contains("J_Omega is checked when the model is built (daec run --topology)"));
+}
+
+#[test]
+fn derive_prints_one_template_equation_a_line_whatever_the_sizes() {
+    let (code, out, err) = run(&["derive", &example("chain.dae")]);
+    assert_eq!(code, Some(0), "{err}");
+    let kernels: Vec<&str> = out
+        .lines()
+        .filter(|l| l.starts_with("J(link[l], z[k]) = "))
+        .collect();
+    assert_eq!(kernels.len(), 4, "{out}");
+    for case in [
+        "b[l] == a[k]",
+        "b[l] == b[k]",
+        "a[l] == a[k]",
+        "a[l] == b[k]",
+    ] {
+        assert!(
+            kernels
+                .iter()
+                .any(|k| k.ends_with(&format!("  when {case}"))),
+            "{case}"
+        );
+    }
+    for lhs in [
+        "w_link[l] = ",
+        "w_link'[l] = ",
+        "Omega_link[l] = ",
+        "beta_link[l] = ",
+        "s_link[l] = ",
+    ] {
+        assert_eq!(
+            out.lines().filter(|l| l.starts_with(lhs)).count(),
+            1,
+            "{lhs}"
+        );
+    }
+}
+
+const DESIGNED: [&str; 8] = [
+    "--eps", "0.01", "--mu", "0.05", "--gain", "2", "--step", "1e-4",
+];
+
+fn run_chain(extra: &[&str]) -> (Option<i32>, String, String) {
+    let model = example("chain.dae");
+    let mut args = vec!["run", model.as_str(), "--t-end", "0.01"];
+    args.extend(DESIGNED);
+    args.extend(extra);
+    run(&args)
+}
+
+#[test]
+fn run_sizes_a_family_model_with_set() {
+    let (code, out, err) = run_chain(&["--set", "N=30", "--set", "m_end=10", "--json"]);
+    assert_eq!(code, Some(0), "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["model"], "Chain");
+    assert_eq!(v["constraints"].as_array().unwrap().len(), 30);
+    assert_eq!(v["constraints"][29], "link[29]");
+    assert_eq!(v["states"][3 * 31 + 1], "v[0].y");
+    assert_eq!(v["solver"]["name"], "tree");
+    assert!(v.get("summarised").is_none());
+    // m_end reached the construction: a heavier end hangs on larger tensions.
+    let (_, light, _) = run_chain(&["--set", "N=30", "--json"]);
+    let light: serde_json::Value = serde_json::from_str(&light).unwrap();
+    let tension = |v: &serde_json::Value| v["z_eq_final"][29].as_f64().unwrap();
+    assert!(
+        tension(&v) > 5.0 * tension(&light),
+        "{} vs {}",
+        tension(&v),
+        tension(&light)
+    );
+}
+
+#[test]
+fn the_output_of_a_large_family_model_stays_bounded() {
+    let model = example("chain.dae");
+    let args = [
+        "run", &model, "--set", "N=2000", "--t-end", "2e-4", "--eps", "0.01", "--mu", "0.05",
+        "--gain", "2", "--step", "1e-4",
+    ];
+    let (code, out, err) = run(&[&args[..], &["--json"]].concat());
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.len() < 8_000, "{} bytes of JSON", out.len());
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["summarised"], true);
+    assert_eq!(v["constraints"]["count"], 2000);
+    assert_eq!(v["constraints"]["last"], "link[1999]");
+    assert_eq!(v["x_final"]["count"], 6 * 2001);
+    let worst = v["max_abs_s"]["max_at_name"].as_str().unwrap();
+    assert!(worst.starts_with("link["), "{worst}");
+    let (code, out, err) = run(&args);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.lines().count() < 30, "{out}");
+    assert!(
+        out.contains("2000 constraints; the 16 with the largest max |s| / eps:"),
+        "{out}"
+    );
+    assert!(out.contains("mu = 0.05 (all 2000)"), "{out}");
+}
+
+#[test]
+fn run_takes_the_sets_and_maps_of_a_topology_file() {
+    let (code, out, err) = run(&[
+        &[
+            "run",
+            &fixture("star.dae"),
+            "--topology",
+            &fixture("star.topo"),
+            "--t-end",
+            "0.05",
+            "--json",
+        ][..],
+        &DESIGNED[..],
+    ]
+    .concat());
+    assert_eq!(code, Some(0), "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["constraints"].as_array().unwrap().len(), 4);
+    assert_eq!(v["states"].as_array().unwrap().len(), 2 * 3 * 5);
+    // Without the file, the error says what is missing and how to give it.
+    let (code, _, err) = run(&[
+        &["run", &fixture("star.dae"), "--t-end", "0.05"][..],
+        &DESIGNED[..],
+    ]
+    .concat());
+    assert_eq!(code, Some(1));
+    assert!(
+        err.contains("set `P` is given at construction, but its size was not given"),
+        "{err}"
+    );
+    assert!(err.contains("star.dae:4:5"), "{err}");
+    assert!(err.contains("run the model with --topology FILE"), "{err}");
+}
+
+fn topology_error(topo: &str) -> String {
+    let dir = std::env::temp_dir().join(format!("daec-topo-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("{:x}.topo", topo.len() * 31 + topo.lines().count()));
+    std::fs::write(&path, topo).unwrap();
+    let p = path.display().to_string();
+    let (code, out, err) = run(&[
+        &[
+            "run",
+            &fixture("star.dae"),
+            "--topology",
+            &p,
+            "--t-end",
+            "0.05",
+        ][..],
+        &DESIGNED[..],
+    ]
+    .concat());
+    let _ = std::fs::remove_file(&path);
+    assert_eq!(code, Some(1), "{topo}: {out}");
+    assert!(out.is_empty());
+    err.replace(&p, "TOPO")
+}
+
+#[test]
+fn a_bad_topology_file_is_a_located_error() {
+    let e = topology_error("set P 5\nedges L: a b\n0 1\n0 2\n0 3\n0 5\n");
+    assert!(
+        e.contains("error: TOPO:6: map `b` points outside its set: element 3 of `L` goes to 5, but `P` has 5 elements (0..5)"),
+        "{e}"
+    );
+    // Construction checks the rest: here a particle in no link, located in the model,
+    // with a note naming the file.
+    let e = topology_error("set P 4\nedges L: a b\n0 1\n0 2\n");
+    assert!(e.contains("element 3 of `P` is in no sum"), "{e}");
+    assert!(e.contains("star.dae:"), "{e}");
+    assert!(
+        e.contains("note: the sets and maps given at construction come from `TOPO`"),
+        "{e}"
+    );
+    let e = topology_error("set P 5\nedges L: a b\n0 1 2\n");
+    assert!(
+        e.contains("TOPO:3: 3 values, but the block of line 2 gives 2 maps (a b)"),
+        "{e}"
+    );
+    let e = topology_error("set Q 5\n");
+    assert!(
+        e.contains("TOPO:1: the model has no set `Q` given at construction"),
+        "{e}"
+    );
+    let e = topology_error("set P 5\nedges L: a c\n0 1\n");
+    assert!(
+        e.contains("TOPO:2: the model has no map `c` given at construction"),
+        "{e}"
+    );
+    let e = topology_error("set P five\n");
+    assert!(e.contains("TOPO:1: the size of set `P` is `five`"), "{e}");
+    let e = topology_error("0 1\n");
+    assert!(e.contains("TOPO:1: `0 1` before any `edges` line"), "{e}");
+    let e = topology_error("set P 5\nedges L: a b\n0 -1\n");
+    assert!(e.contains("TOPO:3: `-1` is not an element"), "{e}");
+}
+
+#[test]
+fn bad_set_values_are_clear_errors() {
+    // An unknown name: what can be set.
+    let (code, _, err) = run_chain(&["--set", "K=3"]);
+    assert_eq!(code, Some(1));
+    assert!(
+        err.contains("--set K=3: the model has no size or scalar parameter `K`"),
+        "{err}"
+    );
+    assert!(
+        err.contains("--set takes the sizes (N) and the scalar parameters (g, m_end, L0)"),
+        "{err}"
+    );
+    // Malformed: clap's usage error (status 2).
+    for bad in ["N", "=3", "N=ten", "N=inf"] {
+        let (code, _, err) = run_chain(&["--set", bad]);
+        assert_eq!(code, Some(2), "{bad}: {err}");
+        assert!(err.contains("--set <NAME=VALUE>"), "{bad}: {err}");
+    }
+    // A size that is not a whole number, a per-element parameter.
+    let (code, _, err) = run_chain(&["--set", "N=2.5"]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("`N` is a size, a whole number >= 0"), "{err}");
+    let (code, _, err) = run_chain(&["--set", "free=1"]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("`free` is a per-element parameter"), "{err}");
+    // N = 0: the set of links is empty, located at its declaration.
+    let (code, out, err) = run_chain(&["--set", "N=0"]);
+    assert_eq!(code, Some(1));
+    assert!(out.is_empty());
+    assert!(err.contains("set `L` has 0 elements with N = 0"), "{err}");
+    assert!(err.contains("chain.dae:13:5"), "{err}");
+}
+
+#[test]
+fn set_changes_the_parameters_of_a_version_1_model() {
+    let model = example("chain5_planar.dae");
+    let go = |extra: &[&str]| {
+        let mut args = vec!["run", model.as_str(), "--t-end", "0.05", "--json"];
+        args.extend(DESIGNED);
+        args.extend(extra);
+        run(&args)
+    };
+    let (code, light, err) = go(&[]);
+    assert_eq!(code, Some(0), "{err}");
+    let (code, heavy, err) = go(&["--set", "m=0.2"]);
+    assert_eq!(code, Some(0), "{err}");
+    let z = |s: &str| {
+        let v: serde_json::Value = serde_json::from_str(s).unwrap();
+        v["z_eq_final"][0].as_f64().unwrap()
+    };
+    // Twice the masses, about twice the tension of the first link.
+    let ratio = z(&heavy) / z(&light);
+    assert!((ratio - 2.0).abs() < 0.1, "{ratio}");
+    let (code, _, err) = go(&["--set", "N=3"]);
+    assert_eq!(code, Some(1));
+    assert!(
+        err.contains("`Chain5` has no parameter `N` (a version-1 model has no sizes)"),
+        "{err}"
+    );
+    assert!(err.contains("its parameters: m, L, g"), "{err}");
+    let (code, _, err) = go(&["--topology", "x.topo"]);
+    assert_eq!(code, Some(1));
+    assert!(
+        err.contains("a topology gives the sets and maps of a family model"),
+        "{err}"
+    );
+}
+
+#[test]
+fn the_family_examples_of_the_user_docs_are_what_daec_prints_and_reads() {
+    let blocks = common::user_docs_code_blocks();
+    let shown = blocks
+        .iter()
+        .find(|b| b.starts_with("model Chain (families: templates for any sizes)"))
+        .expect("the check of chain.dae");
+    let (code, out, err) = run(&["check", &example("chain.dae")]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.ends_with(shown.as_str()), "{out}\nvs the docs\n{shown}");
+    let topology = blocks
+        .iter()
+        .find(|b| b.starts_with("# four links"))
+        .expect("the topology example");
+    let fixture = std::fs::read_to_string(fixture("star.topo")).unwrap();
+    assert_eq!(topology, &fixture);
+}

@@ -1,0 +1,246 @@
+//! A compiled function of a family model: a [`Program`].
+//!
+//! # Semantics
+//!
+//! A program runs on an [`Instance`](super::Instance) (sizes, maps, layout) and the
+//! values of one evaluation ([`Values`](super::Values): parameters, states, algebraic
+//! unknowns, `mu`, input values, `t`), and writes its outputs (one or several flat
+//! vectors: see [`FamilyModel`](super::FamilyModel) for which). One evaluation is:
+//!
+//! 1. every array with [`ArrayDef::accumulate`] is set to 0; for the jacobian program,
+//!    output 0 (the values of `J_Omega`) is set to 0;
+//! 2. the [`Group`]s, in order. A group over a set `S` runs its tape once for each
+//!    element `e` of `S` (`0 .. |S|`, in any order: no element's run reads what another
+//!    element's run of the same group writes, except through scatter-adds, which
+//!    commute); a group over `None` runs it once. Each run evaluates the tape's
+//!    instructions (as [`Tape::eval`](crate::tape::Tape::eval) does) with the operands
+//!    read at `e`:
+//!    * [`Operand::Input`]`(v)`: the variable `v` at slot `layout.X[v].at(e)` of its
+//!      vector (stride 0 for a scalar variable, so the same value for every `e`):
+//!      `Param` in the parameters, `State` in `x`, `Alg` in `z`, `Mu(c)` in `mu` at
+//!      `layout.rows[c]`, `Input(i, j)` in the input values at
+//!      `layout.input_values[i].at(e) + j`, `Time` is `t`, `Size(s)` the size's value,
+//!      `Elem(S)` the number `e` itself;
+//!    * [`Operand::Gather`]`(v, m)`: the same at element `maps[m][e]` instead of `e`
+//!      (`Elem` gives `maps[m][e]` as a number);
+//!    * [`Operand::Array`]`(a)`: `arrays[a][e]` (`arrays[a][0]` for a scalar array);
+//!    * [`Operand::ArrayAt`]`(a, m)`: `arrays[a][maps[m][e]]`;
+//!
+//!    then output `i` of the tape goes to `sinks[i]`:
+//!    * [`Sink::Out`]`(dest)`: written into an output vector at the slot [`Dest`] gives
+//!      for `e`;
+//!    * [`Sink::Store`]`(a)`: `arrays[a][e] = v` (`arrays[a][0]` for a scalar array);
+//!    * [`Sink::ScatterAdd`]`(a, m)`: `arrays[a][maps[m][e]] += v` (the body of an
+//!      incidence sum over the elements of `S`);
+//! 3. the [`EntryLoop`]s (jacobian program only): for coupling `c`, for every
+//!    `[entry, l, k]` of the instance's `jacobian.lists[c]`,
+//!    `values[entry] += sum over terms of R(l) * C(k)`, a [`Factor`] being a constant or
+//!    an array read at `l` (row factors) or `k` (column factors), at 0 for a scalar
+//!    array.
+//!
+//! Every element of every output family is written exactly once by the groups (the
+//! jacobian's values are accumulated). Arrays never carry values between evaluations.
+
+use crate::tape::{BinaryOp, Instr, Operand, Tape, UnaryOp};
+use crate::{ArrayId, ConstraintId, MapId, SetId, StateId, VarRef};
+
+/// A scratch array of a program.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ArrayDef {
+    /// One value per element of this set, or one value (`None`).
+    pub over: Option<SetId>,
+    /// Set to 0 at the start of every evaluation (the accumulator of a sum).
+    pub accumulate: bool,
+}
+
+/// Where an output value of a group goes, for the element `e` at hand.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dest {
+    /// `dx[layout.states[s].at(e)]` (rhs, output 0).
+    Rhs(StateId),
+    /// `w[layout.w[c].at(e) + j]`: derivative `j` of constraint `c` (sliding, output 0).
+    W(ConstraintId, u32),
+    /// `s[layout.rows[c].at(e)]` (sliding, output 1).
+    S(ConstraintId),
+    /// `alpha_hat[layout.rows[c].at(e)]` (sliding, output 2).
+    AlphaHat(ConstraintId),
+    /// `beta[layout.rows[c].at(e)]` (beta, output 0).
+    Beta(ConstraintId),
+}
+
+impl Dest {
+    /// The output vector this goes to (0, or 1 for `S`, 2 for `AlphaHat`).
+    pub fn output(self) -> usize {
+        match self {
+            Dest::S(_) => 1,
+            Dest::AlphaHat(_) => 2,
+            _ => 0,
+        }
+    }
+}
+
+/// What happens to one output of a group's tape.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sink {
+    /// Written to an output vector.
+    Out(Dest),
+    /// Stored into an array at the element at hand.
+    Store(ArrayId),
+    /// Added into an array at the image of the element at hand under the map.
+    ScatterAdd(ArrayId, MapId),
+}
+
+/// Straight-line code run once (`over: None`) or once per element of a set.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Group {
+    /// The set of the loop, or `None` for code run once.
+    pub over: Option<SetId>,
+    /// The code; its outputs go to `sinks` (same length, same order).
+    pub tape: Tape,
+    /// Where each output of the tape goes.
+    pub sinks: Vec<Sink>,
+}
+
+/// A factor of a term of a `J_Omega` kernel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Factor {
+    /// A number.
+    Const(f64),
+    /// An array read at the row element (row factor) or column element (column factor);
+    /// at 0 for a scalar array.
+    Array(ArrayId),
+}
+
+/// The kernel of one coupling: `values[entry] += sum_t row_t(l) * col_t(k)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EntryLoop {
+    /// Index of the coupling in `Construction::couplings` (and of its list in the
+    /// instance's `jacobian.lists`).
+    pub coupling: usize,
+    /// `(row factor, column factor)` of each term.
+    pub terms: Vec<(Factor, Factor)>,
+}
+
+/// A compiled function of a family model; see the module documentation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Program {
+    /// The scratch arrays.
+    pub arrays: Vec<ArrayDef>,
+    /// The groups, in the order they run.
+    pub groups: Vec<Group>,
+    /// The kernel loops of `J_Omega` (jacobian program only), after the groups.
+    pub entries: Vec<EntryLoop>,
+    /// How [`Program::eval`] runs each group (derived from the above).
+    pub(super) plans: Vec<Plan>,
+}
+
+/// An argument of an instruction in the vectorised evaluator.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Arg {
+    /// A chunk buffer (a load or an earlier slot).
+    Buf(u32),
+    /// A value that is the same for every element of a run (index into the scalars).
+    Scalar(u32),
+    /// A literal.
+    Const(f64),
+}
+
+/// One instruction of a plan.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Step {
+    Unary(UnaryOp, Arg),
+    Binary(BinaryOp, Arg, Arg),
+}
+
+/// How a group runs in the vectorised evaluator: the operands loaded per element into
+/// chunk buffers, the operands that are the same for every element, and the tape's
+/// instructions on buffers (slot `k` is buffer `loads.len() + k`).
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Plan {
+    pub loads: Vec<Operand>,
+    pub scalars: Vec<Operand>,
+    pub steps: Vec<Step>,
+    pub outputs: Vec<(Arg, Sink)>,
+}
+
+impl Program {
+    /// A program from its parts; `is_family(v)` says whether a variable has one value
+    /// per element (a family) or one value (a scalar), which the evaluator needs to
+    /// know what to load per element.
+    pub fn new(
+        arrays: Vec<ArrayDef>,
+        groups: Vec<Group>,
+        entries: Vec<EntryLoop>,
+        is_family: impl Fn(VarRef) -> bool,
+    ) -> Program {
+        let plans = groups
+            .iter()
+            .map(|g| plan(g, &arrays, &is_family))
+            .collect();
+        Program {
+            arrays,
+            groups,
+            entries,
+            plans,
+        }
+    }
+
+    /// Instructions over all groups (the size of the code; per element of a loop).
+    pub fn op_count(&self) -> usize {
+        self.groups.iter().map(|g| g.tape.op_count()).sum()
+    }
+}
+
+fn plan(g: &Group, arrays: &[ArrayDef], is_family: &impl Fn(VarRef) -> bool) -> Plan {
+    let mut loads: Vec<Operand> = Vec::new();
+    let mut scalars: Vec<Operand> = Vec::new();
+    let per_element = |o: &Operand| match *o {
+        Operand::Input(v) => g.over.is_some() && (matches!(v, VarRef::Elem(_)) || is_family(v)),
+        Operand::Gather(..) | Operand::ArrayAt(..) => true,
+        Operand::Array(a) => g.over.is_some() && arrays[a.index()].over.is_some(),
+        Operand::Const(_) | Operand::Slot(_) => false,
+    };
+    // Loads and scalars first (slots refer to buffers after the loads).
+    for o in g.tape.operands() {
+        if matches!(o, Operand::Const(_) | Operand::Slot(_)) {
+            continue;
+        }
+        let list = if per_element(&o) {
+            &mut loads
+        } else {
+            &mut scalars
+        };
+        if !list.contains(&o) {
+            list.push(o);
+        }
+    }
+    let nl = loads.len() as u32;
+    let arg = |o: Operand| match o {
+        Operand::Const(c) => Arg::Const(c),
+        Operand::Slot(k) => Arg::Buf(nl + k),
+        o if per_element(&o) => Arg::Buf(loads.iter().position(|x| *x == o).unwrap_or(0) as u32),
+        o => Arg::Scalar(scalars.iter().position(|x| *x == o).unwrap_or(0) as u32),
+    };
+    let steps = g
+        .tape
+        .instrs()
+        .iter()
+        .map(|i| match *i {
+            Instr::Unary(op, a) => Step::Unary(op, arg(a)),
+            Instr::Binary(op, a, b) => Step::Binary(op, arg(a), arg(b)),
+        })
+        .collect();
+    let outputs = g
+        .tape
+        .outputs()
+        .iter()
+        .zip(&g.sinks)
+        .map(|(o, s)| (arg(*o), *s))
+        .collect();
+    Plan {
+        loads,
+        scalars,
+        steps,
+        outputs,
+    }
+}
