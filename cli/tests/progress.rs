@@ -46,7 +46,10 @@ fn a_variable_resting_on_its_contracting_layer_does_not_stop_time() {
                     "{integrator:?}: {} steps for 50 ms",
                     summary.steps
                 );
-                assert!(!summary.bound_held(), "{integrator:?}: the layer is not reached");
+                assert!(
+                    !summary.bound_held(),
+                    "{integrator:?}: the layer is not reached"
+                );
             }
             Err(e) => panic!("{integrator:?}: stopped at t = {t_us} us: {e}"),
         }
