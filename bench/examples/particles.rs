@@ -120,6 +120,13 @@ fn sweeps() -> Vec<Vec<MethodSpec>> {
                 integrator: Integrator::DormandPrince,
             })
             .to_vec(),
+        // The generated family chain (C1 only; other scenes skip it).
+        [1e-2, 1e-3, 1e-4]
+            .map(|eps| MethodSpec::DbsmcGenerated {
+                eps,
+                integrator: Integrator::Rk4,
+            })
+            .to_vec(),
     ]
 }
 
@@ -219,6 +226,9 @@ fn main() {
         println!("  {pilot_note}");
         for sweep in sweeps() {
             for spec in sweep {
+                if matches!(spec, MethodSpec::DbsmcGenerated { .. }) && scene.id != "C1" {
+                    continue;
+                }
                 let mut r = run_particle_method(
                     scene,
                     &spec,
@@ -227,7 +237,11 @@ fn main() {
                     reference.as_ref(),
                     None,
                 );
-                if matches!(spec, MethodSpec::Dbsmc { .. }) && bounds.is_none() {
+                if matches!(
+                    spec,
+                    MethodSpec::Dbsmc { .. } | MethodSpec::DbsmcGenerated { .. }
+                ) && bounds.is_none()
+                {
                     r.status = format!("failed: {pilot_note}");
                 }
                 print(&r);

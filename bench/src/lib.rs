@@ -99,7 +99,7 @@ pub use particle_bench::{
     run_particle_method, size_line, stability_table, strain_chart, strain_colour,
     write_particles_csv, write_pictures,
 };
-pub use particle_methods::{IndexOneParticles, PilotBounds, Xpbd};
+pub use particle_methods::{ChainKernels, FamilyChain, IndexOneParticles, PilotBounds, Xpbd};
 pub use particles::{Lcg, Particles};
 pub use scenes::{SceneError, TRUTH_TOL, chain_scene, embedded_chain_scene, vertical_plane_map};
 pub use stability::{

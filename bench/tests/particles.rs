@@ -214,3 +214,88 @@ fn dbsmc_keeps_its_bound_on_a_tiny_chain_through_the_harness() {
     assert_eq!((r.frames, r.frames_total), (30, 30));
     assert!((r.frames as f64 * FRAME - 0.5).abs() < 1e-12);
 }
+
+/// The chain generated from the family model `chain.dae` (sized at run time) is the
+/// hand-written particle model of the same C1 chain: `f`, the w-derivatives, `s`,
+/// `J_Omega` (as a dense matrix: the two patterns need not list entries alike) and
+/// `beta` agree at random states off the manifold, pinned particle at the origin.
+#[test]
+fn the_generated_family_chain_is_the_hand_written_c1_chain() {
+    use dae_bench::FamilyChain;
+    use dae_particles::ParticleDae;
+    let mut r = Lcg(11);
+    for (n, ratio) in [(3, 1.0), (6, 1e2), (10, 1e4)] {
+        let hand = ParticleModel::new(&chain(n, ratio).unwrap()).unwrap();
+        let fam = FamilyChain::new(n, ratio).unwrap();
+        let m = n;
+        assert_eq!((hand.n_constraints(), fam.n_constraints()), (m, m));
+        assert_eq!(hand.n_particles(), fam.n_particles());
+        let (mut xh, mut xg) = (vec![0.0; hand.n_states()], vec![0.0; fam.n_states()]);
+        hand.initial_state(&mut xh);
+        fam.initial_state(&mut xg);
+        for k in 1..=n {
+            let (hp, hv) = hand.state_slots(k);
+            let (gp, gv) = fam.state_slots(k);
+            for c in 0..3 {
+                let p = xh[hp + c] + 0.02 * r.next();
+                let v = r.next();
+                xh[hp + c] = p;
+                xg[gp + c] = p;
+                xh[hv + c] = v;
+                xg[gv + c] = v;
+            }
+        }
+        let z: Vec<f64> = (0..m).map(|_| 0.05 * r.next()).collect();
+        let mu = vec![0.07; m];
+        let t = 0.3;
+        let close = |a: f64, b: f64, what: &str| {
+            assert!(
+                (a - b).abs() <= 1e-9 * (1.0 + a.abs().max(b.abs())),
+                "N={n} r={ratio}: {what}: hand {a} generated {b}"
+            )
+        };
+        let (mut fh, mut fg) = (vec![0.0; xh.len()], vec![0.0; xg.len()]);
+        hand.rhs(t, &xh, &z, &mut fh);
+        fam.rhs(t, &xg, &z, &mut fg);
+        for k in 0..=n {
+            let (hp, hv) = hand.state_slots(k);
+            let (gp, gv) = fam.state_slots(k);
+            for c in 0..3 {
+                close(fh[hp + c], fg[gp + c], &format!("x'[{k}]"));
+                close(fh[hv + c], fg[gv + c], &format!("v'[{k}]"));
+            }
+        }
+        let nw = 3 * m;
+        let (mut wh, mut wg) = (vec![0.0; nw], vec![0.0; nw]);
+        let (mut sh, mut sg, mut ah, mut ag) =
+            (vec![0.0; m], vec![0.0; m], vec![0.0; m], vec![0.0; m]);
+        hand.sliding(t, &xh, &z, &mu, &mut wh, &mut sh, &mut ah);
+        fam.sliding(t, &xg, &z, &mu, &mut wg, &mut sg, &mut ag);
+        for i in 0..nw {
+            close(wh[i], wg[i], &format!("w[{i}]"));
+        }
+        for i in 0..m {
+            close(sh[i], sg[i], &format!("s[{i}]"));
+            close(ah[i], ag[i], &format!("alpha_hat[{i}]"));
+        }
+        let dense = |model: &dyn Model, x: &[f64]| {
+            let mut v = vec![0.0; model.jacobian_pattern().len()];
+            model.jacobian(t, x, &z, &mut v);
+            let mut d = vec![0.0; m * m];
+            for (&(i, j), v) in model.jacobian_pattern().iter().zip(&v) {
+                d[i * m + j] += v;
+            }
+            d
+        };
+        let (jh, jg) = (dense(&hand, &xh), dense(&fam, &xg));
+        for i in 0..m * m {
+            close(jh[i], jg[i], &format!("J[{}, {}]", i / m, i % m));
+        }
+        let (mut bh, mut bg) = (vec![0.0; m], vec![0.0; m]);
+        hand.beta(t, &xh, &z, &mut bh);
+        fam.beta(t, &xg, &z, &mut bg);
+        for i in 0..m {
+            close(bh[i], bg[i], &format!("beta[{i}]"));
+        }
+    }
+}

@@ -40,6 +40,10 @@ pub enum ModelError {
         "J_Omega is singular at the start ({0}): remove redundant links; a straight run of links between two pinned particles at its full length (a taut edge between pinned corners) is dependent too: give it slack"
     )]
     Singular(String),
+    /// The model cannot make this change (e.g. a generated model whose pins are
+    /// driven through its own inputs).
+    #[error("{0}")]
+    Unsupported(String),
     /// A particle index is out of range.
     #[error("particle {particle} does not exist ({particles} particles)")]
     NoSuchParticle {

@@ -25,6 +25,14 @@ pub enum MethodSpec {
         /// The integrator of the states between updates.
         integrator: Integrator,
     },
+    /// DBSMC designed as [`MethodSpec::Dbsmc`] (automatic solver), run on the chain
+    /// generated from the family model `examples/models/chain.dae` (C1 scenes only).
+    DbsmcGenerated {
+        /// Relative layer (strain bound).
+        eps: f64,
+        /// The integrator of the states between updates.
+        integrator: Integrator,
+    },
     /// XPBD small steps: `k` substeps of one iteration per frame.
     XpbdSubsteps(u32),
     /// XPBD: one step of `n` iterations per frame.
@@ -51,6 +59,10 @@ impl MethodSpec {
                 }
                 name
             }
+            MethodSpec::DbsmcGenerated { integrator, .. } => match integrator {
+                Integrator::DormandPrince => "dbsmc-generated-dp".into(),
+                _ => "dbsmc-generated".into(),
+            },
             MethodSpec::XpbdSubsteps(_) => "xpbd-substeps".into(),
             MethodSpec::XpbdIterations(_) => "xpbd-iterations".into(),
             MethodSpec::IndexOne(_) => "index1-rk4".into(),
@@ -59,7 +71,9 @@ impl MethodSpec {
     /// The setting, e.g. `k=20`.
     pub fn knob(&self) -> String {
         match self {
-            MethodSpec::Dbsmc { eps, .. } => format!("eps={eps:e}"),
+            MethodSpec::Dbsmc { eps, .. } | MethodSpec::DbsmcGenerated { eps, .. } => {
+                format!("eps={eps:e}")
+            }
             MethodSpec::XpbdSubsteps(k) => format!("k={k}"),
             MethodSpec::XpbdIterations(n) => format!("n={n}"),
             MethodSpec::IndexOne(s) => format!("steps/frame={s}"),
@@ -329,6 +343,41 @@ pub fn run_particle_method(
             Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
             Err(e) => failed(e),
         },
+        MethodSpec::DbsmcGenerated { eps, integrator } => {
+            let Some(bounds) = bounds else {
+                return failed("no pilot bounds for the design".into());
+            };
+            if scene.id != "C1" {
+                return failed("the generated family model is the C1 chain".into());
+            }
+            // The design needs only the rest lengths and the pilot bounds: the
+            // hand-written model of the same chain gives them.
+            let design_model = match ParticleModel::new(&scene.system) {
+                Ok(m) => m,
+                Err(e) => return failed(e.to_string()),
+            };
+            let model = match crate::FamilyChain::new(scene.size(), scene.param) {
+                Ok(m) => m,
+                Err(e) => return failed(e),
+            };
+            let (settings, t_min) =
+                match dbsmc_settings(&design_model, bounds, eps, SolverChoice::Auto) {
+                    Ok((s, t)) if integrator.is_adaptive() => {
+                        (s.integrator(integrator).step(FRAME).max_step(FRAME), t)
+                    }
+                    Ok((s, t)) => (s.integrator(integrator), t),
+                    Err(e) => return failed(e),
+                };
+            let step = settings.step;
+            let name = format!("{} {}", spec.method(), spec.knob());
+            let mut r = match Dbsmc::new(model, settings, &name) {
+                Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
+                Err(e) => failed(e.to_string()),
+            };
+            r.t_min = Some(t_min);
+            r.step = Some(step);
+            r
+        }
         MethodSpec::Dbsmc {
             eps,
             solver,
@@ -382,7 +431,7 @@ fn blank(scene: &ParticleScene, spec: &MethodSpec) -> ParticleRecord {
         method: spec.method(),
         knob: spec.knob(),
         eps: match spec {
-            MethodSpec::Dbsmc { eps, .. } => Some(*eps),
+            MethodSpec::Dbsmc { eps, .. } | MethodSpec::DbsmcGenerated { eps, .. } => Some(*eps),
             _ => None,
         },
         worst_strain: f64::NAN,
