@@ -356,3 +356,21 @@ fn particle_in_no_link() {
         "",
     );
 }
+
+/// Found by the name-substitution property test: a `let` over a set that uses itself
+/// (`u[l] = u[l] / norm(d[l])`) was accepted, and the equations that used it were
+/// dropped without a word (3 `der`s for 6 state components).
+#[test]
+fn a_let_family_that_uses_itself() {
+    let src = chain(
+        "
+    let d[l in L] = x[b[l]] - x[a[l]];
+    let u[l in L] = u[l] / norm(d[l]);
+    der(x[p]) = v[p];
+    der(v[p]) = free[p] * ((sum(l in L where a[l] == p) z[l] * u[l]
+                          - sum(l in L where b[l] == p) z[l] * u[l]) / m
+                          + vec3(0, 0, -g));
+    constraint link[l in L]: norm(d[l]) = L0;",
+    );
+    error_at(&src, "uses itself", "u[l in L]", "let u");
+}

@@ -762,8 +762,20 @@ impl Checker<'_> {
         match &self.let_state[d] {
             LetState::Done(Some(c)) => return Some(c.len() as u8),
             LetState::Done(None) => return None,
-            // A cycle: reported when the `let`s are ordered.
-            LetState::InProgress => return None,
+            // Resolving `d` needs `d`: a cycle through the `let`s. Reported here, since
+            // the `let`s on it get no value and so no uses for the ordering to see.
+            LetState::InProgress => {
+                let decl = self.lets[d];
+                self.diags.push(
+                    Diagnostic::new(
+                        format!("the definition of `{}` uses itself", decl.name.name),
+                        decl.name.span,
+                        "uses itself, directly or through other `let`s",
+                    )
+                    .hint("a `let` may not use itself, directly or through other `let`s: break the cycle"),
+                );
+                return None;
+            }
             LetState::Todo => {}
         }
         self.let_state[d] = LetState::InProgress;
