@@ -313,6 +313,8 @@ fn main() {
     let methods: Vec<String> = [
         "dbsmc",
         "dbsmc-euler",
+        "dbsmc-dp",
+        "dbsmc-generated",
         "index1-rk4",
         "xpbd-substeps",
         "xpbd-iterations",
@@ -377,6 +379,9 @@ fn main() {
             ("dbsmc", "eps=1e-2"),
             ("dbsmc", "eps=1e-3"),
             ("dbsmc-euler", "eps=1e-2"),
+            ("dbsmc-dp", "eps=1e-2"),
+            ("dbsmc-dp", "eps=1e-3"),
+            ("dbsmc-generated", "eps=1e-2"),
             ("index1-rk4", "steps/frame=64"),
             ("xpbd-substeps", "k=64"),
             ("xpbd-iterations", "n=64"),
