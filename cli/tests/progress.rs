@@ -55,3 +55,29 @@ fn a_variable_resting_on_its_contracting_layer_does_not_stop_time() {
         }
     }
 }
+
+/// A run driven in pieces sees a lost layer before `finish`: `Simulator::bound_loss`
+/// is `None` while the layers hold and then says what the summary will say. JSingT2 of
+/// the reliability issue: `J_Omega = cos t` vanishes at `t = pi/2`, and the layer is
+/// lost shortly before.
+#[test]
+fn a_run_in_pieces_sees_the_bound_loss_before_finish() {
+    let src = "model JSingT2 { state x = 0.0; alg z = 1.0; der(x) = z * cos(t); \
+               constraint x = sin(t) + t^2 / 2; }";
+    let compiled = dae_lang::compile_source(src).expect("the model compiles");
+    let model = daec::Interpreted::new(compiled.into_iter().next().unwrap());
+    let settings = Settings::new(vec![0.05], vec![0.1], vec![2.0])
+        .integrator(Integrator::DormandPrince)
+        .t_end(3.0);
+    let mut sim = Simulator::new(&model, settings).expect("valid settings");
+    sim.start(&mut NoTrace).unwrap();
+    sim.advance_to(1.0, &mut NoTrace).unwrap();
+    assert!(sim.bound_loss().is_none(), "held up to t = 1");
+    sim.advance_to(2.0, &mut NoTrace).unwrap();
+    let loss = sim.bound_loss().expect("lost before t = 2");
+    assert!(loss.first_time > 1.0 && loss.first_time < std::f64::consts::FRAC_PI_2);
+    let summary = sim.finish(&mut NoTrace).unwrap();
+    let last = summary.bound_loss.expect("the summary says so too");
+    assert_eq!(last.first_time, loss.first_time);
+    assert_eq!(last.first_constraint, loss.first_constraint);
+}

@@ -4,7 +4,8 @@
 //! ([`Simulator::advance_to`]); a pin change goes to the model between two frames
 //! ([`Simulator::model_mut`]) and asks for a control update at once
 //! ([`Simulator::request_update`]): pinning or releasing a particle changes `J_Omega`,
-//! so the inverse held since the last update is stale.
+//! so the inverse held since the last update is stale. A layer left after reaching ends
+//! the run with a [`BackendError`] at the end of that frame ([`Simulator::bound_loss`]).
 
 use std::cell::{Cell, RefCell};
 use std::io;
@@ -231,10 +232,29 @@ impl<M: ParticleDae> Backend for Dbsmc<M> {
         if let Some(e) = &self.failed {
             return Err(e.clone());
         }
-        match self.sim.advance_to(t, &mut self.sink) {
-            Ok(()) => Ok(()),
-            Err(e) => Err(self.failure(self.sim.time(), &e)),
+        if let Err(e) = self.sim.advance_to(t, &mut self.sink) {
+            return Err(self.failure(self.sim.time(), &e));
         }
+        // DBSMC promises its layers: a run that left one after reaching stops here,
+        // loudly, instead of going on as if it held (the simulator itself would only
+        // say so in the summary of `finish`, which a frame-driven run never reaches).
+        if let Some(loss) = self.sim.bound_loss() {
+            let e = BackendError {
+                method: self.name.clone(),
+                t: loss.first_time,
+                reason: format!(
+                    "bound lost: `{}` left its layer at t = {:.6} after reaching; max |s|/eps = {:.4} (`{}`, t = {:.6})",
+                    loss.first_constraint,
+                    loss.first_time,
+                    loss.worst_ratio,
+                    loss.worst_constraint,
+                    loss.worst_time
+                ),
+            };
+            self.failed = Some(e.clone());
+            return Err(e);
+        }
+        Ok(())
     }
     fn positions(&self, out: &mut [[f64; 3]]) {
         for (k, p) in out.iter_mut().enumerate() {

@@ -17,7 +17,7 @@ use stats::{Stats, StepMeasure};
 
 use crate::error::Quantity;
 use crate::solve::LinearSolver;
-use crate::summary::NEAR_SINGULAR;
+use crate::summary::{BoundLoss, NEAR_SINGULAR};
 use crate::trace::{Layout, Sample, Sink};
 use crate::{AlphaChoice, Crossing, Model, Policy, Settings, SimError, SolverSummary, Summary};
 
@@ -259,6 +259,15 @@ impl<M: Model> Simulator<M> {
     /// Current sliding variables.
     pub fn sliding(&self) -> &[f64] {
         &self.ctl.s
+    }
+    /// The loss of a layer after reaching so far (what [`Summary::bound_loss`] will
+    /// say), for a run driven in pieces that must notice it before `finish`. `None`
+    /// (without allocating) while every layer held.
+    pub fn bound_loss(&self) -> Option<BoundLoss> {
+        let near_singular = self.ctl.min_pivot_ratio.filter(|(r, _)| *r < NEAR_SINGULAR);
+        self.stats
+            .loss
+            .record(&self.layout.constraints, near_singular)
     }
 
     /// Force a control update at the current time before the next step (after the
