@@ -3,7 +3,7 @@
 use crate::motion::{Kinematics, Pin};
 
 /// Work a backend did since it started, in the units each method counts.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Counters {
     /// Integration steps (XPBD: substeps).
     pub steps: u64,
@@ -16,6 +16,9 @@ pub struct Counters {
     pub iterations: u64,
     /// DBSMC control updates (0 for the others).
     pub updates: u64,
+    /// DBSMC: when a sliding variable first left its layer `|s_i| <= eps_i` after
+    /// reaching (the method's own bound, on `s`, not on the strain), if it did.
+    pub layer_lost_at: Option<f64>,
 }
 
 /// A failure inside a backend: when, and why.

@@ -5,7 +5,8 @@
 //! ([`Simulator::model_mut`]) and asks for a control update at once
 //! ([`Simulator::request_update`]): pinning or releasing a particle changes `J_Omega`,
 //! so the inverse held since the last update is stale. A layer left after reaching ends
-//! the run with a [`BackendError`] at the end of that frame ([`Simulator::bound_loss`]).
+//! the run with a [`BackendError`] at the end of that frame ([`Simulator::bound_loss`]),
+//! unless [`Dbsmc::keep_going_after_bound_loss`] asked to record it and go on.
 
 use std::cell::{Cell, RefCell};
 use std::io;
@@ -134,6 +135,9 @@ pub struct Dbsmc<M: ParticleDae> {
     /// `f` at the current state, for [`Backend::particle`] (allocated once).
     f: RefCell<Vec<f64>>,
     failed: Option<BackendError>,
+    /// Go on after a layer was left (recorded in the counters) instead of failing.
+    keep_going: bool,
+    layer_lost_at: Option<f64>,
 }
 
 impl<M: ParticleDae> std::fmt::Debug for Dbsmc<M> {
@@ -194,7 +198,17 @@ impl<M: ParticleDae> Dbsmc<M> {
             sink,
             f: RefCell::new(vec![0.0; n]),
             failed: None,
+            keep_going: false,
+            layer_lost_at: None,
         })
+    }
+
+    /// Do not stop when a layer is left after reaching: record the first time in
+    /// [`Counters::layer_lost_at`] and go on (for benchmarks that measure what follows,
+    /// e.g. the strain, which a lost `s`-layer does not necessarily break).
+    pub fn keep_going_after_bound_loss(mut self) -> Self {
+        self.keep_going = true;
+        self
     }
 
     fn failure(&mut self, t: f64, e: &SimError) -> BackendError {
@@ -238,7 +252,14 @@ impl<M: ParticleDae> Backend for Dbsmc<M> {
         // DBSMC promises its layers: a run that left one after reaching stops here,
         // loudly, instead of going on as if it held (the simulator itself would only
         // say so in the summary of `finish`, which a frame-driven run never reaches).
+        if self.layer_lost_at.is_some() {
+            return Ok(());
+        }
         if let Some(loss) = self.sim.bound_loss() {
+            self.layer_lost_at = Some(loss.first_time);
+            if self.keep_going {
+                return Ok(());
+            }
             let e = BackendError {
                 method: self.name.clone(),
                 t: loss.first_time,
@@ -305,6 +326,7 @@ impl<M: ParticleDae> Backend for Dbsmc<M> {
             factorisations: model.jacobian_calls.get(),
             iterations: 0,
             updates: self.sink.updates,
+            layer_lost_at: self.layer_lost_at,
         }
     }
 }

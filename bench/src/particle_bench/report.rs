@@ -7,7 +7,7 @@ use std::io::{self, Write};
 use super::run::ParticleRecord;
 
 /// The CSV's columns, in order (the first eight are the ones issue 13 asks for).
-pub const CSV_COLUMNS: [&str; 22] = [
+pub const CSV_COLUMNS: [&str; 23] = [
     "scene",
     "size",
     "method",
@@ -30,6 +30,7 @@ pub const CSV_COLUMNS: [&str; 22] = [
     "pos_err_1s",
     "energy_drift",
     "dbsmc_t_min",
+    "s_layer_lost_at",
 ];
 
 fn num(v: f64) -> String {
@@ -83,6 +84,7 @@ pub fn write_particles_csv<W: Write>(records: &[ParticleRecord], mut out: W) -> 
             opt(r.pos_err),
             opt(r.energy_drift),
             opt(r.t_min),
+            opt(r.counters.layer_lost_at),
         ];
         let line: Vec<String> = fields.iter().map(|f| quote(f)).collect();
         writeln!(out, "{}", line.join(","))?;

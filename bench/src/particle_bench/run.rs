@@ -371,7 +371,14 @@ pub fn run_particle_method(
             let step = settings.step;
             let name = format!("{} {}", spec.method(), spec.knob());
             let mut r = match Dbsmc::new(model, settings, &name) {
-                Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
+                Ok(b) => drive_scene(
+                    scene,
+                    spec,
+                    b.keep_going_after_bound_loss(),
+                    budget,
+                    reference,
+                    observe,
+                ),
                 Err(e) => failed(e.to_string()),
             };
             r.t_min = Some(t_min);
@@ -406,6 +413,9 @@ pub fn run_particle_method(
                 &format!("{} {}", spec.method(), spec.knob()),
             ) {
                 Ok(b) => {
+                    // The strain is measured over the whole run; a lost s-layer is
+                    // recorded (`s_layer_lost_at`), not a reason to stop.
+                    let b = b.keep_going_after_bound_loss();
                     let mut r = drive_scene(scene, spec, b, budget, reference, observe);
                     r.t_min = Some(t_min);
                     r.step = Some(step);
