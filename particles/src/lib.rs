@@ -62,9 +62,10 @@
 //!
 //! # Plugging in another model
 //!
-//! [`Dbsmc::new`] takes any `M: ParticleDae + Send + 'static`. A model generated from a
-//! `.dae` family (chain, hair, cloth) implements [`dae_runtime::Model`] already; it
-//! needs the four methods of [`ParticleDae`] besides: the particle count, where each
+//! [`Dbsmc::new`] takes any `M: ParticleDae`. A model generated from a `.dae` family
+//! (chain, hair, cloth) implements [`dae_runtime::Model`] already; it needs the methods
+//! of [`ParticleDae`] besides (`dae_bench::FamilyChain` does it for
+//! `examples/models/chain.dae`): the particle count, where each
 //! particle's position and velocity live in the state, which constraint belongs to
 //! which link of the [`System`], the rest length of a constraint, and `set_pin`
 //! (through the model's inputs: the pinned particle's position and derivatives, and
