@@ -7,8 +7,8 @@
 //!    runtime's `Interpreter` back end) at N = 10^4, per function (target: interpreter
 //!    <= 3x generated);
 //! 3. one evaluation of every per-step function (rhs, sliding, jacobian, beta) of the
-//!    generated chain at N = 10^3, 10^4, 10^5, with the fitted exponent of time against
-//!    N (target <= 1.05);
+//!    generated and of the interpreted chain (both through the `Model` trait) at
+//!    N = 10^3, 10^4, 10^5, with the fitted exponents of time against N (target <= 1.05);
 //! 4. the compiler on `cloth.dae` (check, derive, emit) at two default sizes, and the
 //!    number of lines of its generated code (targets: under 50 ms, under 2,000 lines).
 //!
@@ -21,7 +21,7 @@ use std::time::Instant;
 
 use dae_lang::family::{Instance, Spec, Values};
 use dae_runtime::Model;
-use dae_runtime::family::{Interpreter, Kernels};
+use dae_runtime::family::{FamilyInstance, Interpreter, Kernels};
 
 mod generated {
     dae_runtime::dae_file!("../examples/models/chain.dae");
@@ -51,6 +51,16 @@ fn time(mut f: impl FnMut()) -> f64 {
             t.elapsed().as_secs_f64() / reps as f64
         })
         .fold(f64::INFINITY, f64::min)
+}
+
+/// Least-squares slope of log(time) against log(size).
+fn exponent(points: &[(f64, f64)]) -> f64 {
+    let n = points.len() as f64;
+    let (lx, ly): (Vec<f64>, Vec<f64>) = points.iter().map(|(x, y)| (x.ln(), y.ln())).unzip();
+    let (mx, my) = (lx.iter().sum::<f64>() / n, ly.iter().sum::<f64>() / n);
+    let sxy: f64 = lx.iter().zip(&ly).map(|(a, b)| (a - mx) * (b - my)).sum();
+    let sxx: f64 = lx.iter().map(|a| (a - mx) * (a - mx)).sum();
+    sxy / sxx
 }
 
 fn source(file: &str) -> String {
@@ -194,22 +204,45 @@ fn main() {
         si / sg
     );
 
-    // 3. Scaling of the generated chain.
-    println!("3. generated chain: rhs + sliding + jacobian + beta through the Model trait");
-    println!("| N | us per step evaluation | ns per link |");
-    println!("|---|---|---|");
-    let mut points = Vec::new();
+    // 3. Scaling of the generated and of the interpreted chain.
+    println!(
+        "3. chain: rhs + sliding + jacobian + beta through the Model trait, generated and interpreted"
+    );
+    println!(
+        "| N | generated: us per step | ns per link | (rhs / sliding / jacobian / beta, us) | interpreter: us per step | ns per link | (rhs / sliding / jacobian / beta, us) |"
+    );
+    println!("|---|---|---|---|---|---|---|");
+    let (mut gen_points, mut int_points) = (Vec::new(), Vec::new());
+    let us = |t: [f64; 4]| {
+        t.iter()
+            .map(|v| format!("{:.1}", v * 1e6))
+            .collect::<Vec<_>>()
+            .join(" / ")
+    };
     for n in [1_000i64, 10_000, 100_000] {
-        let m = generated::Chain::new(&sized(n)).expect("chain");
-        let t: f64 = model_times(&m).iter().sum();
-        println!("| {n} | {:.1} | {:.1} |", t * 1e6, t * 1e9 / n as f64);
-        points.push(((n as f64).ln(), t.ln()));
+        let g = generated::Chain::new(&sized(n)).expect("chain");
+        let tg = model_times(&g);
+        drop(g);
+        let i = FamilyInstance::interpreted(interpreter("chain.dae"), &sized(n)).expect("chain");
+        let ti = model_times(&i);
+        let (sg, si) = (tg.iter().sum::<f64>(), ti.iter().sum::<f64>());
+        println!(
+            "| {n} | {:.1} | {:.1} | {} | {:.1} | {:.1} | {} |",
+            sg * 1e6,
+            sg * 1e9 / n as f64,
+            us(tg),
+            si * 1e6,
+            si * 1e9 / n as f64,
+            us(ti)
+        );
+        gen_points.push((n as f64, sg));
+        int_points.push((n as f64, si));
     }
-    let mx = points.iter().map(|p| p.0).sum::<f64>() / 3.0;
-    let my = points.iter().map(|p| p.1).sum::<f64>() / 3.0;
-    let slope = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>()
-        / points.iter().map(|p| (p.0 - mx).powi(2)).sum::<f64>();
-    println!("fitted exponent (least squares on log-log): {slope:.3}\n");
+    println!(
+        "fitted exponent (least squares on log-log, N = 10^3 .. 10^5): generated {:.3}, interpreter {:.3}\n",
+        exponent(&gen_points),
+        exponent(&int_points)
+    );
 
     // 4. The compiler on the cloth, at two default sizes.
     println!("4. cloth.dae: compiler stages, ms (best of 5), and the generated code");

@@ -137,30 +137,37 @@ pub struct Program {
 /// An argument of an instruction in the vectorised evaluator.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) enum Arg {
-    /// A chunk buffer (a load or an earlier slot).
-    Buf(u32),
+    /// A per-element operand (index into [`Plan::loads`]): read in place when it is
+    /// contiguous, else gathered into a chunk buffer first.
+    Load(u32),
+    /// A register: a chunk buffer holding the result of an earlier instruction.
+    Reg(u32),
     /// A value that is the same for every element of a run (index into the scalars).
     Scalar(u32),
     /// A literal.
     Const(f64),
 }
 
-/// One instruction of a plan.
+/// One instruction of a plan, with the register its result goes to.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) enum Step {
-    Unary(UnaryOp, Arg),
-    Binary(BinaryOp, Arg, Arg),
+    Unary(UnaryOp, Arg, u32),
+    Binary(BinaryOp, Arg, Arg, u32),
 }
 
-/// How a group runs in the vectorised evaluator: the operands loaded per element into
-/// chunk buffers, the operands that are the same for every element, and the tape's
-/// instructions on buffers (slot `k` is buffer `loads.len() + k`).
+/// How a group runs in the vectorised evaluator: the operands read per element, the
+/// operands that are the same for every element, and the tape's instructions on chunk
+/// buffers. The slots of the tape are given registers by liveness (a register is free
+/// again after the last instruction reading its slot, unless an output reads it), so
+/// that the buffers of a chunk stay few and in the first-level cache.
 #[derive(Clone, Debug, PartialEq)]
 pub(super) struct Plan {
     pub loads: Vec<Operand>,
     pub scalars: Vec<Operand>,
     pub steps: Vec<Step>,
     pub outputs: Vec<(Arg, Sink)>,
+    /// Number of registers the steps use.
+    pub regs: usize,
 }
 
 impl Program {
@@ -200,7 +207,6 @@ fn plan(g: &Group, arrays: &[ArrayDef], is_family: &impl Fn(VarRef) -> bool) -> 
         Operand::Array(a) => g.over.is_some() && arrays[a.index()].over.is_some(),
         Operand::Const(_) | Operand::Slot(_) => false,
     };
-    // Loads and scalars first (slots refer to buffers after the loads).
     for o in g.tape.operands() {
         if matches!(o, Operand::Const(_) | Operand::Slot(_)) {
             continue;
@@ -214,33 +220,133 @@ fn plan(g: &Group, arrays: &[ArrayDef], is_family: &impl Fn(VarRef) -> bool) -> 
             list.push(o);
         }
     }
-    let nl = loads.len() as u32;
-    let arg = |o: Operand| match o {
+    // Liveness of the slots: the last instruction reading each (outputs keep theirs to
+    // the end of the chunk).
+    let instrs = g.tape.instrs();
+    let mut last_use = vec![usize::MAX; instrs.len()];
+    for (i, ins) in instrs.iter().enumerate() {
+        let (a, b) = match *ins {
+            Instr::Unary(_, a) => (a, None),
+            Instr::Binary(_, a, b) => (a, Some(b)),
+        };
+        for o in std::iter::once(a).chain(b) {
+            if let Operand::Slot(k) = o {
+                last_use[k as usize] = i;
+            }
+        }
+    }
+    for o in g.tape.outputs() {
+        if let Operand::Slot(k) = *o {
+            last_use[k as usize] = usize::MAX - 1;
+        }
+    }
+    let mut reg_of = vec![0u32; instrs.len()];
+    let mut free: Vec<u32> = Vec::new();
+    let mut regs = 0u32;
+    let arg = |o: Operand, reg_of: &[u32]| match o {
         Operand::Const(c) => Arg::Const(c),
-        Operand::Slot(k) => Arg::Buf(nl + k),
-        o if per_element(&o) => Arg::Buf(loads.iter().position(|x| *x == o).unwrap_or(0) as u32),
+        Operand::Slot(k) => Arg::Reg(reg_of[k as usize]),
+        o if per_element(&o) => Arg::Load(loads.iter().position(|x| *x == o).unwrap_or(0) as u32),
         o => Arg::Scalar(scalars.iter().position(|x| *x == o).unwrap_or(0) as u32),
     };
-    let steps = g
-        .tape
-        .instrs()
-        .iter()
-        .map(|i| match *i {
-            Instr::Unary(op, a) => Step::Unary(op, arg(a)),
-            Instr::Binary(op, a, b) => Step::Binary(op, arg(a), arg(b)),
-        })
-        .collect();
+    let mut steps = Vec::with_capacity(instrs.len());
+    for (i, ins) in instrs.iter().enumerate() {
+        // The destination is taken before the operands' registers are freed, so that it
+        // is never one of them (the evaluator borrows it apart from the sources).
+        let dst = free.pop().unwrap_or_else(|| {
+            regs += 1;
+            regs - 1
+        });
+        reg_of[i] = dst;
+        let (step, read) = match *ins {
+            Instr::Unary(op, a) => (Step::Unary(op, arg(a, &reg_of), dst), [Some(a), None]),
+            Instr::Binary(op, a, b) => (
+                Step::Binary(op, arg(a, &reg_of), arg(b, &reg_of), dst),
+                [Some(a), Some(b)],
+            ),
+        };
+        steps.push(step);
+        let mut freed = [None, None];
+        for (f, o) in freed.iter_mut().zip(read.into_iter().flatten()) {
+            if let Operand::Slot(k) = o {
+                if last_use[k as usize] == i {
+                    *f = Some(reg_of[k as usize]);
+                }
+            }
+        }
+        // An instruction may read the same slot twice: free its register once.
+        if freed[0] == freed[1] {
+            freed[1] = None;
+        }
+        free.extend(freed.into_iter().flatten());
+        // A result nobody reads (not produced by the compiler, but harmless).
+        if last_use[i] == usize::MAX {
+            free.push(dst);
+        }
+    }
     let outputs = g
         .tape
         .outputs()
         .iter()
         .zip(&g.sinks)
-        .map(|(o, s)| (arg(*o), *s))
+        .map(|(o, s)| (arg(*o, &reg_of), *s))
         .collect();
     Plan {
         loads,
         scalars,
         steps,
         outputs,
+        regs: regs as usize,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Func;
+    use crate::ids::{ConstraintId, ParamId};
+
+    /// `sqrt((x^2 + 1)^2)` and `x^2` as outputs: four instructions in two registers at
+    /// most, plus the one an output keeps.
+    #[test]
+    fn registers_are_reused_after_the_last_read_and_never_alias_a_source() {
+        let x = Operand::Input(VarRef::Param(ParamId::new(0)));
+        let mut tape = Tape::new();
+        let s0 = tape.push(Instr::Binary(BinaryOp::Mul, x, x));
+        let s1 = tape.push(Instr::Binary(BinaryOp::Add, s0, Operand::Const(1.0)));
+        let s2 = tape.push(Instr::Binary(BinaryOp::Mul, s1, s1));
+        let s3 = tape.push(Instr::Unary(UnaryOp::Call(Func::Sqrt), s2));
+        let s4 = tape.push(Instr::Unary(UnaryOp::Neg, s3));
+        tape.push_output(s4);
+        tape.push_output(s0);
+        let out = Sink::Out(Dest::Beta(ConstraintId::new(0)));
+        let group = Group {
+            over: Some(SetId::new(0)),
+            tape,
+            sinks: vec![out, out],
+        };
+        let p = plan(&group, &[], &|_| true);
+        // s0 keeps its register (an output reads it); s1..s4 take turns in two others.
+        assert_eq!(p.regs, 3);
+        assert_eq!(p.loads, vec![x]);
+        for step in &p.steps {
+            let (d, srcs) = match *step {
+                Step::Unary(_, a, d) => (d, vec![a]),
+                Step::Binary(_, a, b, d) => (d, vec![a, b]),
+            };
+            assert!(
+                !srcs.contains(&Arg::Reg(d)),
+                "{step:?} writes a register it reads"
+            );
+        }
+        let Step::Unary(_, _, r4) = p.steps[4] else {
+            panic!("the last step is the negation");
+        };
+        assert_eq!(p.outputs[0].0, Arg::Reg(r4));
+        let Step::Binary(_, _, _, r0) = p.steps[0] else {
+            panic!("the first step is the product");
+        };
+        assert_eq!(p.outputs[1].0, Arg::Reg(r0));
+        assert_ne!(r0, r4);
     }
 }
