@@ -20,6 +20,11 @@
 //! x'''])`), so that `w''` reads the pin's acceleration and `beta` its jerk exactly,
 //! RK4 stages included; pins at rest cost nothing per evaluation.
 //!
+//! **The start.** The model's states start where the system's particles do (checked);
+//! its tensions start consistent (`w'' = 0`, one solve with `J_Omega`), as the
+//! hand-written model's do, rather than at the model's initial guess 0: the two runs
+//! start alike, and a scene whose `J_Omega` is singular at the start is refused alike.
+//!
 //! **A pinned particle's state.** The family model does not read the state of a
 //! pinned particle (it sits at its input) and leaves it alone (`der(v) = free * ... =
 //! 0`). The adapter gives it the pin's acceleration instead, as the hand-written model
@@ -30,8 +35,8 @@
 use std::cell::{Cell, OnceCell, RefCell};
 
 use dae_particles::{ModelError, ParticleDae, Pin, System, distance};
-use dae_runtime::Model;
 use dae_runtime::family::{FamilyInstance, Kernels};
+use dae_runtime::{LinearSolver, Model, Solver, SolverChoice};
 
 /// A family model (any back end `K`: generated kernels or the interpreter) as the
 /// particle model of a [`System`] (module docs).
@@ -63,6 +68,8 @@ pub struct FamilyParticles<K: Kernels> {
     system_links: Vec<(usize, usize)>,
     link_constraint: Vec<Option<usize>>,
     rest: Vec<f64>,
+    /// The consistent tensions at the start (`w'' = 0`), as the hand-written model's.
+    z0: Vec<f64>,
 }
 
 impl<K: Kernels> std::fmt::Debug for FamilyParticles<K> {
@@ -173,12 +180,38 @@ impl<K: Kernels> FamilyParticles<K> {
             system_links: system.links().iter().map(|l| (l.a, l.b)).collect(),
             link_constraint,
             rest,
+            z0: Vec::new(),
         };
         for k in 0..n {
             this.apply_pin(k, system.pins()[k].clone())?;
         }
         this.check_physics(system, m)?;
+        this.z0 = this.consistent_tensions()?;
         Ok(this)
+    }
+
+    /// The tensions that make `w'' = 0` on every link at the start: one solve with
+    /// `J_Omega` (`w''` is affine in `z`), so that the run starts as the hand-written
+    /// model's does (the model's own initial guess is 0).
+    fn consistent_tensions(&self) -> Result<Vec<f64>, String> {
+        let m = self.rest.len();
+        // The hand-written model's words for it.
+        let singular = |e: String| ModelError::Singular(e).to_string();
+        let mut solver = Solver::new(m, &self.pattern, SolverChoice::Auto)
+            .map_err(|e| singular(e.to_string()))?;
+        let mut x0 = vec![0.0; self.n_states()];
+        self.initial_state(&mut x0);
+        let zero = vec![0.0; m];
+        let mut vals = vec![0.0; self.pattern.len()];
+        self.jacobian(0.0, &x0, &zero, &mut vals);
+        solver
+            .factor(&vals, &vec![1.0; m])
+            .map_err(|e| singular(e.to_string()))?;
+        let (mut w, mut s, mut ah) = (vec![0.0; 3 * m], vec![0.0; m], vec![0.0; m]);
+        self.sliding(0.0, &x0, &zero, &vec![1.0; m], &mut w, &mut s, &mut ah);
+        let mut z: Vec<f64> = (0..m).map(|l| -w[3 * l + 2]).collect();
+        solver.solve(&mut z);
+        Ok(z)
     }
 
     /// Makes particle `k` free or pinned to `pin` (no checks of the links).
@@ -392,7 +425,7 @@ impl<K: Kernels> Model for FamilyParticles<K> {
         self.model.borrow().initial_state(x)
     }
     fn initial_alg(&self, z: &mut [f64]) {
-        self.model.borrow().initial_alg(z)
+        z.copy_from_slice(&self.z0)
     }
     fn rhs(&self, t: f64, x: &[f64], z: &[f64], dx: &mut [f64]) {
         self.refresh(t);
