@@ -120,7 +120,7 @@ fn sweeps() -> Vec<Vec<MethodSpec>> {
                 integrator: Integrator::DormandPrince,
             })
             .to_vec(),
-        // The generated family chain (C1 only; other scenes skip it).
+        // The scene's generated family model (chain.dae, c2_hair.dae, c3_cloth.dae).
         [1e-2, 1e-3, 1e-4]
             .map(|eps| MethodSpec::DbsmcGenerated {
                 eps,
@@ -226,9 +226,6 @@ fn main() {
         println!("  {pilot_note}");
         for sweep in sweeps() {
             for spec in sweep {
-                if matches!(spec, MethodSpec::DbsmcGenerated { .. }) && scene.id != "C1" {
-                    continue;
-                }
                 let mut r = run_particle_method(
                     scene,
                     &spec,

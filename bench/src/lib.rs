@@ -38,6 +38,12 @@
 //!   ([`particle_pilot`], [`dbsmc_settings`]), charts and pictures;
 //!   `cargo run --release -p dae-bench --example particles` regenerates
 //!   `docs/results/particles.csv` and everything beside it.
+//! * **Scenes from generated family models** ([`FamilyParticles`], [`generated_chain`],
+//!   [`generated_strands`], [`generated_grid`]): C1 on `examples/models/chain.dae`, C2 on
+//!   `bench/models/c2_hair.dae`, C3 and C4 on `bench/models/c3_cloth.dae`, compiled by
+//!   `dae_file!`, sized at run time and run by the DBSMC backend as the particle model of
+//!   the scene (method `dbsmc-generated`); pins, grabs and releases become the models'
+//!   parameter `free[p]` and input `pin[p]` (its position and three derivatives).
 //! * **Work-precision harness** ([`Scene`], [`Method`], [`run_method`], [`Record`],
 //!   [`write_csv`], [`chart`]): one run per knob value, position error at `t_end`
 //!   against the truth, max `|w|`, best-of-N wall time, `J_s` solves, `f` evaluations.
@@ -94,12 +100,15 @@ pub use harness::{
 };
 pub use particle_bench::{
     CSV_COLUMNS, Capture, FrameObserver, Grab, Line, MethodSpec, PILOT_SAFETY, ParticleRecord,
-    ParticleScene, bound_held, c1, c2, c3, c4, cheapest, cheapest_table, dbsmc_settings,
-    drive_scene, fitted_exponent, index_one, loglog, particle_pilot, ratio_chart,
+    ParticleScene, SceneShape, bound_held, c1, c2, c3, c4, cheapest, cheapest_table,
+    dbsmc_settings, drive_scene, fitted_exponent, index_one, loglog, particle_pilot, ratio_chart,
     run_particle_method, size_line, stability_table, strain_chart, strain_colour,
     write_particles_csv, write_pictures,
 };
-pub use particle_methods::{ChainKernels, FamilyChain, IndexOneParticles, PilotBounds, Xpbd};
+pub use particle_methods::{
+    ChainKernels, ClothKernels, FamilyParticles, HairKernels, IndexOneParticles, PilotBounds, Xpbd,
+    generated_chain, generated_grid, generated_strands,
+};
 pub use particles::{Lcg, Particles};
 pub use scenes::{SceneError, TRUTH_TOL, chain_scene, embedded_chain_scene, vertical_plane_map};
 pub use stability::{

@@ -64,12 +64,13 @@
 //!
 //! [`Dbsmc::new`] takes any `M: ParticleDae`. A model generated from a `.dae` family
 //! (chain, hair, cloth) implements [`dae_runtime::Model`] already; it needs the methods
-//! of [`ParticleDae`] besides (`dae_bench::FamilyChain` does it for
-//! `examples/models/chain.dae`): the particle count, where each
-//! particle's position and velocity live in the state, which constraint belongs to
-//! which link of the [`System`], the rest length of a constraint, and `set_pin`
-//! (through the model's inputs: the pinned particle's position and derivatives, and
-//! its inverse mass set to zero). [`ParticleModel`] is the reference implementation
+//! of [`ParticleDae`] besides (`dae_bench::FamilyParticles` does it for any family model
+//! with a parameter `free[p]` and an input `pin[p]`, and runs the scenes C1-C4 on
+//! generated models): the particle count, where each particle's position and velocity
+//! live in the state, which constraint belongs to which link of the [`System`], the rest
+//! length of a constraint, and `set_pin` (through the model's parameter `free[p]` and
+//! input `pin[p]`: the pinned particle's position and three derivatives, evaluated at
+//! every evaluation time for a moving pin). [`ParticleModel`] is the reference implementation
 //! and the oracle such a model is tested against.
 #![warn(missing_docs)]
 

@@ -17,4 +17,4 @@ pub use run::{
     FrameObserver, MethodSpec, PILOT_SAFETY, ParticleRecord, dbsmc_settings, drive_scene,
     index_one, particle_pilot, run_particle_method,
 };
-pub use scenes::{Grab, ParticleScene, c1, c2, c3, c4};
+pub use scenes::{Grab, ParticleScene, SceneShape, c1, c2, c3, c4};

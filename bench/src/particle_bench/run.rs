@@ -4,13 +4,13 @@
 
 use std::time::{Duration, Instant};
 
-use dae_particles::{Backend, Counters, Dbsmc, FRAME, ParticleModel, Scene};
+use dae_particles::{Backend, Counters, Dbsmc, FRAME, ParticleDae, ParticleModel, Scene};
 use dae_runtime::{
-    AlphaChoice, ConstraintSpec, GainChoice, Integrator, LayerBound, Model, MuSearch, Settings,
+    AlphaChoice, ConstraintSpec, GainChoice, Integrator, LayerBound, MuSearch, Settings,
     SolverChoice, design,
 };
 
-use super::scenes::ParticleScene;
+use super::scenes::{ParticleScene, SceneShape};
 use crate::{IndexOneParticles, PilotBounds, Xpbd};
 
 /// A method and its setting.
@@ -25,8 +25,10 @@ pub enum MethodSpec {
         /// The integrator of the states between updates.
         integrator: Integrator,
     },
-    /// DBSMC designed as [`MethodSpec::Dbsmc`] (automatic solver), run on the chain
-    /// generated from the family model `examples/models/chain.dae` (C1 scenes only).
+    /// DBSMC designed as [`MethodSpec::Dbsmc`] (automatic solver), run on the scene's
+    /// generated family model (C1: `examples/models/chain.dae`, C2:
+    /// `bench/models/c2_hair.dae`, C3 and C4: `bench/models/c3_cloth.dae`; see
+    /// [`crate::FamilyParticles`]).
     DbsmcGenerated {
         /// Relative layer (strain bound).
         eps: f64,
@@ -268,13 +270,12 @@ pub const PILOT_SAFETY: f64 = 2.0;
 /// (at least a hundredth of the largest) times [`PILOT_SAFETY`], monitoring, and the step `h = 0.2 min_i eps_i / k_i` rounded
 /// down to divide the frame (the crossing overshoot `|s'| h` small against the layer).
 /// Returns the settings and the design's guaranteed period `T_min`.
-pub fn dbsmc_settings(
-    model: &ParticleModel,
+pub fn dbsmc_settings<M: ParticleDae>(
+    model: &M,
     bounds: &PilotBounds,
     eps: f64,
     solver: SolverChoice,
 ) -> Result<(Settings, f64), String> {
-    use dae_particles::ParticleDae;
     let m = model.n_constraints();
     let m_max = bounds.drift.iter().copied().fold(0.0, f64::max);
     let specs: Vec<ConstraintSpec> = (0..m)
@@ -347,43 +348,30 @@ pub fn run_particle_method(
             let Some(bounds) = bounds else {
                 return failed("no pilot bounds for the design".into());
             };
-            if scene.id != "C1" {
-                return failed("the generated family model is the C1 chain".into());
+            let sys = &scene.system;
+            let run = RunDbsmc {
+                scene,
+                spec,
+                bounds,
+                eps,
+                solver: SolverChoice::Auto,
+                integrator,
+                budget,
+                reference,
+                observe,
+            };
+            match scene.shape {
+                SceneShape::Chain {
+                    links,
+                    end_mass_ratio,
+                } => run.with(crate::generated_chain(sys, links, end_mass_ratio)),
+                SceneShape::Strands { strands, links } => {
+                    run.with(crate::generated_strands(sys, strands, links))
+                }
+                SceneShape::Grid { w, pins, shear } => {
+                    run.with(crate::generated_grid(sys, w, pins, shear))
+                }
             }
-            // The design needs only the rest lengths and the pilot bounds: the
-            // hand-written model of the same chain gives them.
-            let design_model = match ParticleModel::new(&scene.system) {
-                Ok(m) => m,
-                Err(e) => return failed(e.to_string()),
-            };
-            let model = match crate::FamilyChain::new(scene.size(), scene.param) {
-                Ok(m) => m,
-                Err(e) => return failed(e),
-            };
-            let (settings, t_min) =
-                match dbsmc_settings(&design_model, bounds, eps, SolverChoice::Auto) {
-                    Ok((s, t)) if integrator.is_adaptive() => {
-                        (s.integrator(integrator).step(FRAME).max_step(FRAME), t)
-                    }
-                    Ok((s, t)) => (s.integrator(integrator), t),
-                    Err(e) => return failed(e),
-                };
-            let step = settings.step;
-            let name = format!("{} {}", spec.method(), spec.knob());
-            let mut r = match Dbsmc::new(model, settings, &name) {
-                Ok(b) => drive_scene(
-                    scene,
-                    spec,
-                    b.keep_going_after_bound_loss(),
-                    budget,
-                    reference,
-                    observe,
-                ),
-                Err(e) => failed(e.to_string()),
-            };
-            r.t_min = Some(t_min);
-            r.step = Some(step);
-            r
         }
         MethodSpec::Dbsmc {
             eps,
@@ -393,42 +381,78 @@ pub fn run_particle_method(
             let Some(bounds) = bounds else {
                 return failed("no pilot bounds for the design".into());
             };
-            let model = match ParticleModel::new(&scene.system) {
-                Ok(m) => m,
-                Err(e) => return failed(e.to_string()),
-            };
-            let (settings, t_min) = match dbsmc_settings(&model, bounds, eps, solver) {
-                // An error-controlled integrator chooses its own steps (crossings are
-                // located inside them): no step tied to the layer, at most a frame.
-                Ok((s, t)) if integrator.is_adaptive() => {
-                    (s.integrator(integrator).step(FRAME).max_step(FRAME), t)
-                }
-                Ok((s, t)) => (s.integrator(integrator), t),
-                Err(e) => return failed(e),
-            };
-            let step = settings.step;
-            match Dbsmc::new(
-                model,
-                settings,
-                &format!("{} {}", spec.method(), spec.knob()),
-            ) {
-                Ok(b) => {
-                    // The strain is measured over the whole run; a lost s-layer is
-                    // recorded (`s_layer_lost_at`), not a reason to stop.
-                    let b = b.keep_going_after_bound_loss();
-                    let mut r = drive_scene(scene, spec, b, budget, reference, observe);
-                    r.t_min = Some(t_min);
-                    r.step = Some(step);
-                    r
-                }
-                Err(e) => {
-                    let mut r = failed(e.to_string());
-                    r.t_min = Some(t_min);
-                    r.step = Some(step);
-                    r
-                }
+            RunDbsmc {
+                scene,
+                spec,
+                bounds,
+                eps,
+                solver,
+                integrator,
+                budget,
+                reference,
+                observe,
             }
+            .with(ParticleModel::new(&scene.system).map_err(|e| e.to_string()))
         }
+    }
+}
+
+/// A DBSMC run of a scene, whichever particle model it is given.
+struct RunDbsmc<'a, 'o> {
+    scene: &'a ParticleScene,
+    spec: &'a MethodSpec,
+    bounds: &'a PilotBounds,
+    eps: f64,
+    solver: SolverChoice,
+    integrator: Integrator,
+    budget: Duration,
+    reference: Option<&'a [f64; 3]>,
+    observe: Option<FrameObserver<'o>>,
+}
+
+impl RunDbsmc<'_, '_> {
+    /// Designs the settings for `model` from the pilot bounds and runs the scene on it.
+    /// The strain is measured over the whole run; a lost s-layer is recorded
+    /// (`s_layer_lost_at`), not a reason to stop.
+    fn with<M: ParticleDae>(self, model: Result<M, String>) -> ParticleRecord {
+        let mut r = blank(self.scene, self.spec);
+        let model = match model {
+            Ok(m) => m,
+            Err(e) => {
+                r.status = format!("failed: {e}");
+                return r;
+            }
+        };
+        let (settings, t_min) = match dbsmc_settings(&model, self.bounds, self.eps, self.solver) {
+            // An error-controlled integrator chooses its own steps (crossings are
+            // located inside them): no step tied to the layer, at most a frame.
+            Ok((s, t)) if self.integrator.is_adaptive() => {
+                (s.integrator(self.integrator).step(FRAME).max_step(FRAME), t)
+            }
+            Ok((s, t)) => (s.integrator(self.integrator), t),
+            Err(e) => {
+                r.status = format!("failed: {e}");
+                return r;
+            }
+        };
+        let step = settings.step;
+        let name = format!("{} {}", self.spec.method(), self.spec.knob());
+        match Dbsmc::new(model, settings, &name) {
+            Ok(b) => {
+                r = drive_scene(
+                    self.scene,
+                    self.spec,
+                    b.keep_going_after_bound_loss(),
+                    self.budget,
+                    self.reference,
+                    self.observe,
+                );
+            }
+            Err(e) => r.status = format!("failed: {e}"),
+        }
+        r.t_min = Some(t_min);
+        r.step = Some(step);
+        r
     }
 }
 

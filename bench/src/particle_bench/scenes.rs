@@ -19,6 +19,35 @@ pub struct Grab {
     pub release: f64,
 }
 
+/// How a scene's system was built: the builder of `dae_particles` and its arguments
+/// (the sizes its generated family model is built at).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SceneShape {
+    /// [`chain`]`(links, end_mass_ratio)`.
+    Chain {
+        /// Links.
+        links: usize,
+        /// End-mass ratio.
+        end_mass_ratio: f64,
+    },
+    /// [`strands`]`(strands, links)`.
+    Strands {
+        /// Strands.
+        strands: usize,
+        /// Links per strand.
+        links: usize,
+    },
+    /// [`grid`]`(w, pins, shear)`.
+    Grid {
+        /// Particles per side.
+        w: usize,
+        /// How it is held.
+        pins: GridPins,
+        /// Rigid diagonals.
+        shear: bool,
+    },
+}
+
 /// One scene of the benchmark.
 #[derive(Debug, Clone)]
 pub struct ParticleScene {
@@ -28,6 +57,8 @@ pub struct ParticleScene {
     pub variant: String,
     /// The system.
     pub system: System,
+    /// How the system was built.
+    pub shape: SceneShape,
     /// Simulated duration (s).
     pub duration: f64,
     /// The grab, if any.
@@ -72,6 +103,10 @@ pub fn c1(n: usize, ratio: f64) -> Result<ParticleScene, SystemError> {
         id: "C1",
         variant: format!("N={n} r={}", ratio_label(ratio)),
         system: chain(n, ratio)?,
+        shape: SceneShape::Chain {
+            links: n,
+            end_mass_ratio: ratio,
+        },
         duration: 5.0,
         grab: None,
         conservative: true,
@@ -86,6 +121,10 @@ pub fn c2(s: usize, n: usize) -> Result<ParticleScene, SystemError> {
         id: "C2",
         variant: format!("{s}x{n}"),
         system: strands(s, n)?,
+        shape: SceneShape::Strands {
+            strands: s,
+            links: n,
+        },
         duration: 5.0,
         grab: None,
         conservative: false,
@@ -105,6 +144,7 @@ pub fn c3(w: usize, pins: GridPins, shear: bool) -> Result<ParticleScene, System
         id: "C3",
         variant: format!("W={w} ({tag}){}", if shear { " shear" } else { "" }),
         system: grid(w, pins, shear)?,
+        shape: SceneShape::Grid { w, pins, shear },
         duration: 5.0,
         grab: None,
         conservative: true,

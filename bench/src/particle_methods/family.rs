@@ -1,103 +1,442 @@
-//! The C1 chain from the family model `examples/models/chain.dae`: written once over
-//! the sets of particles and links, compiled by `dae_file!` into loops, and sized here
-//! at run time (`N` links, end-mass ratio `m_end`), behind the particle seam
-//! ([`ParticleDae`]) so that the DBSMC backend runs it exactly as it runs the
-//! hand-written [`dae_particles::ParticleModel`].
+//! A family model as the particle model of a [`System`]: the seam ([`ParticleDae`])
+//! through which the DBSMC backend runs a model generated from a `.dae` family exactly
+//! as it runs the hand-written [`dae_particles::ParticleModel`].
 //!
-//! The family model is the same physics as `dae_particles::chain` (links of `1/N` m,
-//! particles of `0.1/N` kg, the end `m_end` times heavier, particle 0 pinned at the
-//! origin, released horizontal at rest, gravity 9.81 along `-z`); the test
-//! `bench/tests/particles.rs` checks `f`, `J_Omega` and `beta` of both at the same point.
+//! The family model must be written over particles and links as the models of
+//! `examples/models` and `bench/models` are: states `x[p]`, `v[p]` (`vec3`), one
+//! constraint per link with a free end (in the order of the system's links), a
+//! parameter `free[p]` (1 free, 0 pinned) and an input `pin[p]: vec3 with 3
+//! derivatives` where a pinned particle sits (`X = free x + (1 - free) pin`).
+//! [`FamilyParticles::new`] finds these by name and checks the model against the
+//! system: where it starts, and `f` and `w` at a perturbed state, so that a model of
+//! another scene is refused with the particle or link that differs.
+//!
+//! **Pins.** A pin of the system, and every pin change during a run
+//! ([`ParticleDae::set_pin`]: a grab, a release), becomes `free[p]` and the input
+//! `pin[p]`. A fixed pin is one `set_input` (its position, derivatives 0). A moving pin
+//! ([`dae_particles::Motion`]) is evaluated where the hand-written model evaluates it:
+//! at the time of every evaluation. An evaluation at a new time first gives each moving
+//! pin's input its position and three derivatives there (`set_input(i, t, [x, x', x'',
+//! x'''])`), so that `w''` reads the pin's acceleration and `beta` its jerk exactly,
+//! RK4 stages included; pins at rest cost nothing per evaluation.
+//!
+//! **The start.** The model's states start where the system's particles do (checked);
+//! its tensions start consistent (`w'' = 0`, one solve with `J_Omega`), as the
+//! hand-written model's do, rather than at the model's initial guess 0: the two runs
+//! start alike, and a scene whose `J_Omega` is singular at the start is refused alike.
+//!
+//! **A pinned particle's state.** The family model does not read the state of a
+//! pinned particle (it sits at its input) and leaves it alone (`der(v) = free * ... =
+//! 0`). The adapter gives it the pin's acceleration instead, as the hand-written model
+//! does, so that the state follows the pin: the positions the backend reports are
+//! right, and a released particle continues from where its pin was, with the pin's
+//! velocity.
 
-use dae_particles::{ModelError, ParticleDae, Pin};
-use dae_runtime::Model;
-use dae_runtime::family::{FamilyInstance, Spec};
+use std::cell::{Cell, OnceCell, RefCell};
 
-mod generated {
-    dae_runtime::dae_file!("../examples/models/chain.dae");
-}
+use dae_particles::{ModelError, ParticleDae, Pin, System, distance};
+use dae_runtime::family::{FamilyInstance, Kernels};
+use dae_runtime::{LinearSolver, Model, Solver, SolverChoice};
 
-/// The generated kernels of `chain.dae`.
-pub use generated::Chain as ChainKernels;
-
-/// `chain.dae` sized at `N` links with end-mass ratio `m_end`, as a particle model.
-pub struct FamilyChain {
-    model: FamilyInstance<ChainKernels>,
+/// A family model (any back end `K`: generated kernels or the interpreter) as the
+/// particle model of a [`System`] (module docs).
+pub struct FamilyParticles<K: Kernels> {
+    /// In a `RefCell`: an evaluation (`&self`) at a new time sets the moving pins'
+    /// inputs first. The `Model` methods never re-enter, so borrows do not overlap.
+    model: RefCell<FamilyInstance<K>>,
+    name: String,
+    /// Copies of what `Model` lends out by reference (the model sits in a `RefCell`).
+    pattern: Vec<(usize, usize)>,
+    indices: Vec<usize>,
+    /// State, algebraic, constraint and parameter names, copied on first use.
+    names: [OnceCell<Vec<String>>; 4],
+    /// Per particle: the states `x[k].x` and `v[k].x`, the parameter `free[k]`, the
+    /// inputs `pin[k].x, .y, .z`.
     slots: Vec<(usize, usize)>,
-    rest: f64,
+    free: Vec<usize>,
+    pin_inputs: Vec<[usize; 3]>,
+    pins: Vec<Option<Pin>>,
+    /// The particles with a moving pin, and their accelerations at `refreshed_at`.
+    moving: Vec<usize>,
+    moving_acc: RefCell<Vec<[f64; 3]>>,
+    /// When the moving pins' inputs were last set (NaN: not since the pins changed).
+    refreshed_at: Cell<f64>,
+    /// A moving pin gave a value `set_input` refused (not finite) at the last refresh:
+    /// the evaluations return NaN, which the simulator reports, rather than stale pins.
+    bad_pin: Cell<bool>,
+    /// The system's links, each one's constraint, and the constraints' rest lengths.
+    system_links: Vec<(usize, usize)>,
+    link_constraint: Vec<Option<usize>>,
+    rest: Vec<f64>,
+    /// The consistent tensions at the start (`w'' = 0`), as the hand-written model's.
+    z0: Vec<f64>,
 }
 
-impl std::fmt::Debug for FamilyChain {
+impl<K: Kernels> std::fmt::Debug for FamilyParticles<K> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("FamilyChain")
-            .field("links", &self.model.n_constraints())
+        f.debug_struct("FamilyParticles")
+            .field("name", &self.name)
+            .field("particles", &self.slots.len())
+            .field("links", &self.rest.len())
+            .field("moving_pins", &self.moving.len())
             .finish()
     }
 }
 
-impl FamilyChain {
-    /// The chain of `links` links with the end particle `end_mass_ratio` times heavier.
-    pub fn new(links: usize, end_mass_ratio: f64) -> Result<Self, String> {
-        let spec = Spec {
-            sizes: vec![("N".into(), links as i64)],
-            params: vec![("m_end".into(), end_mass_ratio)],
-            ..Spec::default()
+impl<K: Kernels> FamilyParticles<K> {
+    /// `model` as the particle model of `system`: the particles' states, `free` and `pin`
+    /// found by name, the system's pins applied, and the model checked against the
+    /// system (module docs). The error says what differs, where.
+    pub fn new(model: FamilyInstance<K>, system: &System) -> Result<Self, String> {
+        let n = system.n_particles();
+        if model.n_states() != 6 * n {
+            return Err(format!(
+                "the family model `{}` has {} states; the system's {n} particles need 6 each (x[p], v[p])",
+                model.name(),
+                model.n_states()
+            ));
+        }
+        let state = |fam: &str, k: usize| -> Result<usize, String> {
+            let i = model.state_index_at(fam, k).map_err(|e| e.to_string())?;
+            for c in 1..3 {
+                let next = format!("{}.{}", &fam[..1], ["x", "y", "z"][c]);
+                if model.state_index_at(&next, k).map_err(|e| e.to_string())? != i + c {
+                    return Err(format!(
+                        "the components of `{}[{k}]` are not consecutive states",
+                        &fam[..1]
+                    ));
+                }
+            }
+            Ok(i)
         };
-        let model = ChainKernels::new(&spec).map_err(|e| e.to_string())?;
-        let slot = |name: String| model.state_index(&name).map_err(|e| e.to_string());
-        let slots = (0..=links)
-            .map(|k| Ok((slot(format!("x[{k}].x"))?, slot(format!("v[{k}].x"))?)))
-            .collect::<Result<Vec<_>, String>>()?;
-        Ok(Self {
-            model,
+        let mut slots = Vec::with_capacity(n);
+        let mut free = Vec::with_capacity(n);
+        let mut pin_inputs = Vec::with_capacity(n);
+        for k in 0..n {
+            slots.push((state("x.x", k)?, state("v.x", k)?));
+            free.push(model.param_index_at("free", k).map_err(|e| e.to_string())?);
+            let mut pin = [0; 3];
+            for (c, i) in ["pin.x", "pin.y", "pin.z"].iter().zip(&mut pin) {
+                *i = model.input_index_at(c, k).map_err(|e| e.to_string())?;
+                if model.input_order(*i) < 3 {
+                    return Err(format!(
+                        "input `{}` carries {} time derivatives; the index-3 links at a pinned particle read 3",
+                        model.input_name(*i),
+                        model.input_order(*i)
+                    ));
+                }
+            }
+            pin_inputs.push(pin);
+        }
+        // Where the model starts: the system's positions and velocities.
+        let mut x0 = vec![0.0; model.n_states()];
+        model.initial_state(&mut x0);
+        for (k, &(p, v)) in slots.iter().enumerate() {
+            let (pm, vm) = (get3(&x0, p), get3(&x0, v));
+            let (ps, vs) = (system.positions()[k], system.velocities()[k]);
+            if distance(pm, ps) > 1e-12 * (1.0 + norm(ps)) || distance(vm, vs) > 1e-12 {
+                return Err(format!(
+                    "particle {k} starts at {pm:?} with velocity {vm:?} in the family model `{}`, at {ps:?} with {vs:?} in the system: is it the model of this scene, at these sizes?",
+                    model.name()
+                ));
+            }
+        }
+        // The constraints: the system's links with a free end, in order (as the
+        // hand-written model numbers them).
+        let pinned = |k: usize| system.pins()[k].is_some();
+        let mut link_constraint = Vec::with_capacity(system.links().len());
+        let mut rest = Vec::new();
+        for link in system.links() {
+            if pinned(link.a) && pinned(link.b) {
+                link_constraint.push(None);
+            } else {
+                link_constraint.push(Some(rest.len()));
+                rest.push(link.rest);
+            }
+        }
+        if rest.len() != model.n_constraints() {
+            return Err(format!(
+                "the family model `{}` has {} constraints; the system has {} links with a free end",
+                model.name(),
+                model.n_constraints(),
+                rest.len()
+            ));
+        }
+        let m = rest.len();
+        let mut this = Self {
+            name: model.name().to_string(),
+            pattern: model.jacobian_pattern().to_vec(),
+            indices: model.indices().to_vec(),
+            model: RefCell::new(model),
+            names: Default::default(),
             slots,
-            rest: 1.0 / links as f64,
-        })
+            free,
+            pin_inputs,
+            pins: vec![None; n],
+            moving: Vec::new(),
+            moving_acc: RefCell::new(Vec::new()),
+            refreshed_at: Cell::new(f64::NAN),
+            bad_pin: Cell::new(false),
+            system_links: system.links().iter().map(|l| (l.a, l.b)).collect(),
+            link_constraint,
+            rest,
+            z0: Vec::new(),
+        };
+        for k in 0..n {
+            this.apply_pin(k, system.pins()[k].clone())?;
+        }
+        this.check_physics(system, m)?;
+        this.z0 = this.consistent_tensions()?;
+        Ok(this)
+    }
+
+    /// The tensions that make `w'' = 0` on every link at the start: one solve with
+    /// `J_Omega` (`w''` is affine in `z`), so that the run starts as the hand-written
+    /// model's does (the model's own initial guess is 0).
+    fn consistent_tensions(&self) -> Result<Vec<f64>, String> {
+        let m = self.rest.len();
+        // The hand-written model's words for it.
+        let singular = |e: String| ModelError::Singular(e).to_string();
+        let mut solver = Solver::new(m, &self.pattern, SolverChoice::Auto)
+            .map_err(|e| singular(e.to_string()))?;
+        let mut x0 = vec![0.0; self.n_states()];
+        self.initial_state(&mut x0);
+        let zero = vec![0.0; m];
+        let mut vals = vec![0.0; self.pattern.len()];
+        self.jacobian(0.0, &x0, &zero, &mut vals);
+        solver
+            .factor(&vals, &vec![1.0; m])
+            .map_err(|e| singular(e.to_string()))?;
+        let (mut w, mut s, mut ah) = (vec![0.0; 3 * m], vec![0.0; m], vec![0.0; m]);
+        self.sliding(0.0, &x0, &zero, &vec![1.0; m], &mut w, &mut s, &mut ah);
+        let mut z: Vec<f64> = (0..m).map(|l| -w[3 * l + 2]).collect();
+        solver.solve(&mut z);
+        Ok(z)
+    }
+
+    /// Makes particle `k` free or pinned to `pin` (no checks of the links).
+    fn apply_pin(&mut self, k: usize, pin: Option<Pin>) -> Result<(), String> {
+        let model = self.model.get_mut();
+        model.set_param(self.free[k], if pin.is_some() { 0.0 } else { 1.0 });
+        self.moving.retain(|&j| j != k);
+        if let Some(Pin::Fixed(p)) = &pin {
+            for (c, &i) in self.pin_inputs[k].iter().enumerate() {
+                model
+                    .set_input(i, 0.0, &[p[c]])
+                    .map_err(|e| format!("particle {k}: {e}"))?;
+            }
+        }
+        if let Some(Pin::Moving(_)) = &pin {
+            self.moving.push(k);
+        }
+        self.moving_acc
+            .get_mut()
+            .resize(self.moving.len(), [0.0; 3]);
+        self.pins[k] = pin;
+        // The moving pins' inputs are set again at the next evaluation.
+        self.refreshed_at.set(f64::NAN);
+        Ok(())
+    }
+
+    /// Gives every moving pin's input its position and three derivatives at `t` (once
+    /// per distinct `t`).
+    fn refresh(&self, t: f64) {
+        if self.moving.is_empty() || self.refreshed_at.get().to_bits() == t.to_bits() {
+            return;
+        }
+        let mut model = self.model.borrow_mut();
+        let mut acc = self.moving_acc.borrow_mut();
+        let mut ok = true;
+        for (j, &k) in self.moving.iter().enumerate() {
+            let Some(pin) = &self.pins[k] else { continue };
+            let kin = pin.at(t);
+            for (c, &i) in self.pin_inputs[k].iter().enumerate() {
+                let taylor = [kin.pos[c], kin.vel[c], kin.acc[c], kin.jerk[c]];
+                ok &= model.set_input(i, t, &taylor).is_ok();
+            }
+            acc[j] = kin.acc;
+        }
+        self.bad_pin.set(!ok);
+        self.refreshed_at.set(t);
+    }
+
+    /// After an evaluation: NaN out if a moving pin could not be set.
+    fn poison(&self, out: &mut [f64]) {
+        if self.bad_pin.get() {
+            out.fill(f64::NAN);
+        }
+    }
+
+    /// Checks `f` and `w` of the model against the system's physics at a perturbed
+    /// state (off the manifold, moving, with tensions): every link's ends and rest
+    /// length, every particle's mass, gravity and pin.
+    fn check_physics(&self, system: &System, m: usize) -> Result<(), String> {
+        let n = self.slots.len();
+        let scale = self.rest.iter().copied().fold(f64::INFINITY, f64::min);
+        let mut x = vec![0.0; 6 * n];
+        let mut pos = vec![[0.0; 3]; n];
+        let mut vel = vec![[0.0; 3]; n];
+        for (k, &(p, v)) in self.slots.iter().enumerate() {
+            let kf = k as f64;
+            let wobble = [
+                (1.3 * kf + 0.1).sin(),
+                (2.1 * kf).cos(),
+                (0.7 * kf + 1.0).sin(),
+            ];
+            for c in 0..3 {
+                pos[k][c] = system.positions()[k][c] + 0.1 * scale * wobble[c];
+                vel[k][c] = wobble[(c + 1) % 3];
+                x[p + c] = pos[k][c];
+                x[v + c] = vel[k][c];
+            }
+            if let Some(pin) = &self.pins[k] {
+                let kin = pin.at(0.0);
+                (pos[k], vel[k]) = (kin.pos, kin.vel);
+            }
+        }
+        let z: Vec<f64> = (0..m).map(|i| (0.37 * i as f64).sin()).collect();
+        let (mut w, mut s, mut ah) = (vec![0.0; 3 * m], vec![0.0; m], vec![0.0; m]);
+        self.sliding(0.0, &x, &z, &vec![0.0; m], &mut w, &mut s, &mut ah);
+        let mut acc: Vec<[f64; 3]> = (0..n)
+            .map(|k| match &self.pins[k] {
+                Some(pin) => pin.at(0.0).acc,
+                None => system.gravity(),
+            })
+            .collect();
+        for (l, &(a, b)) in self.system_links.iter().enumerate() {
+            let Some(i) = self.link_constraint[l] else {
+                continue;
+            };
+            let d = sub(pos[b], pos[a]);
+            let len = norm(d);
+            let u = [d[0] / len, d[1] / len, d[2] / len];
+            let (w0, w1) = (len - self.rest[i], dot(u, sub(vel[b], vel[a])));
+            if (w[3 * i] - w0).abs() > 1e-9 * scale || (w[3 * i + 1] - w1).abs() > 1e-9 {
+                return Err(format!(
+                    "constraint {i} (`{}`) is not link {l} between particles {a} and {b} of rest length {}: w = {}, w' = {} where the link gives {w0}, {w1}",
+                    self.constraint_name(i),
+                    self.rest[i],
+                    w[3 * i],
+                    w[3 * i + 1]
+                ));
+            }
+            for c in 0..3 {
+                if self.pins[a].is_none() {
+                    acc[a][c] += z[i] * u[c] / system.masses()[a];
+                }
+                if self.pins[b].is_none() {
+                    acc[b][c] -= z[i] * u[c] / system.masses()[b];
+                }
+            }
+        }
+        let mut f = vec![0.0; 6 * n];
+        self.rhs(0.0, &x, &z, &mut f);
+        for (k, &(_, v)) in self.slots.iter().enumerate() {
+            let got = get3(&f, v);
+            if distance(got, acc[k]) > 1e-9 * (1.0 + norm(acc[k])) {
+                return Err(format!(
+                    "particle {k} accelerates at {got:?} in the family model, at {:?} in the system (mass {}, pinned: {}): is it the model of this scene?",
+                    acc[k],
+                    system.masses()[k],
+                    self.pins[k].is_some()
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// A name of kind `kind` (0 state, 1 algebraic, 2 constraint, 3 parameter), copied
+    /// from the model on first use.
+    fn name_of(&self, kind: usize, i: usize) -> &str {
+        let names = self.names[kind].get_or_init(|| {
+            let model = self.model.borrow();
+            match kind {
+                0 => (0..model.n_states())
+                    .map(|i| model.state_name(i).to_string())
+                    .collect(),
+                1 => (0..model.n_constraints())
+                    .map(|i| model.alg_name(i).to_string())
+                    .collect(),
+                2 => (0..model.n_constraints())
+                    .map(|i| model.constraint_name(i).to_string())
+                    .collect(),
+                _ => (0..model.n_params())
+                    .map(|i| model.param_name(i).to_string())
+                    .collect(),
+            }
+        });
+        &names[i]
+    }
+
+    /// The family model (for its names, parameters and inputs).
+    pub fn family(&self) -> std::cell::Ref<'_, FamilyInstance<K>> {
+        self.model.borrow()
     }
 }
 
-impl Model for FamilyChain {
+fn get3(x: &[f64], i: usize) -> [f64; 3] {
+    [x[i], x[i + 1], x[i + 2]]
+}
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+impl<K: Kernels> Model for FamilyParticles<K> {
     fn name(&self) -> &str {
-        self.model.name()
+        &self.name
     }
     fn n_states(&self) -> usize {
-        self.model.n_states()
+        6 * self.slots.len()
     }
     fn n_constraints(&self) -> usize {
-        self.model.n_constraints()
+        self.rest.len()
     }
     fn n_params(&self) -> usize {
-        self.model.n_params()
+        self.model.borrow().n_params()
     }
     fn state_name(&self, i: usize) -> &str {
-        self.model.state_name(i)
+        self.name_of(0, i)
     }
     fn alg_name(&self, i: usize) -> &str {
-        self.model.alg_name(i)
+        self.name_of(1, i)
     }
     fn constraint_name(&self, i: usize) -> &str {
-        self.model.constraint_name(i)
+        self.name_of(2, i)
     }
     fn param_name(&self, i: usize) -> &str {
-        self.model.param_name(i)
+        self.name_of(3, i)
     }
     fn indices(&self) -> &[usize] {
-        self.model.indices()
+        &self.indices
     }
     fn param(&self, i: usize) -> f64 {
-        self.model.param(i)
+        self.model.borrow().param(i)
     }
     fn set_param(&mut self, i: usize, value: f64) {
-        self.model.set_param(i, value)
+        self.model.get_mut().set_param(i, value)
     }
     fn initial_state(&self, x: &mut [f64]) {
-        self.model.initial_state(x)
+        self.model.borrow().initial_state(x)
     }
     fn initial_alg(&self, z: &mut [f64]) {
-        self.model.initial_alg(z)
+        z.copy_from_slice(&self.z0)
     }
     fn rhs(&self, t: f64, x: &[f64], z: &[f64], dx: &mut [f64]) {
-        self.model.rhs(t, x, z, dx)
+        self.refresh(t);
+        self.model.borrow().rhs(t, x, z, dx);
+        // A pinned particle's state follows its pin (module docs): at rest, the model's
+        // own `der(v) = 0` is that already.
+        for (&k, a) in self.moving.iter().zip(self.moving_acc.borrow().iter()) {
+            let v = self.slots[k].1;
+            dx[v..v + 3].copy_from_slice(a);
+        }
+        self.poison(dx);
     }
     fn sliding(
         &self,
@@ -109,20 +448,26 @@ impl Model for FamilyChain {
         s: &mut [f64],
         ah: &mut [f64],
     ) {
-        self.model.sliding(t, x, z, mu, w, s, ah)
+        self.refresh(t);
+        self.model.borrow().sliding(t, x, z, mu, w, s, ah);
+        self.poison(s);
     }
     fn jacobian_pattern(&self) -> &[(usize, usize)] {
-        self.model.jacobian_pattern()
+        &self.pattern
     }
     fn jacobian(&self, t: f64, x: &[f64], z: &[f64], values: &mut [f64]) {
-        self.model.jacobian(t, x, z, values)
+        self.refresh(t);
+        self.model.borrow().jacobian(t, x, z, values);
+        self.poison(values);
     }
     fn beta(&self, t: f64, x: &[f64], z: &[f64], beta: &mut [f64]) {
-        self.model.beta(t, x, z, beta)
+        self.refresh(t);
+        self.model.borrow().beta(t, x, z, beta);
+        self.poison(beta);
     }
 }
 
-impl ParticleDae for FamilyChain {
+impl<K: Kernels> ParticleDae for FamilyParticles<K> {
     fn n_particles(&self) -> usize {
         self.slots.len()
     }
@@ -130,17 +475,44 @@ impl ParticleDae for FamilyChain {
         self.slots[k]
     }
     fn constraint_of_link(&self, l: usize) -> Option<usize> {
-        (l < self.model.n_constraints()).then_some(l)
+        self.link_constraint.get(l).copied().flatten()
     }
-    fn rest_length(&self, _: usize) -> f64 {
-        self.rest
+    fn rest_length(&self, i: usize) -> f64 {
+        self.rest[i]
     }
-    /// Grabs go through the model's input `pin` and parameter `free` (see
-    /// `docs/rust-api.md`, "Family models"); the C1 scenes have none, and this adapter
-    /// does not translate a [`Pin`] motion into inputs.
-    fn set_pin(&mut self, k: usize, _: Option<Pin>) -> Result<(), ModelError> {
-        Err(ModelError::Unsupported(format!(
-            "particle {k}: the generated chain is pinned through its input `pin` and parameter `free`, not through a particle pin"
-        )))
+    /// `free[k]` and the input `pin[k]` (module docs), with the hand-written model's
+    /// checks: a link keeps a free end, and a link left out because both its ends were
+    /// pinned stays so.
+    fn set_pin(&mut self, k: usize, pin: Option<Pin>) -> Result<(), ModelError> {
+        let n = self.slots.len();
+        if k >= n {
+            return Err(ModelError::NoSuchParticle {
+                particle: k,
+                particles: n,
+            });
+        }
+        for (l, &(a, b)) in self.system_links.iter().enumerate() {
+            if a != k && b != k {
+                continue;
+            }
+            let other = if a == k { b } else { a };
+            if pin.is_some() && self.pins[other].is_some() {
+                return Err(ModelError::PinnedLink {
+                    link: l,
+                    a,
+                    b,
+                    reason: "both ends would be pinned; a link needs one free end",
+                });
+            }
+            if pin.is_none() && self.link_constraint[l].is_none() {
+                return Err(ModelError::PinnedLink {
+                    link: l,
+                    a,
+                    b,
+                    reason: "was dropped when the model was built (both ends pinned); build the model with this particle free",
+                });
+            }
+        }
+        self.apply_pin(k, pin).map_err(ModelError::Unsupported)
     }
 }

@@ -1,12 +1,17 @@
 //! The methods DBSMC is compared with on particle scenes, as
 //! [`dae_particles::Backend`]s: XPBD with zero compliance and the index-1 reduction
-//! with an exact solve at every stage.
+//! with an exact solve at every stage; and the scenes' generated family models as
+//! particle models for DBSMC.
 
 mod family;
+mod family_models;
 mod index1;
 mod xpbd;
 
-pub use family::{ChainKernels, FamilyChain};
+pub use family::FamilyParticles;
+pub use family_models::{
+    ChainKernels, ClothKernels, HairKernels, generated_chain, generated_grid, generated_strands,
+};
 
 pub use index1::{IndexOneParticles, PilotBounds};
 pub use xpbd::Xpbd;
