@@ -3,7 +3,9 @@
 
 use crate::pilot::{PilotArgs, design_json, per_constraint};
 use crate::{Reported, family, messages};
-use dae_runtime::{ConstraintSpec, DesignError, MAX_INDEX, MuSearch, Settings, optimise_mu};
+use dae_runtime::{
+    ConstraintSpec, DesignError, Integrator, MAX_INDEX, MuSearch, Settings, optimise_mu,
+};
 use serde_json::json;
 use std::path::PathBuf;
 
@@ -16,6 +18,14 @@ pub(crate) struct Args {
     /// The model to use when the file holds several.
     #[arg(long)]
     model: Option<String>,
+    /// A size or a scalar parameter of the model: `--set N=1000 --set m_end=10`
+    /// (repeatable; for a version-1 model, its parameters).
+    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = crate::family::parse_assignment)]
+    set: Vec<(String, f64)>,
+    /// The sets and maps of a family model given at construction (like `daec run
+    /// --topology`).
+    #[arg(long, value_name = "FILE")]
+    topology: Option<PathBuf>,
     /// Index r of the constraint (without a file).
     #[arg(long)]
     index: Option<usize>,
@@ -31,9 +41,11 @@ pub(crate) struct Args {
     /// Duration of the pilot run, in seconds (with a file).
     #[arg(long)]
     pilot: Option<f64>,
-    /// Integration step of the pilot run.
-    #[arg(long, default_value_t = 1e-4)]
-    step: f64,
+    /// A fixed integration step for the pilot runs (RK4, updates noticed at step ends,
+    /// the thesis's procedure) [default: error-controlled steps (Dormand-Prince) with
+    /// the crossings located, as `daec run`].
+    #[arg(long)]
+    step: Option<f64>,
     /// Seconds after the reaching phase before the pilot's bounds are collected.
     #[arg(long, default_value_t = 0.0)]
     settle: f64,
@@ -52,6 +64,10 @@ pub(crate) fn run(args: &Args) -> Result<(), Reported> {
 }
 
 fn from_bounds(args: &Args) -> Result<(), Reported> {
+    if !args.set.is_empty() || args.topology.is_some() {
+        eprintln!("error: --set and --topology are for a model file");
+        return Err(Reported);
+    }
     let missing: Vec<&str> = [
         ("--index", args.index.is_none()),
         ("--beta", args.beta.is_none()),
@@ -127,7 +143,9 @@ fn from_pilot(args: &Args, file: &std::path::Path) -> Result<(), Reported> {
     // Every value checked before the model is read and any pilot runs.
     messages::positive("--pilot", duration)?;
     messages::all_positive("--eps", &args.eps)?;
-    messages::positive("--step", args.step)?;
+    if let Some(h) = args.step {
+        messages::positive("--step", h)?;
+    }
     messages::at_least("--settle", args.settle, 0.0)?;
     messages::check(args.settle < duration, || {
         format!(
@@ -137,7 +155,12 @@ fn from_pilot(args: &Args, file: &std::path::Path) -> Result<(), Reported> {
         )
     })?;
     args.pilot_args.validate()?;
-    let model = family::runnable(file, args.model.as_deref(), &[], None)?;
+    let model = family::runnable(
+        file,
+        args.model.as_deref(),
+        &args.set,
+        args.topology.as_deref(),
+    )?;
     let model = &*model;
     let m = model.n_constraints();
     if m == 0 {
@@ -158,32 +181,64 @@ fn from_pilot(args: &Args, file: &std::path::Path) -> Result<(), Reported> {
         eprintln!("error: --pilot {duration}: must be a finite number > 0");
         return Err(Reported);
     }
-    if !(args.step.is_finite() && args.step > 0.0) {
-        eprintln!("error: --step {}: must be a finite number > 0", args.step);
-        return Err(Reported);
-    }
-    args.pilot_args
-        .check_work(duration, args.step, crate::run::MAX_STEPS)?;
+    // The default pilot gain is 2 eps / (100 h) with this h (1e-4 for error control).
+    let step = args.step.unwrap_or(1e-4);
+    // The passes always; the steps of fixed-step pilots only (error control takes what
+    // the motion needs).
+    args.pilot_args.check_work(
+        duration,
+        args.step.unwrap_or(duration),
+        crate::run::MAX_STEPS,
+    )?;
     let eps = per_constraint("--eps", &args.eps, m)?;
     let base = Settings::new(eps, vec![1.0; m], vec![1.0; m])
-        .step(args.step)
+        .step(step)
+        .integrator(if args.step.is_some() {
+            Integrator::Rk4
+        } else {
+            Integrator::DormandPrince
+        })
         .t_end(duration)
         .settle(args.settle);
     let a = args.pilot_args.auto_design(model, &base, None, None)?;
-    let out = design_json(model, &a);
+    let mut out = design_json(model, &a);
     if args.json {
+        crate::bounded::summarise(&mut out, model);
         println!("{out}");
     } else {
         println!("model {}", model.name());
-        for (i, c) in a.design.constraints.iter().enumerate() {
+        // The constraints that set the period first: all of them for a small model, the
+        // ones with the shortest T_i^min for a large one.
+        let t: Vec<f64> = a.design.constraints.iter().map(|c| -c.t_min).collect();
+        let listed = crate::bounded::listed_constraints(&t, &vec![1.0; m]);
+        if listed.len() < m {
             println!(
-                "  {}: mu = {}, gain = {}, t_min = {}  (|beta| <= {}, M = {})",
+                "  (the {} of {m} constraints with the shortest t_min; --json for all)",
+                listed.len()
+            );
+        }
+        for i in listed {
+            let c = &a.design.constraints[i];
+            println!(
+                "  {}: mu = {}, gain = {}, t_min = {}  (|beta| <= {}, M = {}){}",
                 model.constraint_name(i),
                 c.mu,
                 c.k,
                 c.t_min,
                 out["beta_abs"][i],
-                out["m"][i]
+                out["m"][i],
+                if a.design.quiet.binary_search(&i).is_ok() {
+                    "  quiet"
+                } else {
+                    ""
+                }
+            );
+        }
+        if !a.design.quiet.is_empty() {
+            println!(
+                "  {} quiet constraint(s) (little drift in the pilot: no best mu; given the \
+                 smallest mu that keeps T_min)",
+                a.design.quiet.len()
             );
         }
         println!("  T_min = {}", a.design.t_min);

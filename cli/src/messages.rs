@@ -138,6 +138,28 @@ pub(crate) fn pilot_run_error(model: &dyn Model, e: &PilotRunError) -> String {
             format!("constraint `{c}`: {}", design_error(source, Some(&c)))
         }
         PilotRunError::Design(d) => format!("design failed: {}", design_error(d, None)),
+        PilotRunError::LayerLost {
+            constraint: i,
+            t,
+            ratio,
+            gain_max,
+            near_singular_at,
+            ..
+        } => match near_singular_at {
+            Some(ts) => format!(
+                "every pilot left its layers (the last, with gains up to {gain_max:e}: \
+                 constraint `{}` at t = {t}, |s|/eps = {ratio:.3}); J_s was nearly singular \
+                 at t = {ts:.6}\n  hint: no gain keeps a layer where J_Omega is singular; \
+                 check the model there, or give --mu and --gain to see the run",
+                constraint(*i)
+            ),
+            None => format!(
+                "every pilot left its layers (the last, with gains up to {gain_max:e}: \
+                 constraint `{}` at t = {t}, |s|/eps = {ratio:.3})\n  hint: a larger \
+                 --pilot-gain or --pilot-retries, or give --mu and --gain",
+                constraint(*i)
+            ),
+        },
         other => other.to_string(),
     }
 }

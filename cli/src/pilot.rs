@@ -78,6 +78,10 @@ pub(crate) struct PilotArgs {
     /// Factor (>= 1) on the pilot bounds before designing.
     #[arg(long, default_value_t = 1.0)]
     pub(crate) safety: f64,
+    /// How many times the first pilot runs again, with ten times its gains, when it
+    /// leaves a layer (its gains were below the model's drift).
+    #[arg(long, default_value_t = 4)]
+    pub(crate) pilot_retries: usize,
 }
 
 /// Most pilot -> design passes: each is a pilot run over the whole pilot duration, and
@@ -139,13 +143,21 @@ impl PilotArgs {
         fixed_gain: Option<f64>,
     ) -> Result<AutoDesign, Reported> {
         let m = model.n_constraints();
-        // The pilots run as the design procedure was built for: RK4 at the base's step
-        // with the thesis's step-end rule, so that every interval has dense samples for
-        // the drift bound M (error-controlled steps take about one per interval).
-        let mut pilot = base
-            .clone()
-            .integrator(Integrator::Rk4)
-            .crossing(Crossing::StepEnd);
+        // A fixed step (given) runs the pilots as the design procedure was built for:
+        // RK4 with the thesis's step-end rule, every interval sampled at every step.
+        // Error-controlled steps (the default) keep crossings located: a fixed step too
+        // long for the layer would make the pilot leave it, and a long chain needs
+        // intervals far shorter than any step chosen beforehand.
+        let mut pilot = if base.integrator.is_adaptive() {
+            // At most the step of the thesis's procedure (1e-4 unless --step), so that
+            // long intervals are sampled as densely as there.
+            let h = base.max_step.min(base.step);
+            base.clone().max_step(h)
+        } else {
+            base.clone()
+                .integrator(Integrator::Rk4)
+                .crossing(Crossing::StepEnd)
+        };
         pilot.mu = vec![self.pilot_mu; m];
         pilot.gains = match fixed_gain.or(self.pilot_gain) {
             Some(k) => vec![k; m],
@@ -161,15 +173,27 @@ impl PilotArgs {
             passes: self.passes,
             safety: self.safety,
             mu: mu.map_or_else(MuChoice::default, MuChoice::Given),
+            pilot_retries: self.pilot_retries,
         };
-        auto_design(model, &base.eps, &pilot, &opts).map_err(|e| {
+        let a = auto_design(model, &base.eps, &pilot, &opts).map_err(|e| {
             eprintln!(
                 "error: automatic design of `{}`: {}",
                 model.name(),
                 crate::messages::pilot_run_error(model, &e)
             );
             Reported
-        })
+        })?;
+        if let Some(p) = a.passes.iter().find(|p| p.pilot_left_layer) {
+            eprintln!(
+                "warning: the designed pilot with gains {:e} .. {:e} left its layers at t = {:.6}; \
+                 the design is from the bounds measured up to there and may be too weak \
+                 (a longer --pilot, --safety, or given --mu and --gain)",
+                p.gains.iter().copied().fold(f64::INFINITY, f64::min),
+                p.gains.iter().copied().fold(0.0, f64::max),
+                p.pilot.summary.t_end
+            );
+        }
+        Ok(a)
     }
 }
 
@@ -191,7 +215,8 @@ pub(crate) fn per_constraint(what: &str, values: &[f64], m: usize) -> Result<Vec
 }
 
 /// The design of a model as JSON: per-constraint arrays `mu`, `gain`, `t_min`, the
-/// bounds used (`beta_abs`, `m`: the largest over the passes) and `t_min_design`.
+/// bounds used (`beta_abs`, `m`: the largest over the passes), `t_min_design` and the
+/// names of the quiet constraints (no best mu in the pilot: `quiet`).
 pub(crate) fn design_json(model: &dyn Model, a: &AutoDesign) -> serde_json::Value {
     let m = model.n_constraints();
     let max_over = |f: &dyn Fn(&DesignPass, usize) -> f64| -> Vec<f64> {
@@ -210,5 +235,6 @@ pub(crate) fn design_json(model: &dyn Model, a: &AutoDesign) -> serde_json::Valu
         "beta_abs": max_over(&|p, i| p.pilot.estimate.beta_abs[i]),
         "m": max_over(&|p, i| p.pilot.estimate.m[i]),
         "passes": a.passes.len(),
+        "quiet": a.design.quiet.iter().map(|&i| model.constraint_name(i)).collect::<Vec<_>>(),
     })
 }

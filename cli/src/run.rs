@@ -324,12 +324,16 @@ fn check_args(args: &Args, integration: &Integration, m: usize) -> Result<(), Re
             return Err(Reported);
         }
     }
+    // Fixed-step pilots are refused beforehand when too long; error-controlled ones
+    // take the steps their motion needs (the number of passes is checked for both).
     if m > 0 && (args.mu.trim() == "auto" || args.gain.trim() == "auto") {
-        args.pilot_args.check_work(
-            args.pilot.unwrap_or(args.t_end),
-            integration.step,
-            MAX_STEPS,
-        )?;
+        let duration = args.pilot.unwrap_or(args.t_end);
+        let step = if integration.fixed {
+            integration.step
+        } else {
+            duration
+        };
+        args.pilot_args.check_work(duration, step, MAX_STEPS)?;
     }
     check_outputs(args.csv.as_deref(), args.plot.as_deref())
 }
@@ -406,7 +410,8 @@ pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
             check_number(what, v, false)?;
         }
     }
-    // The pilots run RK4 at --step (1e-4 by default), see PilotArgs::auto_design.
+    // The pilots run as the run (error-controlled, or RK4 at a given --step), see
+    // PilotArgs::auto_design.
     let pilot_base = settings
         .clone()
         .t_end(args.pilot.unwrap_or(args.t_end))
@@ -470,6 +475,7 @@ pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
 /// A fixed gain with the cheap alpha_hat must still cover the neglected `mu^(r-1) |beta|`
 /// (T 3.17); say so when the pilot bounds show that it does not.
 fn warn_uncovered_beta(model: &dyn Model, settings: &Settings, a: &dae_runtime::AutoDesign) {
+    let mut uncovered = 0usize;
     for (i, &r) in model.indices().iter().enumerate() {
         let beta = a
             .passes
@@ -478,12 +484,21 @@ fn warn_uncovered_beta(model: &dyn Model, settings: &Settings, a: &dae_runtime::
             .fold(0.0, f64::max);
         let need = settings.mu[i].powi(r as i32 - 1) * beta;
         if settings.gains[i] <= need {
-            eprintln!(
-                "warning: gain {} of `{}` does not cover mu^(r-1) |beta| = {need:.4} neglected by the cheap alpha_hat; use --alpha exact or a larger gain",
-                settings.gains[i],
-                model.constraint_name(i)
-            );
+            uncovered += 1;
+            // A large model gets the first few by name and a count, not a line each.
+            if uncovered <= crate::bounded::TEXT_LINES_MAX {
+                eprintln!(
+                    "warning: gain {} of `{}` does not cover mu^(r-1) |beta| = {need:.4} neglected by the cheap alpha_hat; use --alpha exact or a larger gain",
+                    settings.gains[i],
+                    model.constraint_name(i)
+                );
+            }
         }
+    }
+    if uncovered > crate::bounded::TEXT_LINES_MAX {
+        eprintln!(
+            "warning: ... {uncovered} constraints in all whose gain does not cover mu^(r-1) |beta|"
+        );
     }
 }
 

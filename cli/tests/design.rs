@@ -250,3 +250,53 @@ fn errors_name_the_flags_and_constraints_as_written() {
         }
     }
 }
+
+/// A family model sized with `--set`: in a short pilot the links far from the pin and the
+/// falling end barely move, so their `T_min(mu)` has no maximum; they are designed as
+/// quiet (the smallest mu that keeps the others' period, never limiting), listed in the
+/// JSON, and the text lists 16 constraints, not 40.
+#[test]
+fn a_sized_family_model_is_designed_with_its_quiet_links_named() {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/models/chain.dae");
+    let args = |json: bool| {
+        let mut a = vec![
+            "design",
+            file.to_str().unwrap(),
+            "--set",
+            "N=40",
+            "--pilot",
+            "0.05",
+            "--eps",
+            "0.01",
+        ];
+        if json {
+            a.push("--json");
+        }
+        daec(&a)
+    };
+    let v = json(&args(true));
+    assert_eq!(v["constraints"].as_array().unwrap().len(), 40);
+    let quiet = v["quiet"].as_array().unwrap();
+    assert!(!quiet.is_empty() && quiet.len() < 40, "{v}");
+    let t_min = num(&v["t_min_design"]);
+    for q in quiet {
+        let i: usize = q.as_str().unwrap()["link[".len()..]
+            .trim_end_matches(']')
+            .parse()
+            .unwrap();
+        assert!(num(&v["t_min"][i]) >= t_min * (1.0 - 1e-12), "{q}: {v}");
+    }
+    let text = args(false);
+    assert_eq!(text.status.code(), Some(0));
+    let out = String::from_utf8_lossy(&text.stdout);
+    assert_eq!(
+        out.lines().filter(|l| l.starts_with("  link[")).count(),
+        16,
+        "{out}"
+    );
+    assert!(out.contains("the 16 of 40 constraints"), "{out}");
+    assert!(
+        out.contains(&format!("{} quiet constraint(s)", quiet.len())),
+        "{out}"
+    );
+}

@@ -181,8 +181,8 @@
 //! left first, the largest `|s_i| / eps_i` with its constraint and time, every
 //! constraint that left, and how many steps and how much time were spent beyond
 //! `(1 + bound_tol) eps_i` (on the dense `s` with located crossings). A nearly singular
-//! `J_s` is named there too: the pivots of every factorisation are compared with the
-//! largest seen in the run ([`LinearSolver::pivot_range`]; dense LU, sparse and tree
+//! `J_s` is named there too: the smallest pivot of every factorisation is compared with
+//! the largest value it had earlier in the run ([`LinearSolver::pivot_range`]; dense LU, sparse and tree
 //! factors, Jacobi and ILU(0) have pivots, the Gauss-Seidel and CG iterations do not),
 //! and a ratio below [`NEAR_SINGULAR`] (1e-3: the control `v`, and with it the drift
 //! bound `M` the gains were designed for, grow by its inverse) is reported with its

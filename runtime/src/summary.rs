@@ -55,7 +55,7 @@ pub struct BoundLoss {
 }
 
 /// `J_s` nearly singular: the smallest pivot of a factorisation fell below
-/// [`NEAR_SINGULAR`] times the largest pivot seen in the run so far.
+/// [`NEAR_SINGULAR`] times the largest value the smallest pivot had in the run so far.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct NearSingular {
     /// The smallest pivot ratio seen.
@@ -64,8 +64,8 @@ pub struct NearSingular {
     pub t: f64,
 }
 
-/// Pivot ratio (smallest pivot of a factorisation of `J_s` over the largest pivot seen
-/// in the run so far) under which `J_s` counts as nearly singular. A ratio `r` means
+/// Pivot ratio (smallest pivot of a factorisation of `J_s` over the largest value the
+/// smallest pivot had in the run so far) under which `J_s` counts as nearly singular. A ratio `r` means
 /// that the control `v = J_s^{-1}(...)` is about `1/r` times larger than it was for the
 /// same right-hand side earlier in the run, and with it the drift of `w^(r)` within an
 /// interval (`M`, which contains `J_Omega' v`) that the gains were designed for: a

@@ -285,3 +285,46 @@ fn a_chain_of_a_thousand_links_holds_its_layers() {
         "max |s| = {worst}"
     );
 }
+
+/// The automatic design's first pilot (exact alpha) on a chain of 20 links with a heavy
+/// end: a gain of 1e-3 is below the drift of the links at the pin (`daec run` with it
+/// leaves the layer at t = 0.011), so the pilot is stopped and runs again with ten times
+/// its gains until one holds; the pass records those gains. Without retries the loss is
+/// the error.
+#[test]
+fn the_first_pilot_on_a_chain_runs_again_with_ten_times_its_gains() {
+    use dae_runtime::{AutoDesignOptions, Integrator, PilotRunError, auto_design};
+    let spec = Spec {
+        sizes: vec![("N".into(), 20)],
+        params: vec![("m_end".into(), 10.0)],
+        ..Spec::default()
+    };
+    let chain = FamilyInstance::interpreted(example("chain.dae"), &spec).unwrap();
+    let m = chain.n_constraints();
+    let weak = 1e-3;
+    let pilot = Settings::new(vec![1e-3; m], vec![0.1; m], vec![weak; m])
+        .integrator(Integrator::DormandPrince)
+        .max_step(1e-4)
+        .t_end(0.5);
+    let opts = AutoDesignOptions {
+        passes: 1,
+        ..Default::default()
+    };
+    let a = auto_design(&chain, &vec![1e-3; m], &pilot, &opts).unwrap();
+    let k = a.passes[0].gains[0];
+    let tries = (k / weak).log10();
+    assert!(
+        tries >= 1.0 - 1e-9 && (tries - tries.round()).abs() < 1e-9,
+        "gains {k}: not 10^j times {weak}"
+    );
+    assert!(a.passes[0].gains.iter().all(|g| *g == k));
+    assert!(!a.passes[0].pilot_left_layer);
+    let none = AutoDesignOptions {
+        pilot_retries: 0,
+        ..opts
+    };
+    assert!(matches!(
+        auto_design(&chain, &vec![1e-3; m], &pilot, &none),
+        Err(PilotRunError::LayerLost { .. })
+    ));
+}

@@ -173,3 +173,35 @@ fn auto_design_at_given_mu_designs_only_the_gains() {
         Err(PilotRunError::Mismatch(_))
     ));
 }
+
+/// A pilot with located crossings whose gains are below the drift of its layer (the
+/// cheap alpha_hat neglects `mu |beta|`, far above a gain of 1e-4 here) is stopped at
+/// the loss with the error naming where, instead of crawling on outside its layer.
+#[test]
+fn a_pilot_that_leaves_its_layer_stops_there_with_the_loss() {
+    use dae_runtime::Integrator;
+    let model = Tracking::default();
+    let weak = 1e-4;
+    let pilot = Settings::new(vec![1e-3], vec![0.05], vec![weak])
+        .integrator(Integrator::DormandPrince)
+        .max_step(1e-3)
+        .t_end(3.0);
+    match pilot_run(&model, &pilot) {
+        Err(PilotRunError::LayerLost {
+            constraint,
+            t,
+            ratio,
+            gain_min,
+            gain_max,
+            ..
+        }) => {
+            assert_eq!(constraint, 0);
+            assert!(
+                t > 0.0 && t < 3.0 && ratio > 1.0,
+                "t = {t}, |s|/eps = {ratio}"
+            );
+            assert_eq!((gain_min, gain_max), (weak, weak));
+        }
+        other => panic!("expected the weak pilot to leave its layer, got {other:?}"),
+    }
+}

@@ -60,6 +60,10 @@ pub struct Design {
     pub t_min: f64,
     /// The constraint that attains `t_min` (the first one on ties).
     pub limiting: usize,
+    /// The quiet constraints (see [`design`]): their `T_i^min(mu)` had no maximum in the
+    /// search range, and they were given the smallest `mu` that keeps `t_min`. Empty
+    /// for [`design_at`].
+    pub quiet: Vec<usize>,
 }
 
 /// Maximises `T_min(mu)` of one constraint with `k = gain.gain(spec, mu)` substituted
@@ -149,6 +153,17 @@ pub fn optimise_mu(
 /// Optimises every constraint with [`optimise_mu`] and takes `T_min = min_i T_i^min`
 /// (T 3.15). Errors name the constraint ([`DesignError::Constraint`]).
 ///
+/// **Quiet constraints.** A constraint whose pilot showed little or no drift has a
+/// `T_i^min(mu)` that keeps growing up to the top of the search range (with `M = 0` and
+/// `beta = 0` it is `mu / c_r`): it has no best `mu`, but it does not need one, because
+/// it does not limit the period. Such a constraint gets the smallest `mu` at which
+/// `T_i^min(mu)` reaches the period of the others (the fastest surface that keeps the
+/// design's period; found on the scan and refined by bisection) and is listed in
+/// [`Design::quiet`]. If every constraint is quiet, or a quiet one cannot reach the
+/// others' period inside the range, the error names it
+/// ([`DesignError::NoInteriorMaximum`]). In a long chain only the links near its ends
+/// move in a short pilot; the middle ones are quiet.
+///
 /// The double pendulum of the thesis (docs/method.md section 8), relaxed gains with (T 4.6):
 ///
 /// ```
@@ -164,6 +179,7 @@ pub fn optimise_mu(
 /// let d = design(&[link(1.3e3, 9e4), link(2.3e3, 11e4)], GainChoice::Relaxed, &MuSearch::default())?;
 /// assert!((d.constraints[0].mu - 0.076).abs() < 0.001);
 /// assert!((d.t_min - 0.0053).abs() < 1e-4);
+/// assert!(d.quiet.is_empty());
 /// # Ok::<(), dae_runtime::DesignError>(())
 /// ```
 pub fn design(
@@ -171,7 +187,105 @@ pub fn design(
     gain: GainChoice,
     search: &MuSearch,
 ) -> Result<Design, DesignError> {
-    per_constraint(specs, |_, spec| optimise_mu(spec, gain, search))
+    if specs.is_empty() {
+        return Err(DesignError::NoConstraints);
+    }
+    let named = |index: usize| {
+        move |e: DesignError| DesignError::Constraint {
+            index,
+            source: Box::new(e),
+        }
+    };
+    // Pass 1: every constraint on its own; the quiet ones are set aside.
+    let mut found: Vec<Option<ConstraintDesign>> = Vec::with_capacity(specs.len());
+    let mut quiet = Vec::new();
+    let mut first_quiet_error = None;
+    for (i, spec) in specs.iter().enumerate() {
+        match optimise_mu(spec, gain, search) {
+            Ok(d) => found.push(Some(d)),
+            // At the top end of the range (not the bottom): T_min still growing.
+            Err(e @ DesignError::NoInteriorMaximum { mu, .. })
+                if mu * mu > search.lo * search.hi =>
+            {
+                first_quiet_error.get_or_insert((i, e));
+                quiet.push(i);
+                found.push(None);
+            }
+            Err(e) => return Err(named(i)(e)),
+        }
+    }
+    // Pass 2: the quiet ones take the smallest mu that keeps the others' period.
+    if !quiet.is_empty() {
+        let target = found
+            .iter()
+            .flatten()
+            .map(|d| d.t_min)
+            .fold(f64::INFINITY, f64::min);
+        if !target.is_finite() {
+            let (i, e) = first_quiet_error.expect("a quiet constraint was recorded");
+            return Err(named(i)(e));
+        }
+        for &i in &quiet {
+            let d = smallest_mu_reaching(&specs[i], gain, search, target)
+                .map_err(named(i))?
+                .ok_or_else(|| {
+                    named(i)(DesignError::NoInteriorMaximum {
+                        mu: search.hi,
+                        lo: search.lo,
+                        hi: search.hi,
+                    })
+                })?;
+            found[i] = Some(d);
+        }
+    }
+    let constraints: Vec<ConstraintDesign> = found.into_iter().flatten().collect();
+    Ok(finish(constraints, quiet))
+}
+
+/// The smallest `mu` on the scan of `search` (refined by bisection in `ln mu` between
+/// it and the scan point below) at which `T_min(mu) >= target`, with its gain; `None`
+/// if no scan point reaches `target`.
+fn smallest_mu_reaching(
+    spec: &ConstraintSpec,
+    gain: GainChoice,
+    search: &MuSearch,
+    target: f64,
+) -> Result<Option<ConstraintDesign>, DesignError> {
+    let eval = |x: f64| -> Result<ConstraintDesign, DesignError> {
+        let mu = x.exp();
+        let k = gain.gain(spec, mu)?;
+        Ok(ConstraintDesign {
+            mu,
+            k,
+            t_min: t_min(spec, mu, k)?,
+        })
+    };
+    let (x_lo, x_hi) = (search.lo.ln(), search.hi.ln());
+    let n = search.scan_points;
+    let x_at = |i: usize| x_lo + (x_hi - x_lo) * i as f64 / (n - 1) as f64;
+    for i in 0..n {
+        let d = eval(x_at(i))?;
+        if d.t_min < target {
+            continue;
+        }
+        if i == 0 {
+            return Ok(Some(d));
+        }
+        // T(a) < target <= T(b): bisect, keeping the reaching end.
+        let (mut a, mut b, mut best) = (x_at(i - 1), x_at(i), d);
+        while b - a > search.ln_tol {
+            let c = 0.5 * (a + b);
+            let dc = eval(c)?;
+            if dc.t_min >= target {
+                b = c;
+                best = dc;
+            } else {
+                a = c;
+            }
+        }
+        return Ok(Some(best));
+    }
+    Ok(None)
 }
 
 /// The design at given surface parameters: `k_i = gain.gain(spec_i, mu_i)` and
@@ -219,17 +333,23 @@ fn per_constraint(
             })
         })
         .collect::<Result<Vec<_>, _>>()?;
+    Ok(finish(constraints, Vec::new()))
+}
+
+/// The design of `constraints` (not empty): the smallest `T_i^min` and where it is.
+fn finish(constraints: Vec<ConstraintDesign>, quiet: Vec<usize>) -> Design {
     let mut limiting = 0;
     for (i, c) in constraints.iter().enumerate() {
         if c.t_min < constraints[limiting].t_min {
             limiting = i;
         }
     }
-    Ok(Design {
+    Design {
         t_min: constraints[limiting].t_min,
         limiting,
         constraints,
-    })
+        quiet,
+    }
 }
 
 #[cfg(test)]

@@ -9,6 +9,7 @@
 //! the model at every sample of the interval, and at the update point itself with the
 //! new `v` (the interval's reference, see [`PilotEstimator`]).
 
+use std::cmp::Ordering;
 use std::io;
 
 use super::{
@@ -32,6 +33,28 @@ pub enum PilotRunError {
     /// The arguments do not fit the model.
     #[error("{0}")]
     Mismatch(String),
+    /// The pilot left a layer after reaching: its gains were too weak for the model's
+    /// drift, and the motion it measured is not the one a design is for. The pilot was
+    /// stopped there.
+    #[error(
+        "the pilot (gains {gain_min:e} .. {gain_max:e}) left the layer of constraint {constraint} at t = {t}: |s|/eps = {ratio:.3}"
+    )]
+    LayerLost {
+        /// The constraint that left first.
+        constraint: usize,
+        /// When.
+        t: f64,
+        /// Its `|s| / eps` there.
+        ratio: f64,
+        /// The smallest and largest gain of the pilot.
+        gain_min: f64,
+        /// See `gain_min`.
+        gain_max: f64,
+        /// When `J_s` was nearly singular in the pilot (its smallest pivot below
+        /// [`NEAR_SINGULAR`](crate::NEAR_SINGULAR) of its earlier largest value): then
+        /// no gain keeps the layer there.
+        near_singular_at: Option<f64>,
+    },
 }
 
 /// What a pilot run measured: the bounds (raw maxima, no safety factor) and the run's
@@ -51,6 +74,11 @@ pub struct PilotRun {
 /// estimate is the raw maximum; multiply by a safety factor before designing if the
 /// pilot is short.
 ///
+/// A pilot with located crossings that leaves a layer after reaching (beyond
+/// `(1 + bound_tol) eps_i` at a step end) is stopped there with [`PilotRunError::LayerLost`]: a pilot whose gains are
+/// too weak for the model's drift can crawl for a long time outside its layers, and
+/// what it measures then is not a motion to design for.
+///
 /// Cost: per step one `beta` and one `J_Omega` evaluation on top of the simulation.
 /// Works with [`Policy::Monitor`](crate::Policy::Monitor) and
 /// [`Policy::Fixed`](crate::Policy::Fixed); [`Policy::Spsm`](crate::Policy::Spsm) has no
@@ -64,13 +92,65 @@ pub fn pilot_run<M: Model + ?Sized>(
             "a pilot run needs a held control: use the monitor or fixed policy, not SPSM".into(),
         ));
     }
-    let mut sink = PilotSink::new(model, settings);
-    let summary = Simulator::new(model, settings.clone())?.run(&mut sink)?;
-    if let Some(e) = sink.error.take() {
-        return Err(e.into());
+    let out = pilot_run_until_lost(model, settings)?;
+    match (out.lost, out.run) {
+        (Some(lost), _) => Err(lost),
+        (None, Some(run)) => Ok(run),
+        (None, None) => unreachable!("a pilot that held has a run"),
     }
-    let estimate = sink.estimator.estimate(1.0)?;
-    Ok(PilotRun { estimate, summary })
+}
+
+/// [`pilot_run`], but a pilot that left a layer is returned with what it measured up
+/// to there (its estimate is `None` when that gave no drift data) and the loss in
+/// `lost`.
+fn pilot_run_until_lost<M: Model + ?Sized>(
+    model: &M,
+    settings: &Settings,
+) -> Result<PilotOutcome, PilotRunError> {
+    let mut sink = PilotSink::new(model, settings);
+    let mut sim = Simulator::new(model, settings.clone())?;
+    let result = sim.run(&mut sink);
+    let Some((constraint, t, ratio)) = sink.lost else {
+        let summary = result?;
+        if let Some(e) = sink.error.take() {
+            return Err(e.into());
+        }
+        let estimate = sink.estimator.estimate(1.0)?;
+        return Ok(PilotOutcome {
+            run: Some(PilotRun { estimate, summary }),
+            lost: None,
+        });
+    };
+    // Stopped by the sink at the loss: the summary of the run up to there.
+    let summary = sim.finish(&mut crate::NoTrace)?;
+    let near_singular_at = summary
+        .min_pivot_ratio
+        .filter(|(r, _)| *r < crate::NEAR_SINGULAR)
+        .map(|(_, t)| t);
+    let fold = |f: fn(f64, f64) -> f64, init| settings.gains.iter().copied().fold(init, f);
+    let lost = PilotRunError::LayerLost {
+        constraint,
+        t,
+        ratio,
+        gain_min: fold(f64::min, f64::INFINITY),
+        gain_max: fold(f64::max, 0.0),
+        near_singular_at,
+    };
+    let run = match (sink.error.take(), sink.estimator.estimate(1.0)) {
+        (None, Ok(estimate)) => Some(PilotRun { estimate, summary }),
+        _ => None,
+    };
+    Ok(PilotOutcome {
+        run,
+        lost: Some(lost),
+    })
+}
+
+/// What [`pilot_run_until_lost`] gives.
+struct PilotOutcome {
+    run: Option<PilotRun>,
+    /// A [`PilotRunError::LayerLost`] when the pilot left a layer.
+    lost: Option<PilotRunError>,
 }
 
 /// The estimator fed by the simulator's samples.
@@ -78,6 +158,13 @@ struct PilotSink<'a, M: Model + ?Sized> {
     model: &'a M,
     estimator: PilotEstimator,
     eps: Vec<f64>,
+    /// `(1 + bound_tol)`: beyond it a layer counts as left.
+    tol: f64,
+    /// Whether to stop at a layer left: with crossings located only (with the thesis's
+    /// step-end rule a step's overshoot is part of the procedure).
+    watch: bool,
+    /// The first layer left after reaching: constraint, time, `|s| / eps`.
+    lost: Option<(usize, f64, f64)>,
     window_from: f64,
     /// Whether all `|s_i| <= eps_i` held at some sample (the reaching phase is over).
     reached: bool,
@@ -107,6 +194,9 @@ impl<'a, M: Model + ?Sized> PilotSink<'a, M> {
             model,
             estimator: PilotEstimator::new(m),
             eps: settings.eps.clone(),
+            tol: 1.0 + settings.bound_tol,
+            watch: matches!(settings.crossing, crate::Crossing::Located { .. }),
+            lost: None,
             window_from: settings.t_start + settings.settle,
             reached: false,
             feeding: false,
@@ -195,6 +285,22 @@ impl<M: Model + ?Sized> Sink for PilotSink<'_, M> {
         false
     }
     fn record(&mut self, s: &Sample<'_>) -> io::Result<()> {
+        if self.reached && self.watch {
+            let left =
+                s.s.iter()
+                    .zip(&self.eps)
+                    // Beyond the tolerance, or NaN: left.
+                    .position(|(s, e)| {
+                        !matches!(
+                            s.abs().partial_cmp(&(self.tol * e)),
+                            Some(Ordering::Less | Ordering::Equal)
+                        )
+                    });
+            if let Some(i) = left {
+                self.lost = Some((i, s.t, s.s[i].abs() / self.eps[i]));
+                return Err(io::Error::other("the pilot left a layer"));
+            }
+        }
         if self.error.is_none() {
             if let Err(e) = self.feed(s) {
                 self.error = Some(e);
@@ -266,11 +372,14 @@ pub struct AutoDesignOptions {
     pub safety: f64,
     /// Searched or given `mu_i`.
     pub mu: MuChoice,
+    /// How many times the first pilot may run again with ten times its gains when it
+    /// leaves a layer ([`PilotRunError::LayerLost`]).
+    pub pilot_retries: usize,
 }
 
 impl Default for AutoDesignOptions {
     /// Relaxed gains with the general (T 3.14) bound, two passes, no safety factor, `mu`
-    /// searched.
+    /// searched, up to 4 retries of the first pilot (gains up to 10^4 times the given).
     fn default() -> Self {
         AutoDesignOptions {
             gain: GainChoice::Relaxed,
@@ -278,6 +387,7 @@ impl Default for AutoDesignOptions {
             passes: 2,
             safety: 1.0,
             mu: MuChoice::default(),
+            pilot_retries: 4,
         }
     }
 }
@@ -294,6 +404,10 @@ pub struct DesignPass {
     pub alpha: AlphaChoice,
     /// The pilot's measurements (this pass only).
     pub pilot: PilotRun,
+    /// Whether this (designed) pilot left a layer and was stopped there: its
+    /// measurements are those up to the loss, and no pass follows. The final run may
+    /// then leave its layers too (and says so).
+    pub pilot_left_layer: bool,
     /// The design from the largest bounds of this and the earlier passes.
     pub design: Design,
 }
@@ -313,8 +427,16 @@ pub struct AutoDesign {
 ///
 /// The pilot needs some `mu` and gains before there is a design. The first pass uses
 /// `pilot.mu` and `pilot.gains` with the **exact** alpha: then `s' = -K sgn(s)` up to the
-/// drift within an interval, so a modest gain keeps the motion in the layers whatever
-/// `|beta|` turns out to be. Later passes use the previous design's `mu_i`, `k_i` with
+/// drift within an interval, so a gain above the drift keeps the motion in the layers
+/// whatever `|beta|` turns out to be. What is above the drift depends on the model (a
+/// long chain's links near its pin drift many orders of magnitude faster than a double
+/// pendulum's): a first pilot that leaves a layer is stopped and runs again with ten
+/// times its gains, up to [`AutoDesignOptions::pilot_retries`] times; the pilot that
+/// held is the one [`DesignPass`] records. A designed pilot (second pass on) that leaves
+/// a layer is stopped too: what it measured up to there enters the last design, and the
+/// passes end there ([`DesignPass::pilot_left_layer`]); running again with a design
+/// from larger bounds is a feedback loop (larger gains, larger measured drift) that
+/// need not settle. Later passes use the previous design's `mu_i`, `k_i` with
 /// the **cheap** alpha, the configuration the designed gains are meant for (every
 /// [`GainChoice`] except `Fixed` includes the `mu^(r-1) |beta|` the cheap alpha
 /// neglects; with `Fixed` the later passes keep the exact alpha), so the bounds are measured on motion like the final run's. `M` depends on
@@ -359,8 +481,27 @@ pub fn auto_design<M: Model + ?Sized>(
     }
     let mut passes: Vec<DesignPass> = Vec::with_capacity(options.passes.min(8));
     let (mut beta_max, mut m_max) = (vec![0.0f64; m], vec![0.0f64; m]);
-    for _ in 0..options.passes {
-        let run = pilot_run(model, &settings)?;
+    for pass in 0..options.passes {
+        // Only the first pilot runs again: its gains are a guess, the later ones designed.
+        let mut retries = if pass == 0 { options.pilot_retries } else { 0 };
+        let (run, left) = loop {
+            let out = pilot_run_until_lost(model, &settings)?;
+            match (out.lost, out.run) {
+                (None, Some(run)) => break (run, false),
+                (None, None) => unreachable!("a pilot that held has a run"),
+                // The first pilot's gains are below the drift: ten times them.
+                (Some(_), _) if retries > 0 => {
+                    retries -= 1;
+                    settings.gains.iter_mut().for_each(|k| *k *= 10.0);
+                }
+                // A designed pilot left its layers: the drift is larger than the bounds
+                // it was designed from. What it measured up to there enters the last
+                // design, and the passes end (designing again from it is a feedback
+                // loop: larger gains, larger measured drift).
+                (Some(_), Some(partial)) if pass > 0 => break (partial, true),
+                (Some(lost), _) => return Err(lost),
+            }
+        };
         for i in 0..m {
             beta_max[i] = beta_max[i].max(run.estimate.beta_abs[i]);
             m_max[i] = m_max[i].max(run.estimate.m[i]);
@@ -380,8 +521,12 @@ pub fn auto_design<M: Model + ?Sized>(
             gains: settings.gains.clone(),
             alpha: settings.alpha,
             pilot: run,
+            pilot_left_layer: left,
             design: d.clone(),
         });
+        if left {
+            break;
+        }
         settings.mu = d.constraints.iter().map(|c| c.mu).collect();
         settings.gains = d.constraints.iter().map(|c| c.k).collect();
         // A fixed gain has no mu^(r-1) |beta| term, so only the exact alpha fits it.

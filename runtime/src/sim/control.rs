@@ -83,8 +83,11 @@ pub(crate) struct Controller {
     zsolver: Solver,
     ones: Vec<f64>,
     zrhs: Vec<f64>,
-    /// Largest pivot magnitude seen in the run, and the smallest ratio of a
-    /// factorisation's least pivot to it, with its time.
+    /// Largest value of a factorisation's least pivot magnitude seen in the run, and the
+    /// smallest ratio of a factorisation's least pivot to it, with its time. The least
+    /// pivot is compared with its own history, not with the other pivots of the same
+    /// factor: a long chain's factor spreads its pivots over a factor `m` from the start
+    /// without anything having gone wrong.
     pivot_max: f64,
     pub(crate) min_pivot_ratio: Option<(f64, f64)>,
     robust: Robustness,
@@ -254,8 +257,8 @@ impl Controller {
         match self.solver.factor(&self.jvals, &self.mu_pow) {
             Ok(()) => {
                 self.factored = true;
-                if let Some((lo, hi)) = self.solver.pivot_range() {
-                    self.pivot_max = self.pivot_max.max(hi);
+                if let Some((lo, _)) = self.solver.pivot_range() {
+                    self.pivot_max = self.pivot_max.max(lo);
                     let ratio = lo / self.pivot_max;
                     if self.min_pivot_ratio.is_none_or(|(r, _)| ratio < r) {
                         self.min_pivot_ratio = Some((ratio, t));

@@ -264,3 +264,56 @@ fn design_takes_the_smallest_period_and_names_failing_constraints() {
         Err(DesignError::NoConstraints)
     );
 }
+
+/// A constraint without drift (`M = 0`, `beta = 0`) beside the thesis's links: with the
+/// relaxed gain (`k = 0`) its period is `T(mu) = eps / (c_3 eps / mu) = mu / c_3`, which
+/// grows without a maximum; it must get the closed-form smallest mu that keeps the
+/// others' period, `mu = c_3 T_min` with `c_3 = 12` under (T 3.14), and not limit.
+#[test]
+fn a_quiet_constraint_takes_the_smallest_mu_that_keeps_the_period() {
+    let links = [
+        pendulum_link(1.3e3, 9e4, LayerBound::General),
+        pendulum_link(0.0, 0.0, LayerBound::General),
+        pendulum_link(2.3e3, 11e4, LayerBound::General),
+    ];
+    let d = design(&links, GainChoice::Relaxed, &MuSearch::default()).unwrap();
+    let alone = design(
+        &[links[0], links[2]],
+        GainChoice::Relaxed,
+        &MuSearch::default(),
+    )
+    .unwrap();
+    assert_eq!(d.quiet, vec![1]);
+    assert_eq!(
+        d.t_min, alone.t_min,
+        "the quiet link must not change the period"
+    );
+    assert_eq!(d.limiting, 2);
+    let q = d.constraints[1];
+    let closed_form = 12.0 * alone.t_min;
+    assert!(
+        (q.mu - closed_form).abs() <= 1e-8 * closed_form,
+        "mu {} against 12 T_min = {closed_form}",
+        q.mu
+    );
+    assert!(q.t_min >= d.t_min);
+    assert_eq!(q.k, 0.0);
+}
+
+/// Only quiet constraints: there is no period to keep, so the design has no mu to give.
+#[test]
+fn only_quiet_constraints_are_an_error_naming_the_first() {
+    let links = [
+        pendulum_link(0.0, 0.0, LayerBound::General),
+        pendulum_link(0.0, 0.0, LayerBound::General),
+    ];
+    match design(&links, GainChoice::Relaxed, &MuSearch::default()) {
+        Err(DesignError::Constraint { index: 0, source }) => {
+            assert!(
+                matches!(*source, DesignError::NoInteriorMaximum { .. }),
+                "{source:?}"
+            )
+        }
+        other => panic!("expected the first constraint's NoInteriorMaximum, got {other:?}"),
+    }
+}
