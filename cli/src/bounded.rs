@@ -94,13 +94,17 @@ fn summary_of(a: &[Value], model: &dyn Model) -> Value {
 /// The constraints listed in the text summary: all of them up to [`TEXT_LINES_MAX`],
 /// else the ones with the largest `max |s| / eps`, in constraint order.
 pub(crate) fn listed_constraints(max_abs_s: &[f64], eps: &[f64]) -> Vec<usize> {
-    let m = max_abs_s.len();
+    listed_by(max_abs_s.len(), |i| max_abs_s[i] / eps[i])
+}
+
+/// Of `0..m`, all up to [`TEXT_LINES_MAX`], else the ones with the largest `key`, in
+/// order (a selection, `O(m)`).
+pub(crate) fn listed_by(m: usize, key: impl Fn(usize) -> f64) -> Vec<usize> {
     if m <= TEXT_LINES_MAX {
         return (0..m).collect();
     }
-    let ratio = |i: usize| max_abs_s[i] / eps[i];
     let mut order: Vec<usize> = (0..m).collect();
-    order.select_nth_unstable_by(TEXT_LINES_MAX - 1, |&a, &b| ratio(b).total_cmp(&ratio(a)));
+    order.select_nth_unstable_by(TEXT_LINES_MAX - 1, |&a, &b| key(b).total_cmp(&key(a)));
     order.truncate(TEXT_LINES_MAX);
     order.sort_unstable();
     order

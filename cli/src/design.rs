@@ -183,13 +183,8 @@ fn from_pilot(args: &Args, file: &std::path::Path) -> Result<(), Reported> {
     }
     // The default pilot gain is 2 eps / (100 h) with this h (1e-4 for error control).
     let step = args.step.unwrap_or(1e-4);
-    // The passes always; the steps of fixed-step pilots only (error control takes what
-    // the motion needs).
-    args.pilot_args.check_work(
-        duration,
-        args.step.unwrap_or(duration),
-        crate::run::MAX_STEPS,
-    )?;
+    args.pilot_args
+        .check_work(duration, args.step, crate::run::MAX_STEPS)?;
     let eps = per_constraint("--eps", &args.eps, m)?;
     let base = Settings::new(eps, vec![1.0; m], vec![1.0; m])
         .step(step)
@@ -209,8 +204,7 @@ fn from_pilot(args: &Args, file: &std::path::Path) -> Result<(), Reported> {
         println!("model {}", model.name());
         // The constraints that set the period first: all of them for a small model, the
         // ones with the shortest T_i^min for a large one.
-        let t: Vec<f64> = a.design.constraints.iter().map(|c| -c.t_min).collect();
-        let listed = crate::bounded::listed_constraints(&t, &vec![1.0; m]);
+        let listed = crate::bounded::listed_by(m, |i| -a.design.constraints[i].t_min);
         if listed.len() < m {
             println!(
                 "  (the {} of {m} constraints with the shortest t_min; --json for all)",

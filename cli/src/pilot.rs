@@ -102,12 +102,13 @@ impl PilotArgs {
         at_least("--safety", self.safety, 1.0)
     }
 
-    /// Refuse, before any work, more passes than [`MAX_PASSES`] or pilot runs that
-    /// together take more than `max_steps` fixed steps of `step` over `duration`.
+    /// Refuse, before any work, more passes than [`MAX_PASSES`] or, with a fixed step,
+    /// pilot runs that together take more than `max_steps` steps over `duration`
+    /// (error-controlled pilots take the steps their motion needs).
     pub(crate) fn check_work(
         &self,
         duration: f64,
-        step: f64,
+        fixed_step: Option<f64>,
         max_steps: f64,
     ) -> Result<(), Reported> {
         if self.passes == 0 || self.passes > MAX_PASSES {
@@ -117,6 +118,9 @@ impl PilotArgs {
             );
             return Err(Reported);
         }
+        let Some(step) = fixed_step else {
+            return Ok(());
+        };
         let steps = self.passes as f64 * duration / step;
         if steps > max_steps {
             eprintln!(

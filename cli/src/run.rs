@@ -324,16 +324,12 @@ fn check_args(args: &Args, integration: &Integration, m: usize) -> Result<(), Re
             return Err(Reported);
         }
     }
-    // Fixed-step pilots are refused beforehand when too long; error-controlled ones
-    // take the steps their motion needs (the number of passes is checked for both).
     if m > 0 && (args.mu.trim() == "auto" || args.gain.trim() == "auto") {
-        let duration = args.pilot.unwrap_or(args.t_end);
-        let step = if integration.fixed {
-            integration.step
-        } else {
-            duration
-        };
-        args.pilot_args.check_work(duration, step, MAX_STEPS)?;
+        args.pilot_args.check_work(
+            args.pilot.unwrap_or(args.t_end),
+            integration.fixed.then_some(integration.step),
+            MAX_STEPS,
+        )?;
     }
     check_outputs(args.csv.as_deref(), args.plot.as_deref())
 }

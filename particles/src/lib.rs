@@ -88,7 +88,7 @@ pub use builders::{
     grid_index, strands,
 };
 pub use dbsmc::Dbsmc;
-pub use model::{ModelError, ParticleDae, ParticleModel};
+pub use model::{ModelError, ParticleDae, ParticleModel, check_pin_change};
 pub use motion::{GrabPath, Kinematics, Motion, Pin, Sway, smoothstep7};
 pub use scene::{FRAME, Frame, Scene, SceneError, WorstStrain};
 pub use system::{

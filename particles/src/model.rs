@@ -479,6 +479,50 @@ impl Model for ParticleModel {
     }
 }
 
+/// Whether particle `k` may be pinned (`pinning`) or freed, for a model of the links
+/// `links` (particle pairs) whose particles are pinned as `pins` and whose link `l` is
+/// constraint `link_constraint[l]` (`None`: left out because both its ends were pinned
+/// when the model was built): a link keeps a free end, and a left-out link stays so.
+/// The check every [`ParticleDae::set_pin`] makes before changing anything.
+pub fn check_pin_change(
+    links: &[(usize, usize)],
+    pins: &[Option<Pin>],
+    link_constraint: &[Option<usize>],
+    k: usize,
+    pinning: bool,
+) -> Result<(), ModelError> {
+    let n = pins.len();
+    if k >= n {
+        return Err(ModelError::NoSuchParticle {
+            particle: k,
+            particles: n,
+        });
+    }
+    for (l, &(a, b)) in links.iter().enumerate() {
+        if a != k && b != k {
+            continue;
+        }
+        let other = if a == k { b } else { a };
+        if pinning && pins[other].is_some() {
+            return Err(ModelError::PinnedLink {
+                link: l,
+                a,
+                b,
+                reason: "both ends would be pinned; a link needs one free end",
+            });
+        }
+        if !pinning && link_constraint[l].is_none() {
+            return Err(ModelError::PinnedLink {
+                link: l,
+                a,
+                b,
+                reason: "was dropped when the model was built (both ends pinned); build the model with this particle free",
+            });
+        }
+    }
+    Ok(())
+}
+
 impl ParticleDae for ParticleModel {
     fn n_particles(&self) -> usize {
         self.mass.len()
@@ -493,42 +537,22 @@ impl ParticleDae for ParticleModel {
         self.rest[i]
     }
     fn set_pin(&mut self, k: usize, pin: Option<Pin>) -> Result<(), ModelError> {
-        let n = self.mass.len();
-        if k >= n {
-            return Err(ModelError::NoSuchParticle {
-                particle: k,
-                particles: n,
-            });
-        }
-        for (l, &(a, b)) in self.system_links.iter().enumerate() {
-            if a != k && b != k {
-                continue;
-            }
-            let other = if a == k { b } else { a };
-            if pin.is_some() && self.pins[other].is_some() {
-                return Err(ModelError::PinnedLink {
-                    link: l,
-                    a,
-                    b,
-                    reason: "both ends would be pinned; a link needs one free end",
-                });
-            }
-            if pin.is_none() && self.constraint[l].is_none() {
-                return Err(ModelError::PinnedLink {
-                    link: l,
-                    a,
-                    b,
-                    reason: "was dropped when the model was built (both ends pinned); build the model with this particle free",
-                });
-            }
-        }
+        check_pin_change(
+            &self.system_links,
+            &self.pins,
+            &self.constraint,
+            k,
+            pin.is_some(),
+        )?;
         self.inv_mass[k] = if pin.is_some() {
             0.0
         } else {
             1.0 / self.mass[k]
         };
         self.pins[k] = pin;
-        self.pinned = (0..n).filter(|&j| self.pins[j].is_some()).collect();
+        self.pinned = (0..self.mass.len())
+            .filter(|&j| self.pins[j].is_some())
+            .collect();
         Ok(())
     }
 }

@@ -34,7 +34,7 @@
 
 use std::cell::{Cell, OnceCell, RefCell};
 
-use dae_particles::{ModelError, ParticleDae, Pin, System, distance};
+use dae_particles::{ModelError, ParticleDae, Pin, System, check_pin_change, distance};
 use dae_runtime::family::{FamilyInstance, Kernels};
 use dae_runtime::{LinearSolver, Model, Solver, SolverChoice};
 
@@ -484,35 +484,13 @@ impl<K: Kernels> ParticleDae for FamilyParticles<K> {
     /// checks: a link keeps a free end, and a link left out because both its ends were
     /// pinned stays so.
     fn set_pin(&mut self, k: usize, pin: Option<Pin>) -> Result<(), ModelError> {
-        let n = self.slots.len();
-        if k >= n {
-            return Err(ModelError::NoSuchParticle {
-                particle: k,
-                particles: n,
-            });
-        }
-        for (l, &(a, b)) in self.system_links.iter().enumerate() {
-            if a != k && b != k {
-                continue;
-            }
-            let other = if a == k { b } else { a };
-            if pin.is_some() && self.pins[other].is_some() {
-                return Err(ModelError::PinnedLink {
-                    link: l,
-                    a,
-                    b,
-                    reason: "both ends would be pinned; a link needs one free end",
-                });
-            }
-            if pin.is_none() && self.link_constraint[l].is_none() {
-                return Err(ModelError::PinnedLink {
-                    link: l,
-                    a,
-                    b,
-                    reason: "was dropped when the model was built (both ends pinned); build the model with this particle free",
-                });
-            }
-        }
+        check_pin_change(
+            &self.system_links,
+            &self.pins,
+            &self.link_constraint,
+            k,
+            pin.is_some(),
+        )?;
         self.apply_pin(k, pin).map_err(ModelError::Unsupported)
     }
 }

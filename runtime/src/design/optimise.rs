@@ -39,6 +39,14 @@ impl Default for MuSearch {
     }
 }
 
+impl MuSearch {
+    /// `ln mu` of scan point `i` of `scan_points`, evenly spaced over `[ln lo, ln hi]`.
+    fn ln_mu_at(&self, i: usize) -> f64 {
+        let (x_lo, x_hi) = (self.lo.ln(), self.hi.ln());
+        x_lo + (x_hi - x_lo) * i as f64 / (self.scan_points - 1) as f64
+    }
+}
+
 /// The outcome of [`optimise_mu`] for one constraint.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ConstraintDesign {
@@ -74,14 +82,7 @@ pub fn optimise_mu(
     search: &MuSearch,
 ) -> Result<ConstraintDesign, DesignError> {
     spec.validate()?;
-    let eval = |mu: f64| -> Result<ConstraintDesign, DesignError> {
-        let k = gain.gain(spec, mu)?;
-        Ok(ConstraintDesign {
-            mu,
-            k,
-            t_min: t_min(spec, mu, k)?,
-        })
-    };
+    let eval = |mu: f64| at_mu(spec, gain, mu);
     if spec.r == 1 {
         // s = w: mu enters neither s, nor the gains, nor (T 3.14) (c_1 = 0).
         return eval(1.0);
@@ -99,9 +100,8 @@ pub fn optimise_mu(
     {
         return Err(bad);
     }
-    let (x_lo, x_hi) = (search.lo.ln(), search.hi.ln());
     let n = search.scan_points;
-    let x_at = |i: usize| x_lo + (x_hi - x_lo) * i as f64 / (n - 1) as f64;
+    let x_at = |i: usize| search.ln_mu_at(i);
     let f = |x: f64| eval(x.exp()).map(|d| d.t_min);
 
     let mut best = (0, f64::NEG_INFINITY);
@@ -251,19 +251,9 @@ fn smallest_mu_reaching(
     search: &MuSearch,
     target: f64,
 ) -> Result<Option<ConstraintDesign>, DesignError> {
-    let eval = |x: f64| -> Result<ConstraintDesign, DesignError> {
-        let mu = x.exp();
-        let k = gain.gain(spec, mu)?;
-        Ok(ConstraintDesign {
-            mu,
-            k,
-            t_min: t_min(spec, mu, k)?,
-        })
-    };
-    let (x_lo, x_hi) = (search.lo.ln(), search.hi.ln());
-    let n = search.scan_points;
-    let x_at = |i: usize| x_lo + (x_hi - x_lo) * i as f64 / (n - 1) as f64;
-    for i in 0..n {
+    let eval = |x: f64| at_mu(spec, gain, x.exp());
+    let x_at = |i: usize| search.ln_mu_at(i);
+    for i in 0..search.scan_points {
         let d = eval(x_at(i))?;
         if d.t_min < target {
             continue;
@@ -304,13 +294,21 @@ pub fn design_at(
             expected: specs.len(),
         });
     }
-    per_constraint(specs, |i, spec| {
-        let k = gain.gain(spec, mu[i])?;
-        Ok(ConstraintDesign {
-            mu: mu[i],
-            k,
-            t_min: t_min(spec, mu[i], k)?,
-        })
+    per_constraint(specs, |i, spec| at_mu(spec, gain, mu[i]))
+}
+
+/// The design of one constraint at a given `mu`: `k = gain.gain(spec, mu)` and
+/// `T_min(mu, k)`.
+fn at_mu(
+    spec: &ConstraintSpec,
+    gain: GainChoice,
+    mu: f64,
+) -> Result<ConstraintDesign, DesignError> {
+    let k = gain.gain(spec, mu)?;
+    Ok(ConstraintDesign {
+        mu,
+        k,
+        t_min: t_min(spec, mu, k)?,
     })
 }
 

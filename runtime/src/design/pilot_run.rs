@@ -87,26 +87,23 @@ pub fn pilot_run<M: Model + ?Sized>(
     model: &M,
     settings: &Settings,
 ) -> Result<PilotRun, PilotRunError> {
+    match pilot_run_until_lost(model, settings)? {
+        PilotOutcome::Held(run) => Ok(run),
+        PilotOutcome::Lost { error, .. } => Err(error),
+    }
+}
+
+/// [`pilot_run`], but a pilot that left a layer is returned with what it measured up
+/// to there.
+fn pilot_run_until_lost<M: Model + ?Sized>(
+    model: &M,
+    settings: &Settings,
+) -> Result<PilotOutcome, PilotRunError> {
     if settings.policy == crate::Policy::Spsm {
         return Err(PilotRunError::Mismatch(
             "a pilot run needs a held control: use the monitor or fixed policy, not SPSM".into(),
         ));
     }
-    let out = pilot_run_until_lost(model, settings)?;
-    match (out.lost, out.run) {
-        (Some(lost), _) => Err(lost),
-        (None, Some(run)) => Ok(run),
-        (None, None) => unreachable!("a pilot that held has a run"),
-    }
-}
-
-/// [`pilot_run`], but a pilot that left a layer is returned with what it measured up
-/// to there (its estimate is `None` when that gave no drift data) and the loss in
-/// `lost`.
-fn pilot_run_until_lost<M: Model + ?Sized>(
-    model: &M,
-    settings: &Settings,
-) -> Result<PilotOutcome, PilotRunError> {
     let mut sink = PilotSink::new(model, settings);
     let mut sim = Simulator::new(model, settings.clone())?;
     let result = sim.run(&mut sink);
@@ -116,10 +113,7 @@ fn pilot_run_until_lost<M: Model + ?Sized>(
             return Err(e.into());
         }
         let estimate = sink.estimator.estimate(1.0)?;
-        return Ok(PilotOutcome {
-            run: Some(PilotRun { estimate, summary }),
-            lost: None,
-        });
+        return Ok(PilotOutcome::Held(PilotRun { estimate, summary }));
     };
     // Stopped by the sink at the loss: the summary of the run up to there.
     let summary = sim.finish(&mut crate::NoTrace)?;
@@ -128,7 +122,7 @@ fn pilot_run_until_lost<M: Model + ?Sized>(
         .filter(|(r, _)| *r < crate::NEAR_SINGULAR)
         .map(|(_, t)| t);
     let fold = |f: fn(f64, f64) -> f64, init| settings.gains.iter().copied().fold(init, f);
-    let lost = PilotRunError::LayerLost {
+    let error = PilotRunError::LayerLost {
         constraint,
         t,
         ratio,
@@ -136,21 +130,24 @@ fn pilot_run_until_lost<M: Model + ?Sized>(
         gain_max: fold(f64::max, 0.0),
         near_singular_at,
     };
-    let run = match (sink.error.take(), sink.estimator.estimate(1.0)) {
+    let partial = match (sink.error.take(), sink.estimator.estimate(1.0)) {
         (None, Ok(estimate)) => Some(PilotRun { estimate, summary }),
         _ => None,
     };
-    Ok(PilotOutcome {
-        run,
-        lost: Some(lost),
-    })
+    Ok(PilotOutcome::Lost { partial, error })
 }
 
 /// What [`pilot_run_until_lost`] gives.
-struct PilotOutcome {
-    run: Option<PilotRun>,
-    /// A [`PilotRunError::LayerLost`] when the pilot left a layer.
-    lost: Option<PilotRunError>,
+enum PilotOutcome {
+    /// The pilot kept its layers to the end.
+    Held(PilotRun),
+    /// The pilot left a layer and was stopped there.
+    Lost {
+        /// What it measured up to the loss (`None` when that gave no drift data).
+        partial: Option<PilotRun>,
+        /// The [`PilotRunError::LayerLost`].
+        error: PilotRunError,
+    },
 }
 
 /// The estimator fed by the simulator's samples.
@@ -485,12 +482,10 @@ pub fn auto_design<M: Model + ?Sized>(
         // Only the first pilot runs again: its gains are a guess, the later ones designed.
         let mut retries = if pass == 0 { options.pilot_retries } else { 0 };
         let (run, left) = loop {
-            let out = pilot_run_until_lost(model, &settings)?;
-            match (out.lost, out.run) {
-                (None, Some(run)) => break (run, false),
-                (None, None) => unreachable!("a pilot that held has a run"),
+            match pilot_run_until_lost(model, &settings)? {
+                PilotOutcome::Held(run) => break (run, false),
                 // The first pilot's gains are below the drift: ten times them.
-                (Some(_), _) if retries > 0 => {
+                PilotOutcome::Lost { .. } if retries > 0 => {
                     retries -= 1;
                     settings.gains.iter_mut().for_each(|k| *k *= 10.0);
                 }
@@ -498,8 +493,11 @@ pub fn auto_design<M: Model + ?Sized>(
                 // it was designed from. What it measured up to there enters the last
                 // design, and the passes end (designing again from it is a feedback
                 // loop: larger gains, larger measured drift).
-                (Some(_), Some(partial)) if pass > 0 => break (partial, true),
-                (Some(lost), _) => return Err(lost),
+                PilotOutcome::Lost {
+                    partial: Some(partial),
+                    ..
+                } if pass > 0 => break (partial, true),
+                PilotOutcome::Lost { error, .. } => return Err(error),
             }
         };
         for i in 0..m {
