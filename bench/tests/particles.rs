@@ -512,23 +512,21 @@ fn a_generated_model_of_another_scene_is_refused_and_a_broken_pin_is_loud() {
 }
 
 /// C4's grab and release on the generated cloth, shortened: a 6 x 6 cloth, the middle
-/// particle of the near edge grabbed where it starts, moved 0.1 m along +x and +z over
-/// 0.3 s on the scene's path, held, released at 0.4 s, 0.5 s in all (grabbed at rest,
-/// its acceleration is the consistent one; grabbed during the fall, the path would
-/// continue an instantaneous acceleration that the sliding control's switching
-/// tensions make tens of g, over the whole move).
+/// particle of the near edge grabbed during the fall (frame 6), moved 0.1 m along +x
+/// and +z over 0.3 s on the scene's path, held, released at frame 30, 0.6 s in all.
 ///
-/// Through the grab and the hold every link stays within 1.05 eps at every frame, the
-/// s-layers hold, and the particle is where its path ends. The release is a jump of the
-/// particle's acceleration (from the hand's to its link tensions over its own 14 g):
-/// `w''` and `s` jump, a layer is left, and the strain leaves the bound for a few frames
-/// before the control brings it back; the generated model does this as the
-/// hand-written one does (the same peak within 10 %, both back within the bound by the
-/// last frame).
+/// At the grab and at the release the particle's acceleration jumps (to the hand's, then
+/// to its link tensions over its own 14 g), so `w''` of its links would jump and `s`
+/// with it; the backend moves the tensions so that `s` is continuous
+/// (`Simulator::change_model`). Every link stays within 1.05 eps at every frame, no
+/// s-layer is left, the particle is where its path ends when released and moves with the
+/// cloth afterwards, on the hand-written and the generated model alike (the same worst
+/// strain within 10 %). Without the carried tensions the release left the bound: 6.6e-2
+/// at eps = 1e-3 for five frames.
 #[test]
 fn a_short_c4_grab_and_release_on_the_generated_cloth_holds_the_bound_as_the_hand_written_model() {
     // Frames of the grab, the release and the end.
-    let (fa, fr, fe) = (0, 24, 30);
+    let (fa, fr, fe) = (6, 30, 36);
     let mut scene = c4(6).unwrap();
     scene.duration = fe as f64 * FRAME;
     let grab = scene.grab.as_mut().unwrap();
@@ -538,7 +536,7 @@ fn a_short_c4_grab_and_release_on_the_generated_cloth_holds_the_bound_as_the_han
     let (bounds, pilot) = particle_pilot(&scene, 64, Duration::from_secs(60)).unwrap();
     assert!(pilot.complete(), "{}", pilot.status);
     let eps = 1e-3;
-    let mut peaks = Vec::new();
+    let mut worst = Vec::new();
     for spec in [
         MethodSpec::Dbsmc {
             eps,
@@ -566,12 +564,10 @@ fn a_short_c4_grab_and_release_on_the_generated_cloth_holds_the_bound_as_the_han
         let what = spec.method();
         assert!(r.complete(), "{what}: {}", r.status);
         assert_eq!(frames.len(), fe + 1);
-        let held = frames[..=fr].iter().map(|f| f.1).fold(0.0, f64::max);
-        assert!(
-            held <= 1.05 * eps,
-            "{what}: strain {held} before the release"
-        );
-        assert_eq!(r.counters.layer_lost_at, Some(grab.release), "{what}");
+        for (f, &(_, strain)) in frames.iter().enumerate() {
+            assert!(strain <= 1.05 * eps, "{what}: strain {strain} at frame {f}");
+        }
+        assert_eq!(r.counters.layer_lost_at, None, "{what}");
         let (p0, at_release, end) = (frames[fa].0, frames[fr].0, frames[fe].0);
         for c in 0..3 {
             let target = p0[c] + grab.offset[c];
@@ -584,12 +580,11 @@ fn a_short_c4_grab_and_release_on_the_generated_cloth_holds_the_bound_as_the_han
             dae_particles::distance(at_release, end) > 1e-2,
             "{what}: released, it moves with the cloth: {at_release:?} -> {end:?}"
         );
-        assert!(frames[fe].1 <= 1.05 * eps, "{what}: {}", frames[fe].1);
-        peaks.push(r.worst_strain);
+        worst.push(r.worst_strain);
     }
-    let (hand, generated) = (peaks[0], peaks[1]);
+    let (hand, generated) = (worst[0], worst[1]);
     assert!(
-        hand > 1.05 * eps && (generated - hand).abs() <= 0.1 * hand,
-        "after the release: hand-written {hand}, generated {generated}"
+        (generated - hand).abs() <= 0.1 * hand,
+        "worst strain: hand-written {hand}, generated {generated}"
     );
 }

@@ -2,9 +2,9 @@
 //!
 //! The simulator owns the model and is advanced frame by frame
 //! ([`Simulator::advance_to`]); a pin change goes to the model between two frames
-//! ([`Simulator::model_mut`]) and asks for a control update at once
-//! ([`Simulator::request_update`]): pinning or releasing a particle changes `J_Omega`,
-//! so the inverse held since the last update is stale. A layer left after reaching ends
+//! through [`Simulator::change_model`], which moves the tensions so that the sliding
+//! variables do not jump (a release changes the particle's acceleration at once) and
+//! updates the control for the new `J_Omega` before the next step. A layer left after reaching ends
 //! the run with a [`BackendError`] at the end of that frame ([`Simulator::bound_loss`]),
 //! unless [`Dbsmc::keep_going_after_bound_loss`] asked to record it and go on.
 
@@ -309,14 +309,15 @@ impl<M: ParticleDae> Backend for Dbsmc<M> {
         if k >= self.slots.len() {
             return Err(err(format!("particle {k} does not exist")));
         }
-        self.sim
-            .model_mut()
-            .model
-            .set_pin(k, pin)
+        // Pinning or releasing changes the particle's acceleration, so every `w''` at
+        // it and `s` with it would jump; the simulator moves the tensions to keep `s`
+        // where it was (positions and velocities are continuous across the switch) and
+        // updates the control at once for the new `J_Omega`.
+        let changed = self
+            .sim
+            .change_model(|m| m.model.set_pin(k, pin))
             .map_err(|e| err(e.to_string()))?;
-        // Pinning or releasing changes J_Omega: act on it at once.
-        self.sim.request_update();
-        Ok(())
+        changed.map_err(|e| err(e.to_string()))
     }
     fn counters(&self) -> Counters {
         let model = self.sim.model();

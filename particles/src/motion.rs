@@ -112,9 +112,10 @@ pub fn smoothstep7(u: f64) -> [f64; 4] {
 ///
 /// `p(t) = P(tau) (1 - S(tau / T)) + (p0 + offset) S(tau / T)`, `tau = t - t0`, with
 /// `P(tau) = p0 + v0 tau + a0 tau^2 / 2` the particle's own motion continued and `S` the
-/// [`smoothstep7`]: position, velocity and acceleration are continuous at the grab
-/// (so `w` and `w''` of the links at the particle do not jump), the path is three times
-/// continuously differentiable, and it arrives at rest.
+/// [`smoothstep7`]: the path starts with position `p0`, velocity `v0` and acceleration
+/// `a0`, is three times continuously differentiable, and arrives at rest.
+/// [`Scene::grab`](crate::Scene::grab) starts it with the particle's position and
+/// velocity and `a0 = 0` (the hand's own acceleration; see there why not the particle's).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GrabPath {
     /// Time of the grab.

@@ -171,9 +171,16 @@ impl<B: Backend> Scene<B> {
     }
 
     /// Grab `particle` where it is and move it by `offset` over `duration` seconds on
-    /// a [`GrabPath`] (continuous in position, velocity and acceleration with the
-    /// particle's own motion, three times differentiable, arriving at rest), then hold
-    /// it. Returns the path.
+    /// a [`GrabPath`] (continuous in position and velocity with the particle's own
+    /// motion, three times differentiable, arriving at rest), then hold it. Returns the
+    /// path.
+    ///
+    /// The hand takes the particle's position and velocity, not its acceleration: the
+    /// acceleration jumps to the hand's (as it does at a release), and a backend keeps
+    /// its constraints through that jump (DBSMC moves its tensions so that `s` does not
+    /// jump: `Simulator::change_model`). Continuing the acceleration instead would
+    /// extrapolate an instantaneous value, which the switching tensions of the sliding
+    /// control make tens of g, over the whole move and fling the hand.
     pub fn grab(
         &mut self,
         particle: usize,
@@ -189,7 +196,7 @@ impl<B: Backend> Scene<B> {
             t0: self.backend.time(),
             p0: k.pos,
             v0: k.vel,
-            a0: k.acc,
+            a0: [0.0; 3],
             offset,
             duration,
         };

@@ -63,7 +63,7 @@ fn advancing_backwards_is_refused() {
 
 #[test]
 fn a_model_changed_between_pieces_is_followed_after_a_forced_update() {
-    let mut sim = Simulator::new(Offset { c: 0.0 }, settings().t_end(3.0)).unwrap();
+    let mut sim = Simulator::new(Offset { c: 0.0, push: 0.0 }, settings().t_end(3.0)).unwrap();
     let mut trace = Trace::new();
     sim.start(&mut trace).unwrap();
     sim.advance_to(1.0, &mut trace).unwrap();
@@ -90,6 +90,65 @@ fn a_model_changed_between_pieces_is_followed_after_a_forced_update() {
     let loss = s.bound_loss.expect("the change put the state outside");
     assert!((loss.first_time - 1.0).abs() < 1e-9, "{loss:?}");
     assert!(loss.worst_ratio > 5.0);
+}
+
+/// A push that the tension must balance, switched on between pieces: the state and `w`
+/// are continuous, but `w'` (the part of `s` that depends on `z`) jumps by the push,
+/// and `s` by `mu` times it (10 layers here). Through `model_mut` the layer is left;
+/// through `change_model` `z` takes the jump (exactly `-push`: `w'` is affine in `z`)
+/// and the bound holds.
+#[test]
+fn a_change_of_the_model_keeps_s_continuous_through_change_model() {
+    let push = 0.2;
+    let run = |carry: bool| {
+        let mut sim = Simulator::new(Offset { c: 0.0, push: 0.0 }, settings().t_end(3.0)).unwrap();
+        let mut trace = Trace::new();
+        sim.start(&mut trace).unwrap();
+        sim.advance_to(1.0, &mut trace).unwrap();
+        let (z_before, s_before) = (sim.alg()[0], sim.sliding()[0]);
+        if carry {
+            let old = sim.change_model(|m| std::mem::replace(&mut m.push, push)).unwrap();
+            assert_eq!(old, 0.0);
+            // z moved by exactly -push, before any step.
+            assert!((sim.alg()[0] - (z_before - push)).abs() < 1e-14);
+        } else {
+            sim.model_mut().push = push;
+            sim.request_update();
+        }
+        sim.advance_to(3.0, &mut trace).unwrap();
+        let summary = sim.finish(&mut trace).unwrap();
+        let k = trace.times().iter().position(|&t| t == 1.0).unwrap();
+        (summary, trace.s(k)[0], s_before)
+    };
+    let (lost, s_jumped, s0) = run(false);
+    assert!((s_jumped - s0 - 0.05 * push).abs() < 1e-12, "{s_jumped} vs {s0}");
+    let loss = lost.bound_loss.expect("the push put s outside its layer");
+    assert!((loss.first_time - 1.0).abs() < 1e-9, "{loss:?}");
+    let (held, s_after, s0) = run(true);
+    assert!((s_after - s0).abs() < 1e-12, "s jumped from {s0} to {s_after}");
+    assert!(held.bound_held(), "{:?}", held.bound_loss);
+    // The new tension balances the push: z = sin t + cos t - push.
+    assert!((held.z[0] - (3.0f64.sin() + 3.0f64.cos() - push)).abs() < 0.05, "{:?}", held.z);
+}
+
+/// Before the run starts, `change_model` changes the model the run will start from.
+#[test]
+fn change_model_before_the_start_changes_the_initial_model() {
+    let mut sim = Simulator::new(Offset { c: 0.0, push: 0.0 }, settings().t_end(0.5)).unwrap();
+    sim.change_model(|m| m.c = 0.01).unwrap();
+    let s = sim.run(&mut NoTrace).unwrap();
+    assert!((s.x[0] - (0.5f64.sin() + 0.01)).abs() < 2e-3, "{:?}", s.x);
+    assert!(s.bound_held());
+}
+
+/// A change that makes `J_Omega` singular is refused with the solver's located error.
+#[test]
+fn change_model_to_a_singular_j_omega_is_a_located_error() {
+    let mut sim = Simulator::new(Tracking::default(), settings()).unwrap();
+    sim.advance_to(0.5, &mut NoTrace).unwrap();
+    let err = sim.change_model(|m| m.singular = true).unwrap_err();
+    assert!(matches!(err, SimError::SingularJacobian { .. }), "{err}");
+    assert!(err.to_string().contains("track"), "{err}");
 }
 
 #[test]

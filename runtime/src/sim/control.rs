@@ -299,6 +299,38 @@ impl Controller {
         }
     }
 
+    /// `Omega_i = w_i^(r_i - 1)` from the last `sliding` call, into `out`.
+    pub(crate) fn omega(&self, out: &mut [f64]) {
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = self.w[self.offs[i + 1] - 1];
+        }
+    }
+
+    /// Move `z` so that `Omega` returns to `before`: `z -= J_Omega^{-1} (Omega - before)`
+    /// with `Omega` from the last `sliding` call and `J_Omega` from the last evaluation
+    /// (both at the current point, after a change of the model). Exact when `Omega` is
+    /// affine in `z` (particle models: tensions enter the accelerations linearly), a
+    /// Newton step otherwise.
+    pub(crate) fn carry_omega<M: Model + ?Sized>(
+        &mut self,
+        model: &M,
+        t: f64,
+        before: &[f64],
+        z: &mut [f64],
+    ) -> Result<(), SimError> {
+        if let Err(e) = self.zsolver.factor(&self.jvals, &self.ones) {
+            return Err(self.solver_error(model, t, e));
+        }
+        for (i, r) in self.zrhs.iter_mut().enumerate() {
+            *r = self.w[self.offs[i + 1] - 1] - before[i];
+        }
+        self.zsolver.solve(&mut self.zrhs);
+        for (zi, d) in z.iter_mut().zip(&self.zrhs) {
+            *zi -= d;
+        }
+        Ok(())
+    }
+
     fn solver_error<M: Model + ?Sized>(&self, model: &M, t: f64, e: SolveError) -> SimError {
         let name = |i: usize| format!("`{}`", model.constraint_name(i));
         let reason = match e {

@@ -234,10 +234,12 @@ impl Model for Oscillator {
     fn beta(&self, _: f64, _: &[f64], _: &[f64], _: &mut [f64]) {}
 }
 
-/// Index 2 with a parameter: `x' = z - x, 0 = x - sin t - c` (parameter `c`, the
-/// offset of the tracked curve); exact `x = sin t + c`, `z = sin t + cos t + c`.
+/// Index 2 with parameters: `x' = z - x + push, 0 = x - sin t - c` (`c` offsets the
+/// tracked curve, `push` is a force the tension must balance); exact `x = sin t + c`,
+/// `z = sin t + cos t + c - push`.
 pub struct Offset {
     pub c: f64,
+    pub push: f64,
 }
 
 impl Model for Offset {
@@ -251,7 +253,7 @@ impl Model for Offset {
         1
     }
     fn n_params(&self) -> usize {
-        1
+        2
     }
     fn state_name(&self, _: usize) -> &str {
         "x"
@@ -262,26 +264,26 @@ impl Model for Offset {
     fn constraint_name(&self, _: usize) -> &str {
         "track"
     }
-    fn param_name(&self, _: usize) -> &str {
-        "c"
+    fn param_name(&self, i: usize) -> &str {
+        ["c", "push"][i]
     }
     fn indices(&self) -> &[usize] {
         &[2]
     }
-    fn param(&self, _: usize) -> f64 {
-        self.c
+    fn param(&self, i: usize) -> f64 {
+        [self.c, self.push][i]
     }
-    fn set_param(&mut self, _: usize, value: f64) {
-        self.c = value;
+    fn set_param(&mut self, i: usize, value: f64) {
+        *[&mut self.c, &mut self.push][i] = value;
     }
     fn initial_state(&self, x: &mut [f64]) {
         x[0] = self.c;
     }
     fn initial_alg(&self, z: &mut [f64]) {
-        z[0] = 1.0 + self.c;
+        z[0] = 1.0 + self.c - self.push;
     }
     fn rhs(&self, _: f64, x: &[f64], z: &[f64], dx: &mut [f64]) {
-        dx[0] = z[0] - x[0];
+        dx[0] = z[0] - x[0] + self.push;
     }
     fn sliding(
         &self,
@@ -294,7 +296,7 @@ impl Model for Offset {
         ah: &mut [f64],
     ) {
         w[0] = x[0] - t.sin() - self.c;
-        w[1] = z[0] - x[0] - t.cos();
+        w[1] = z[0] - x[0] + self.push - t.cos();
         s[0] = mu[0] * w[1] + w[0];
         ah[0] = w[1];
     }
@@ -305,7 +307,7 @@ impl Model for Offset {
         j[0] = 1.0;
     }
     fn beta(&self, t: f64, x: &[f64], z: &[f64], b: &mut [f64]) {
-        b[0] = t.sin() - (z[0] - x[0]);
+        b[0] = t.sin() - (z[0] - x[0] + self.push);
     }
 }
 
