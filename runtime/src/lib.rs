@@ -174,6 +174,16 @@
 //! the run goes on (after a requested update) or finishes. A change that puts `s`
 //! outside its layers after reaching is reported as a lost bound (below).
 //!
+//! [`Simulator::change_model`] makes such a change without a jump of `s` where `z` can
+//! absorb it: a particle released or grabbed keeps its position and velocity, but its
+//! acceleration, and with it each constraint's highest derivative
+//! `Omega_i = w_i^(r_i - 1)`, jumps; `s_i` would jump by `mu_i^(r_i - 1)` times that, far
+//! beyond a thin layer. The simulator moves `z` by `J_Omega^{-1}` of the jump (one exact
+//! factorisation at the change), restarts the ramp there and updates the control before
+//! the next step. On a 6 x 6 cloth at `eps = 1e-3` a release through `model_mut` reached a
+//! strain of 0.17 (170 layers); through `change_model` every frame stays within the bound
+//! (`bench/tests/particles.rs`).
+//!
 //! # When the bound is not kept
 //!
 //! A run does not stop when a layer is left after reaching: the trace goes on to the

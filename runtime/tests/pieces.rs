@@ -107,7 +107,9 @@ fn a_change_of_the_model_keeps_s_continuous_through_change_model() {
         sim.advance_to(1.0, &mut trace).unwrap();
         let (z_before, s_before) = (sim.alg()[0], sim.sliding()[0]);
         if carry {
-            let old = sim.change_model(|m| std::mem::replace(&mut m.push, push)).unwrap();
+            let old = sim
+                .change_model(|m| std::mem::replace(&mut m.push, push))
+                .unwrap();
             assert_eq!(old, 0.0);
             // z moved by exactly -push, before any step.
             assert!((sim.alg()[0] - (z_before - push)).abs() < 1e-14);
@@ -121,14 +123,24 @@ fn a_change_of_the_model_keeps_s_continuous_through_change_model() {
         (summary, trace.s(k)[0], s_before)
     };
     let (lost, s_jumped, s0) = run(false);
-    assert!((s_jumped - s0 - 0.05 * push).abs() < 1e-12, "{s_jumped} vs {s0}");
+    assert!(
+        (s_jumped - s0 - 0.05 * push).abs() < 1e-12,
+        "{s_jumped} vs {s0}"
+    );
     let loss = lost.bound_loss.expect("the push put s outside its layer");
     assert!((loss.first_time - 1.0).abs() < 1e-9, "{loss:?}");
     let (held, s_after, s0) = run(true);
-    assert!((s_after - s0).abs() < 1e-12, "s jumped from {s0} to {s_after}");
+    assert!(
+        (s_after - s0).abs() < 1e-12,
+        "s jumped from {s0} to {s_after}"
+    );
     assert!(held.bound_held(), "{:?}", held.bound_loss);
     // The new tension balances the push: z = sin t + cos t - push.
-    assert!((held.z[0] - (3.0f64.sin() + 3.0f64.cos() - push)).abs() < 0.05, "{:?}", held.z);
+    assert!(
+        (held.z[0] - (3.0f64.sin() + 3.0f64.cos() - push)).abs() < 0.05,
+        "{:?}",
+        held.z
+    );
 }
 
 /// Before the run starts, `change_model` changes the model the run will start from.
