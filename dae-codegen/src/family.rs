@@ -232,7 +232,7 @@ fn stride_check(c: &Construction) -> TokenStream {
             "input_values",
             c.inputs
                 .iter()
-                .map(|d| family(d.family, dim(d.family) * (usize::from(d.derivatives) + 1)))
+                .map(|d| family(d.family, dim(d.family)))
                 .collect(),
         ),
         (
@@ -317,7 +317,7 @@ fn var_ident(v: VarRef) -> Ident {
         VarRef::State(i) => format_ident!("x{}", i.index()),
         VarRef::Alg(i) => format_ident!("z{}", i.index()),
         VarRef::Mu(k) => format_ident!("mu{}", k.index()),
-        // Every derivative of an input shares the slot; a scalar one has a value each.
+        // Each derivative of an input has its own slot (a derivative block apart).
         VarRef::Input(i, j) => format_ident!("u{}_{}", i.index(), j),
         VarRef::Time => format_ident!("t"),
         VarRef::Elem(_) => format_ident!("e"),
@@ -325,43 +325,47 @@ fn var_ident(v: VarRef) -> Ident {
     }
 }
 
-/// The vector and layout table a variable is read from.
-fn var_source(v: VarRef) -> Option<(TokenStream, TokenStream, usize)> {
+/// The vector a variable is read from and its [`Slot`](dae_lang::family::Slot) in
+/// the instance's layout (an expression).
+fn var_source(v: VarRef) -> Option<(TokenStream, TokenStream)> {
+    let lit = |i: usize| usize_lit(i);
     Some(match v {
-        VarRef::Param(i) => (quote!(vals.params), quote!(params), i.index()),
-        VarRef::State(i) => (quote!(vals.states), quote!(states), i.index()),
-        VarRef::Alg(i) => (quote!(vals.algs), quote!(algs), i.index()),
-        VarRef::Mu(k) => (quote!(vals.mu), quote!(rows), k.index()),
-        VarRef::Input(i, _) => (quote!(vals.inputs), quote!(input_values), i.index()),
+        VarRef::Param(i) => {
+            let i = lit(i.index());
+            (quote!(vals.params), quote!(inst.layout.params[#i]))
+        }
+        VarRef::State(i) => {
+            let i = lit(i.index());
+            (quote!(vals.states), quote!(inst.layout.states[#i]))
+        }
+        VarRef::Alg(i) => {
+            let i = lit(i.index());
+            (quote!(vals.algs), quote!(inst.layout.algs[#i]))
+        }
+        VarRef::Mu(k) => {
+            let k = lit(k.index());
+            (quote!(vals.mu), quote!(inst.layout.rows[#k]))
+        }
+        // Derivative `j` sits `j` derivative blocks (a size-dependent length) further.
+        VarRef::Input(i, j) => {
+            let (i, j) = (lit(i.index()), lit(j as usize));
+            (quote!(vals.inputs), quote!(inst.layout.input_value(#i, #j)))
+        }
         VarRef::Time | VarRef::Elem(_) | VarRef::Size(_) => return None,
     })
 }
 
-/// The offset of derivative `j` of an input (0 for anything else).
-fn var_offset(v: VarRef) -> TokenStream {
-    match v {
-        VarRef::Input(_, j) if j > 0 => {
-            let j = usize_lit(j as usize);
-            quote!(+ #j)
-        }
-        _ => quote!(),
-    }
-}
-
 /// The distance between the slots of two consecutive elements of a family variable
-/// (what [`Layout`](dae_lang::family::Layout) gives: `dim` values per element, `K + 1`
-/// per component of an input with `K` derivatives; one row per element). A literal in
-/// the generated code; `Kernels::scratch` checks it against the instance's layout.
+/// (what [`Layout`](dae_lang::family::Layout) gives: `dim` values per element, also
+/// for each derivative of an input; one row per element). A literal in the generated
+/// code; `Kernels::scratch` checks it against the instance's layout.
 fn var_stride(v: VarRef, c: &Construction) -> usize {
     let dim = |f: dae_lang::model::Family| usize::from(f.dim.max(1));
     match v {
         VarRef::Param(i) => dim(c.params[i.index()].family),
         VarRef::State(i) => dim(c.states[i.index()].family),
         VarRef::Alg(i) => dim(c.algs[i.index()].family),
-        VarRef::Input(i, _) => {
-            let d = &c.inputs[i.index()];
-            dim(d.family) * (usize::from(d.derivatives) + 1)
-        }
+        VarRef::Input(i, _) => dim(c.inputs[i.index()].family),
         VarRef::Mu(_) => 1,
         VarRef::Time | VarRef::Elem(_) | VarRef::Size(_) => 0,
     }
@@ -386,11 +390,10 @@ fn read_var(v: VarRef, at: TokenStream, c: &Construction) -> TokenStream {
             quote!(#id)
         }
         _ => {
-            let (vec, _, _) = var_source(v).expect("a variable read from a vector");
+            let (vec, _) = var_source(v).expect("a variable read from a vector");
             let id = var_ident(v);
-            let off = var_offset(v);
             let step = scaled(var_stride(v, c), at);
-            quote!(#vec[#id + #step #off])
+            quote!(#vec[#id + #step])
         }
     }
 }
@@ -437,9 +440,8 @@ fn program_body(p: &Program, c: &Construction, outs: &[TokenStream]) -> TokenStr
         }
     }
 
-    // Reads before the loops. A family input's derivatives share one slot local.
+    // Reads before the loops.
     let mut pre = Vec::new();
-    let mut slot_done: BTreeSet<Ident> = BTreeSet::new();
     for &v in &uses.vars {
         match v {
             VarRef::Time => pre.push(quote!(let t: f64 = vals.t;)),
@@ -450,16 +452,12 @@ fn program_body(p: &Program, c: &Construction, outs: &[TokenStream]) -> TokenStr
                 pre.push(quote!(let #id: f64 = inst.size_values[#s] as f64;));
             }
             _ => {
-                let (vec, table, i) = var_source(v).expect("a variable read from a vector");
-                let i = usize_lit(i);
+                let (vec, slot) = var_source(v).expect("a variable read from a vector");
                 let id = var_ident(v);
                 if per_element(v, c) {
-                    if slot_done.insert(id.clone()) {
-                        pre.push(quote!(let #id: usize = inst.layout.#table[#i].offset;));
-                    }
+                    pre.push(quote!(let #id: usize = #slot.offset;));
                 } else {
-                    let off = var_offset(v);
-                    pre.push(quote!(let #id: f64 = #vec[inst.layout.#table[#i].offset #off];));
+                    pre.push(quote!(let #id: f64 = #vec[#slot.offset];));
                 }
             }
         }

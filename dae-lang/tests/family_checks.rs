@@ -237,8 +237,9 @@ fn jacobian_and_beta_match_finite_differences() {
         for (i, input) in f.construction.inputs.iter().enumerate() {
             let k = input.derivatives as usize;
             for e in 0..inst.set_size(input.family.over) {
-                let base = l.input_values[i].at(e);
-                let d: Vec<f64> = x.inputs[base..=base + k].to_vec();
+                let d: Vec<f64> = (0..=k)
+                    .map(|j| x.inputs[l.input_value(i, j).at(e)])
+                    .collect();
                 for j in 0..=k {
                     // Taylor: value j at t + s.
                     let mut v = 0.0;
@@ -249,7 +250,7 @@ fn jacobian_and_beta_match_finite_differences() {
                         }
                         v += dq * s.powi((q - j) as i32) / fact;
                     }
-                    p.inputs[base + j] = v;
+                    p.inputs[l.input_value(i, j).at(e)] = v;
                 }
             }
         }
@@ -452,5 +453,63 @@ fn the_family_examples_start_nonsingular() {
             "{file}: cond {}",
             a.condition_number
         );
+    }
+}
+
+#[test]
+fn input_values_are_derivative_major() {
+    // All values of an input declaration (element-major, components interleaved), then
+    // all its first derivatives, ...: a function that reads only the values streams one
+    // contiguous block. Checked on the slots and on the expanded model's names of them.
+    for (file, sizes, n, name) in [
+        ("chain.dae", vec![("N".to_string(), 3)], 4, "pin"),
+        (
+            "hair.dae",
+            vec![("S".to_string(), 2), ("N".to_string(), 2)],
+            1,
+            "head",
+        ),
+    ] {
+        let src = example(file);
+        let models = dae_lang::check_source(&src).unwrap();
+        let c = compiled(&src);
+        let inst = instance(
+            &c,
+            &Spec {
+                sizes,
+                ..Spec::default()
+            },
+        );
+        let l = &inst.layout;
+        let cons = &c.family.as_ref().unwrap().construction;
+        let first = cons
+            .inputs
+            .iter()
+            .position(|i| i.name == format!("{name}.x"));
+        let first = first.expect("the input");
+        assert_eq!(l.n_input_values, 4 * 3 * n, "{file}");
+        let ex = expand(&models[0], &inst);
+        let mut seen = vec![false; l.n_input_values];
+        for (k, comp) in ["x", "y", "z"].into_iter().enumerate() {
+            for j in 0..=3 {
+                for e in 0..n {
+                    let at = l.input_value(first + k, j).at(e);
+                    assert_eq!(
+                        at,
+                        j * 3 * n + 3 * e + k,
+                        "{file}: {name}[{e}].{comp} ({j})"
+                    );
+                    assert!(!seen[at], "{file}: slot {at} twice");
+                    seen[at] = true;
+                    let primes = "'".repeat(j);
+                    let want = if n == 1 {
+                        format!("{name}{primes}.{comp}")
+                    } else {
+                        format!("{name}{primes}[{e}].{comp}")
+                    };
+                    assert_eq!(ex.model.params[ex.input_params + at].name, want);
+                }
+            }
+        }
     }
 }

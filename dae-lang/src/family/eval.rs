@@ -126,7 +126,7 @@ fn source(v: VarRef, inst: &Instance) -> Option<(Vector, usize, usize)> {
         VarRef::State(i) => (Vector::States, l.states[i.index()], 0),
         VarRef::Alg(i) => (Vector::Algs, l.algs[i.index()], 0),
         VarRef::Mu(c) => (Vector::Mu, l.rows[c.index()], 0),
-        VarRef::Input(i, j) => (Vector::Inputs, l.input_values[i.index()], j as usize),
+        VarRef::Input(i, j) => (Vector::Inputs, l.input_value(i.index(), j as usize), 0),
         VarRef::Time | VarRef::Elem(_) | VarRef::Size(_) => return None,
     };
     Some((vec, slot.offset + off, slot.stride))
@@ -162,7 +162,7 @@ fn var(v: VarRef, e: usize, inst: &Instance, x: &Values<'_>) -> f64 {
         VarRef::State(i) => x.states[l.states[i.index()].at(e)],
         VarRef::Alg(i) => x.algs[l.algs[i.index()].at(e)],
         VarRef::Mu(c) => x.mu[l.rows[c.index()].at(e)],
-        VarRef::Input(i, j) => x.inputs[l.input_values[i.index()].at(e) + j as usize],
+        VarRef::Input(i, j) => x.inputs[l.input_value(i.index(), j as usize).at(e)],
         VarRef::Time => x.t,
         VarRef::Elem(_) => e as f64,
         VarRef::Size(s) => inst.size_values[s.index()] as f64,

@@ -137,7 +137,8 @@ impl Expander<'_> {
     fn taylor(&self, i: crate::InputId, j: u8, e: usize) -> RExpr {
         let input = &self.m.inputs[i.index()];
         let k = input.derivatives as usize;
-        let base = self.input_params + self.inst.layout.input_values[i.index()].at(e);
+        let l = &self.inst.layout;
+        let slot = |q: usize| self.input_params + l.input_value(i.index(), q).at(e);
         let dt = RExpr::Binary(
             BinOp::Sub,
             Box::new(RExpr::Var(VarRef::Time)),
@@ -150,7 +151,7 @@ impl Expander<'_> {
             if p > 0 {
                 fact *= p as f64;
             }
-            let c = RExpr::Var(VarRef::Param(ParamId::new(base + q)));
+            let c = RExpr::Var(VarRef::Param(ParamId::new(slot(q))));
             let term = if p == 0 {
                 c
             } else {
@@ -208,11 +209,12 @@ pub fn expand(m: &Model, inst: &Instance) -> Expanded {
     }
     let mut params: Vec<ParamDef> = params.into_iter().flatten().collect();
     let mut inputs: Vec<Option<ParamDef>> = vec![None; l.n_input_values];
-    for (i, slot) in m.inputs.iter().zip(&l.input_values) {
+    for (k, i) in m.inputs.iter().enumerate() {
         for e in 0..inst.set_size(i.family.over) {
             for q in 0..=i.derivatives as usize {
-                let v = inst.inputs[slot.at(e) + q];
-                inputs[slot.at(e) + q] = Some(ParamDef {
+                let at_q = l.input_value(k, q).at(e);
+                let v = inst.inputs[at_q];
+                inputs[at_q] = Some(ParamDef {
                     name: at(&i.name, i.family, e, &crate::sym::primes(q)),
                     default: v,
                     span: i.span,

@@ -17,7 +17,12 @@
 //! * **Inputs**: each input component element `(e, c)` has a flat *input index*
 //!   (declarations in order, `|S| * dim` each, element-major, components interleaved:
 //!   the index of `set_input`), and `K + 1` *input values* (the value and its `K` time
-//!   derivatives) at `values_off(decl) + (K + 1) (dim e + c) + j`.
+//!   derivatives). A declaration's values are derivative-major: all its values
+//!   (element-major, components interleaved, as a state), then all its first
+//!   derivatives, and so on: derivative `j` of `(e, c)` at
+//!   `values_off(decl) + j |S| dim + dim e + c` (`|S| = 1` for a scalar). A function
+//!   that reads only the value (`rhs`, `J_Omega`) so streams only the value block, not
+//!   the derivatives beside it.
 //!
 //! Every slot of a component family is `offset + stride * e` for element `e` (stride 0
 //! for a scalar): a [`Slot`].
@@ -66,8 +71,12 @@ pub struct Layout {
     /// Length of the w vector (`sum r_i` over rows).
     pub n_w: usize,
     /// By input component (`InputId`): the slot of the value (derivative 0) of each
-    /// element; derivative `j` is `j` further.
+    /// element; derivative `j` is `j * input_derivative_step[i]` further (see
+    /// [`Layout::input_value`]).
     pub input_values: Vec<Slot>,
+    /// By input component: the distance between two consecutive derivatives of one
+    /// element (the length of its declaration's block of one derivative).
+    pub input_derivative_step: Vec<usize>,
     /// Length of the input value vector.
     pub n_input_values: usize,
     /// By input component: the flat input index of each element.
@@ -77,15 +86,18 @@ pub struct Layout {
 }
 
 /// Lays out the component families `fams` (in id order; consecutive components of one
-/// declaration share a block), `values` slots per component element. Scalars are
-/// placed where `place_scalar` says: at the start of the vector (`true`, parameters) or
-/// in declaration order (`false`).
+/// declaration share a block), each with `k` blocks (`k` > 1: an input's derivatives):
+/// a declaration of `dim` components over `S` takes `k` blocks of `|S| * dim` values,
+/// element-major with the components interleaved. Scalars come first if
+/// `scalars_first` (parameters), else everything is in declaration order. Returns the
+/// slots of block 0, the length of one block by component, and the total length.
 fn lay_out(
     fams: &[(Family, usize)],
     set_sizes: &[usize],
     scalars_first: bool,
-) -> (Vec<Slot>, usize) {
+) -> (Vec<Slot>, Vec<usize>, usize) {
     let mut slots = vec![Slot::default(); fams.len()];
+    let mut blocks = vec![0; fams.len()];
     let mut next = 0;
     let passes: &[Option<bool>] = if scalars_first {
         &[Some(true), Some(false)]
@@ -102,19 +114,30 @@ fn lay_out(
                 let n = f.over.map_or(1, |s| set_sizes[s.index()]);
                 for c in 0..dim {
                     slots[i + c] = Slot {
-                        offset: next + k * c,
-                        stride: if scalar { 0 } else { k * dim },
+                        offset: next + c,
+                        stride: if scalar { 0 } else { dim },
                     };
+                    blocks[i + c] = n * dim;
                 }
                 next += n * dim * k;
             }
             i += dim;
         }
     }
-    (slots, next)
+    (slots, blocks, next)
 }
 
 impl Layout {
+    /// The slots of derivative `j` (0: the value) of input component `i`.
+    #[inline]
+    pub fn input_value(&self, i: usize, j: usize) -> Slot {
+        let v = self.input_values[i];
+        Slot {
+            offset: v.offset + j * self.input_derivative_step[i],
+            stride: v.stride,
+        }
+    }
+
     /// The layout of `c` with these set sizes (by `SetId`).
     pub fn new(c: &Construction, set_sizes: &[usize]) -> Layout {
         let fam = |f: Family| (f, 1);
@@ -127,11 +150,12 @@ impl Layout {
             .iter()
             .map(|i| (i.family, i.derivatives as usize + 1))
             .collect();
-        let (params, n_params) = lay_out(&params, set_sizes, true);
-        let (states, n_states) = lay_out(&states, set_sizes, false);
-        let (algs, n_algs) = lay_out(&algs, set_sizes, false);
-        let (inputs, n_inputs) = lay_out(&inputs, set_sizes, false);
-        let (input_values, n_input_values) = lay_out(&input_values, set_sizes, false);
+        let (params, _, n_params) = lay_out(&params, set_sizes, true);
+        let (states, _, n_states) = lay_out(&states, set_sizes, false);
+        let (algs, _, n_algs) = lay_out(&algs, set_sizes, false);
+        let (inputs, _, n_inputs) = lay_out(&inputs, set_sizes, false);
+        let (input_values, input_derivative_step, n_input_values) =
+            lay_out(&input_values, set_sizes, false);
         let mut rows = Vec::with_capacity(c.constraints.len());
         let mut w = Vec::with_capacity(c.constraints.len());
         let (mut n_rows, mut n_w) = (0, 0);
@@ -161,6 +185,7 @@ impl Layout {
             w,
             n_w,
             input_values,
+            input_derivative_step,
             n_input_values,
             inputs,
             n_inputs,

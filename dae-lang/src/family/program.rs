@@ -19,7 +19,7 @@
 //!      vector (stride 0 for a scalar variable, so the same value for every `e`):
 //!      `Param` in the parameters, `State` in `x`, `Alg` in `z`, `Mu(c)` in `mu` at
 //!      `layout.rows[c]`, `Input(i, j)` in the input values at
-//!      `layout.input_values[i].at(e) + j`, `Time` is `t`, `Size(s)` the size's value,
+//!      `layout.input_value(i, j).at(e)`, `Time` is `t`, `Size(s)` the size's value,
 //!      `Elem(S)` the number `e` itself;
 //!    * [`Operand::Gather`]`(v, m)`: the same at element `maps[m][e]` instead of `e`
 //!      (`Elem` gives `maps[m][e]` as a number);

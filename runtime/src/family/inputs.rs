@@ -69,13 +69,21 @@ impl std::fmt::Display for InputError {
 impl std::error::Error for InputError {}
 
 /// The Taylor data of every input and the values read by the evaluations.
+///
+/// The coefficients are kept per input (`[c0, .., cK]` together, for `taylor`); the
+/// values are in the instance's layout, where the derivatives of one input are a
+/// derivative block apart (see `dae_lang::family::Layout`).
 #[derive(Debug)]
 pub(crate) struct Inputs {
     /// Per flat input index: where its value (derivative 0) sits in the value vector.
     value_at: Vec<u32>,
+    /// Per flat input index: the distance between two of its derivatives there.
+    step: Vec<u32>,
     /// Per flat input index: its derivative count `K`.
     order: Vec<u8>,
-    /// Taylor coefficients at `t0`, in the layout of the value vector.
+    /// Per flat input index: where its coefficients start in `coeffs`.
+    coeffs_at: Vec<u32>,
+    /// Taylor coefficients at `t0`, `K + 1` per input, by flat input index.
     coeffs: Vec<f64>,
     /// Per flat input index: the time of its coefficients.
     t0: Vec<f64>,
@@ -90,18 +98,29 @@ impl Inputs {
     pub fn new(c: &Construction, inst: &Instance) -> Inputs {
         let l = &inst.layout;
         let mut value_at = vec![0u32; l.n_inputs];
+        let mut step = vec![0u32; l.n_inputs];
         let mut order = vec![0u8; l.n_inputs];
         for (k, d) in c.inputs.iter().enumerate() {
             for e in 0..inst.set_size(d.family.over) {
                 let i = l.inputs[k].at(e);
                 value_at[i] = l.input_values[k].at(e) as u32;
+                step[i] = l.input_derivative_step[k] as u32;
                 order[i] = d.derivatives;
             }
         }
+        let mut coeffs_at = Vec::with_capacity(l.n_inputs);
+        let mut coeffs = Vec::with_capacity(l.n_input_values);
+        for i in 0..l.n_inputs {
+            coeffs_at.push(coeffs.len() as u32);
+            let (a, s) = (value_at[i] as usize, step[i] as usize);
+            coeffs.extend((0..=order[i] as usize).map(|j| inst.inputs[a + j * s]));
+        }
         Inputs {
             value_at,
+            step,
             order,
-            coeffs: inst.inputs.clone(),
+            coeffs_at,
+            coeffs,
             t0: vec![0.0; l.n_inputs],
             moving: Vec::new(),
             is_moving: vec![false; l.n_inputs],
@@ -117,15 +136,20 @@ impl Inputs {
         self.order[i] as usize
     }
 
+    /// The coefficients of input `i`.
+    fn coeffs(&self, i: usize) -> &[f64] {
+        let a = self.coeffs_at[i] as usize;
+        &self.coeffs[a..=a + self.order(i)]
+    }
+
     /// The current Taylor data of input `i`: `t0` and `[c0, .., cK]`.
     pub fn taylor(&self, i: usize) -> (f64, &[f64]) {
-        let a = self.value_at[i] as usize;
-        (self.t0[i], &self.coeffs[a..=a + self.order(i)])
+        (self.t0[i], self.coeffs(i))
     }
 
     /// Sets input `i` (checked by the caller: `i` exists, `data` fits).
     pub fn set(&mut self, i: usize, t0: f64, data: &[f64]) {
-        let a = self.value_at[i] as usize;
+        let a = self.coeffs_at[i] as usize;
         let k = self.order(i);
         let c = &mut self.coeffs[a..=a + k];
         c.fill(0.0);
@@ -141,8 +165,11 @@ impl Inputs {
             }
         }
         self.is_moving[i] = moving;
+        let (v, s) = (self.value_at[i] as usize, self.step[i] as usize);
         let cache = self.cache.get_mut();
-        cache.1[a..=a + k].copy_from_slice(c);
+        for (j, cj) in c.iter().enumerate() {
+            cache.1[v + j * s] = *cj;
+        }
         cache.0 = f64::NAN;
     }
 
@@ -153,17 +180,17 @@ impl Inputs {
             let mut cache = self.cache.borrow_mut();
             for &i in &self.moving {
                 let i = i as usize;
-                let a = self.value_at[i] as usize;
+                let (v, s) = (self.value_at[i] as usize, self.step[i] as usize);
                 let k = self.order(i);
                 let dt = t - self.t0[i];
-                let c = &self.coeffs[a..=a + k];
+                let c = self.coeffs(i);
                 for j in 0..=k {
                     // q^(j)(t) = sum_{m=0}^{K-j} c_{j+m} dt^m / m!  (Horner)
                     let mut acc = 0.0;
                     for m in (0..=k - j).rev() {
                         acc = acc * dt / (m + 1) as f64 + c[j + m];
                     }
-                    cache.1[a + j] = acc;
+                    cache.1[v + j * s] = acc;
                 }
             }
             cache.0 = t;
