@@ -5,7 +5,7 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use super::report::{cheapest, fitted_exponent};
+use super::report::cheapest;
 use super::run::ParticleRecord;
 
 const COLORS: [RGBColor; 6] = [
@@ -128,37 +128,6 @@ pub fn strain_chart(
         "wall time per 1/60 s frame, mean [ms]",
         &lines,
     )
-}
-
-/// Cost per frame against links for the runs with `knob` of `method` over the given
-/// scenes (titles), with the fitted exponent in the label; also returns the exponent.
-pub fn size_line(
-    records: &[ParticleRecord],
-    titles: &[String],
-    method: &str,
-    knob: &str,
-    label: &str,
-) -> (Line, Option<f64>) {
-    let points: Vec<(f64, f64)> = titles
-        .iter()
-        .filter_map(|t| {
-            records
-                .iter()
-                .find(|r| {
-                    &format!("{} {}", r.scene, r.variant) == t
-                        && r.method == method
-                        && r.knob == knob
-                        && r.frames > 0
-                })
-                .map(|r| (r.size as f64, r.ms_mean))
-        })
-        .collect();
-    let exp = fitted_exponent(&points);
-    let label = match exp {
-        Some(p) => format!("{label} (exponent {p:.2})"),
-        None => label.to_string(),
-    };
-    (Line { label, points }, exp)
 }
 
 /// Cost to hold `target` against the C1 end-mass ratio, one line per method, for the

@@ -7,14 +7,15 @@ mod report;
 mod run;
 mod scenes;
 
-pub use charts::{Line, loglog, ratio_chart, size_line, strain_chart};
+pub use charts::{Line, loglog, ratio_chart, strain_chart};
 pub use pictures::{Capture, strain_colour, write_pictures};
 pub use report::{
     CSV_COLUMNS, bound_held, cheapest, cheapest_table, fitted_exponent, stability_table,
     write_particles_csv,
 };
 pub use run::{
-    FrameObserver, MethodSpec, PILOT_SAFETY, ParticleRecord, dbsmc_settings, drive_scene,
-    index_one, particle_pilot, run_particle_method,
+    FrameObserver, MethodSpec, PILOT_SAFETY, ParticleRecord, RELAXED_MU_PER_FRAME,
+    RELAXED_STEP_PER_MU, dbsmc_settings, drive_scene, index_one, particle_pilot, relaxed_settings,
+    run_particle_method,
 };
 pub use scenes::{Grab, ParticleScene, SceneShape, c1, c2, c3, c4};
