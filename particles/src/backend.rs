@@ -19,6 +19,9 @@ pub struct Counters {
     /// DBSMC: when a sliding variable first left its layer `|s_i| <= eps_i` after
     /// reaching (the method's own bound, on `s`, not on the strain), if it did.
     pub layer_lost_at: Option<f64>,
+    /// DBSMC, with [`layer_lost_at`](Self::layer_lost_at): the largest `|s_i| / eps_i`
+    /// after reaching so far (how far the layer was left, not only when).
+    pub layer_worst_ratio: Option<f64>,
 }
 
 /// A failure inside a backend: when, and why.
