@@ -225,9 +225,12 @@ fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path) -> String {
             .iter()
             .map(|sc| particle_pilot(sc, 64, SWEEP_BUDGET).ok().map(|(b, _)| b))
             .collect();
+        // Runs go in size order and, once one is skipped, so are all larger sizes: the
+        // columns line up with the scenes.
+        let sizes: Vec<String> = scenes.iter().map(|sc| sc.size().to_string()).collect();
         for spec in &specs {
             let mut runs = Vec::new();
-            let mut not_run = Vec::new();
+            let mut not_run = 0;
             for (sc, b) in scenes.iter().zip(&bounds) {
                 // A setting that left its layer or its budget at a smaller size is not run
                 // at the larger ones: its cost there says nothing about a bound that holds,
@@ -243,20 +246,23 @@ fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path) -> String {
                         if prev.complete() { "layer" } else { "budget" },
                         prev.size
                     );
-                    not_run.push(sc.size());
+                    not_run += 1;
                     continue;
                 }
                 let r = run_particle_method(sc, spec, b.as_ref(), SWEEP_BUDGET, None, None);
                 print(&r);
                 runs.push(r);
             }
-            let done: Vec<&ParticleRecord> = runs.iter().filter(|r| r.complete()).collect();
-            let points: Vec<(f64, f64)> = done.iter().map(|r| (r.size as f64, r.ms_mean)).collect();
+            let points: Vec<(f64, f64)> = runs
+                .iter()
+                .filter(|r| r.complete())
+                .map(|r| (r.size as f64, r.ms_mean))
+                .collect();
             let exp = dae_bench::fitted_exponent(&points);
             let col = |f: &dyn Fn(&ParticleRecord) -> String| {
                 runs.iter()
                     .map(f)
-                    .chain(not_run.iter().map(|_| "not run".to_string()))
+                    .chain(std::iter::repeat_n("not run".to_string(), not_run))
                     .collect::<Vec<_>>()
                     .join(" / ")
             };
@@ -265,12 +271,7 @@ fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path) -> String {
                 "| {family} | {} | {} | {} | {} | {} | {} | {} |\n",
                 spec.method(),
                 spec.knob(),
-                runs.iter()
-                    .map(|r| r.size)
-                    .chain(not_run.iter().copied())
-                    .map(|n| n.to_string())
-                    .collect::<Vec<_>>()
-                    .join(" / "),
+                sizes.join(" / "),
                 col(&|r| if r.complete() {
                     format!("{:.3}", r.ms_mean)
                 } else {
@@ -321,7 +322,6 @@ fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path) -> String {
             } else {
                 None
             };
-            let sizes: Vec<String> = scenes.iter().map(|sc| sc.size().to_string()).collect();
             let settings: Vec<String> = best
                 .iter()
                 .map(|r| r.map_or("none".into(), |r| format!("{} ({:.3})", r.knob, r.ms_mean)))

@@ -138,7 +138,6 @@ pub struct Dbsmc<M: ParticleDae> {
     /// Go on after a layer was left (recorded in the counters) instead of failing.
     keep_going: bool,
     layer_lost_at: Option<f64>,
-    layer_worst_ratio: Option<f64>,
 }
 
 impl<M: ParticleDae> std::fmt::Debug for Dbsmc<M> {
@@ -201,7 +200,6 @@ impl<M: ParticleDae> Dbsmc<M> {
             failed: None,
             keep_going: false,
             layer_lost_at: None,
-            layer_worst_ratio: None,
         })
     }
 
@@ -254,14 +252,10 @@ impl<M: ParticleDae> Backend for Dbsmc<M> {
         // DBSMC promises its layers: a run that left one after reaching stops here,
         // loudly, instead of going on as if it held (the simulator itself would only
         // say so in the summary of `finish`, which a frame-driven run never reaches).
+        if self.layer_lost_at.is_some() {
+            return Ok(());
+        }
         if let Some(loss) = self.sim.bound_loss() {
-            // After a loss (only when asked to keep going) this refreshes how far the
-            // layer has been left; it allocates the loss record once per frame, never
-            // per step.
-            self.layer_worst_ratio = Some(loss.worst_ratio);
-            if self.layer_lost_at.is_some() {
-                return Ok(());
-            }
             self.layer_lost_at = Some(loss.first_time);
             if self.keep_going {
                 return Ok(());
@@ -334,7 +328,10 @@ impl<M: ParticleDae> Backend for Dbsmc<M> {
             iterations: 0,
             updates: self.sink.updates,
             layer_lost_at: self.layer_lost_at,
-            layer_worst_ratio: self.layer_worst_ratio,
+            // How far, read once from the simulator's record of the whole run.
+            layer_worst_ratio: self
+                .layer_lost_at
+                .and(self.sim.bound_loss().map(|loss| loss.worst_ratio)),
         }
     }
 }

@@ -487,18 +487,24 @@ impl RunDbsmc<'_, '_> {
             }
         };
         let designed = match self.design {
-            Design::Pilot(bounds) => dbsmc_settings(&model, bounds, self.eps, self.solver),
-            // No guaranteed period: the design assumes its drift (see relaxed_settings).
-            Design::Relaxed(gain) => Ok((relaxed_settings(&model, self.eps, gain), f64::NAN)),
-        };
-        let (settings, t_min) = match designed {
-            Ok((s, t)) if matches!(self.design, Design::Relaxed(_)) => (s, t),
             // An error-controlled integrator chooses its own steps (crossings are
             // located inside them): no step tied to the layer, at most a frame.
-            Ok((s, t)) if self.integrator.is_adaptive() => {
-                (s.integrator(self.integrator).step(FRAME).max_step(FRAME), t)
+            Design::Pilot(bounds) => {
+                dbsmc_settings(&model, bounds, self.eps, self.solver).map(|(s, t)| {
+                    let s = s.integrator(self.integrator);
+                    let s = if self.integrator.is_adaptive() {
+                        s.step(FRAME).max_step(FRAME)
+                    } else {
+                        s
+                    };
+                    (s, Some(t))
+                })
             }
-            Ok((s, t)) => (s.integrator(self.integrator), t),
+            // No guaranteed period: the design assumes its drift (see relaxed_settings).
+            Design::Relaxed(gain) => Ok((relaxed_settings(&model, self.eps, gain), None)),
+        };
+        let (settings, t_min) = match designed {
+            Ok(d) => d,
             Err(e) => {
                 r.status = format!("failed: {e}");
                 return r;
@@ -519,7 +525,7 @@ impl RunDbsmc<'_, '_> {
             }
             Err(e) => r.status = format!("failed: {e}"),
         }
-        r.t_min = Some(t_min).filter(|t| t.is_finite());
+        r.t_min = t_min;
         r.step = Some(step);
         r
     }
