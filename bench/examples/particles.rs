@@ -20,7 +20,7 @@ use std::time::{Duration, Instant};
 use dae_bench::{
     Capture, MethodSpec, ParticleRecord, ParticleScene, bound_held, c1, c2, c3, c4, cheapest,
     cheapest_table, drive_scene, index_one, particle_pilot, ratio_chart, run_particle_method,
-    stability_table, strain_chart, write_particles_csv, write_pictures,
+    scene_groups, stability_table, strain_chart, write_particles_csv, write_pictures,
 };
 use dae_particles::GridPins;
 use dae_runtime::{Integrator, SolverChoice};
@@ -569,31 +569,17 @@ fn main() {
     md += "\n## Stability\n\n";
     md += &stability_table(&records);
     // Charts.
-    let mut titles: Vec<String> = Vec::new();
-    for r in &records {
-        let t = format!("{} {}", r.scene, r.variant);
-        if !titles.contains(&t) {
-            titles.push(t);
-        }
-    }
-    for t in &titles {
-        let stem = records
-            .iter()
-            .find(|r| &format!("{} {}", r.scene, r.variant) == t)
-            .map(|r| {
-                let mut s = format!("{}_{}", r.scene, r.variant).to_lowercase();
-                s.retain(|c| c.is_ascii_alphanumeric() || c == '_' || c == ' ');
-                s.replace(' ', "_")
-            });
-        if let Some(stem) = stem {
-            if let Err(e) = strain_chart(
-                &records,
-                t,
-                &methods,
-                &pictures.join(format!("{stem}_strain.svg")),
-            ) {
-                println!("chart {t}: {e}");
-            }
+    for (t, runs) in scene_groups(&records) {
+        let mut stem = format!("{}_{}", runs[0].scene, runs[0].variant).to_lowercase();
+        stem.retain(|c| c.is_ascii_alphanumeric() || c == '_' || c == ' ');
+        let stem = stem.replace(' ', "_");
+        if let Err(e) = strain_chart(
+            &runs,
+            &t,
+            &methods,
+            &pictures.join(format!("{stem}_strain.svg")),
+        ) {
+            println!("chart {t}: {e}");
         }
     }
     if o.only.as_ref().is_none_or(|t| "size".contains(t.as_str())) {

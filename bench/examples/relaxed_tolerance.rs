@@ -1,8 +1,9 @@
 //! The frame-tied DBSMC design (`dbsmc-relaxed`, docs/particles.md) at the runtime's
-//! default Dormand-Prince tolerance (`TOLERANCE_PER_EPS = 0.01` of the smallest layer)
-//! and at a tolerance 100 times tighter, on the runs of the particle benchmark that
-//! left their `s`-layer: does the layer loss come from the integration or from the
-//! assumed drift?
+//! default Dormand-Prince tolerance (`TOLERANCE_PER_EPS = 0.01` of the smallest layer),
+//! at a tolerance 100 times tighter, and with steps of at most 1/4 and 1/16 of the
+//! design's longest (`mu / 4`), on the runs of the particle benchmark that left their
+//! `s`-layer: does the layer loss come from the integration (then it goes away as the
+//! steps shrink) or from the assumed drift (then it does not)?
 //!
 //! ```text
 //! cargo run --release -p dae-bench --example relaxed_tolerance
@@ -17,15 +18,41 @@ use dae_runtime::Model;
 /// Budget of one run (wall clock).
 const BUDGET: Duration = Duration::from_secs(30);
 
-fn run(scene: &ParticleScene, eps: f64, gain: f64, per_eps: Option<f64>) -> Result<String, String> {
+/// How a run's steps are controlled.
+#[derive(Clone, Copy)]
+enum Control {
+    /// The runtime's default state tolerance.
+    Default,
+    /// A state tolerance of this fraction of the smallest layer.
+    State(f64),
+    /// Steps of at most this fraction of the design's longest.
+    Shorter(f64),
+}
+
+impl Control {
+    fn label(self) -> String {
+        match self {
+            Control::Default => "state 1e-2 (default)".into(),
+            Control::State(f) => format!("state {f:e}"),
+            Control::Shorter(f) => format!("state 1e-2, max step x {f}"),
+        }
+    }
+}
+
+fn run(scene: &ParticleScene, eps: f64, gain: f64, control: Control) -> Result<String, String> {
     let spec = MethodSpec::DbsmcRelaxed { eps, gain };
     let model = ParticleModel::new(&scene.system).map_err(|e| e.to_string())?;
     let smallest = (0..model.n_constraints())
         .map(|i| eps * model.rest_length(i))
         .fold(f64::INFINITY, f64::min);
     let mut settings = relaxed_settings(&model, eps, gain);
-    if let Some(f) = per_eps {
-        settings = settings.tolerance(f * smallest, f * smallest);
+    match control {
+        Control::Default => {}
+        Control::State(f) => settings = settings.tolerance(f * smallest, f * smallest),
+        Control::Shorter(f) => {
+            let h = settings.max_step * f;
+            settings = settings.max_step(h)
+        }
     }
     let backend = Dbsmc::new(model, settings, "relaxed")
         .map_err(|e| e.to_string())?
@@ -38,12 +65,13 @@ fn run(scene: &ParticleScene, eps: f64, gain: f64, per_eps: Option<f64>) -> Resu
         _ => "-".into(),
     };
     Ok(format!(
-        "| {} | {eps:e} | {gain} | {} | {:.2e} | {lost} | {:.2} | {:.0} | {}/{} {} |",
+        "| {} | {eps:e} | {gain} | {} | {:.2e} | {lost} | {:.2} | {:.0} | {:.0} | {}/{} {} |",
         scene.title(),
-        per_eps.map_or("default (1e-2)".into(), |f| format!("{f:e}")),
+        control.label(),
         r.worst_strain,
         r.ms_mean,
         r.counters.updates as f64 / frames,
+        r.counters.steps as f64 / frames,
         r.frames,
         r.frames_total,
         r.status.chars().take(40).collect::<String>(),
@@ -71,12 +99,17 @@ fn main() {
         }
     };
     println!(
-        "| scene | eps | c | tolerance / smallest eps_i | worst strain | s-layer left (max \\|s\\|/eps) | ms / frame | updates / frame | frames |"
+        "| scene | eps | c | step control (state: tolerance / smallest eps_i) | worst strain | s-layer left (max \\|s\\|/eps) | ms / frame | updates / frame | steps / frame | frames |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     for (scene, eps, gain) in &scenes {
-        for per_eps in [None, Some(1e-4)] {
-            match run(scene, *eps, *gain, per_eps) {
+        for control in [
+            Control::Default,
+            Control::State(1e-4),
+            Control::Shorter(0.25),
+            Control::Shorter(0.0625),
+        ] {
+            match run(scene, *eps, *gain, control) {
                 Ok(line) => println!("{line}"),
                 Err(e) => println!("| {} | {eps:e} | {gain} | failed: {e} |", scene.title()),
             }

@@ -56,8 +56,8 @@ pub trait Backend {
     fn positions(&self, out: &mut [[f64; 3]]);
     /// Current velocities of all particles into `out`.
     fn velocities(&self, out: &mut [[f64; 3]]);
-    /// Position, velocity and acceleration of particle `k` now (jerk 0 if unknown),
-    /// so that a grab can continue the particle's motion.
+    /// Position, velocity and acceleration of particle `k` now (jerk 0 if unknown).
+    /// A grab takes the position and velocity (see [`Scene::grab`](crate::Scene::grab)).
     fn particle(&self, k: usize) -> Kinematics;
     /// Pin particle `k` to `pin` from now on, or release it (`None`). The pin's
     /// motion should start where the particle is.

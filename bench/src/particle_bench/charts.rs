@@ -99,10 +99,11 @@ pub fn loglog(
     Ok(())
 }
 
-/// Cost per frame against worst strain for one scene, one line per method (complete
-/// runs, in the order of their settings).
+/// Cost per frame against worst strain for one scene (`runs`: that scene's records,
+/// [`scene_groups`](super::scene_groups)), one line per method (complete runs, in the
+/// order of their settings).
 pub fn strain_chart(
-    records: &[ParticleRecord],
+    runs: &[&ParticleRecord],
     title: &str,
     methods: &[String],
     path: &Path,
@@ -111,11 +112,9 @@ pub fn strain_chart(
         .iter()
         .map(|m| Line {
             label: m.clone(),
-            points: records
+            points: runs
                 .iter()
-                .filter(|r| {
-                    format!("{} {}", r.scene, r.variant) == title && &r.method == m && r.complete()
-                })
+                .filter(|r| &r.method == m && r.complete())
                 .map(|r| (r.worst_strain, r.ms_mean))
                 .collect(),
         })

@@ -10,8 +10,8 @@ mod scenes;
 pub use charts::{Line, loglog, ratio_chart, strain_chart};
 pub use pictures::{Capture, strain_colour, write_pictures};
 pub use report::{
-    CSV_COLUMNS, bound_held, cheapest, cheapest_table, fitted_exponent, stability_table,
-    write_particles_csv,
+    CSV_COLUMNS, bound_held, cheapest, cheapest_table, fitted_exponent, scene_groups, scene_title,
+    stability_table, write_particles_csv,
 };
 pub use run::{
     FrameObserver, MethodSpec, PILOT_SAFETY, ParticleRecord, RELAXED_MU_PER_FRAME,

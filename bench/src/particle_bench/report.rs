@@ -1,6 +1,7 @@
 //! `particles.csv` (one row per run) and the tables of docs/particles.md: the cheapest
 //! setting of each method holding a strain, the fitted cost exponents, stability.
 
+use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::io::{self, Write};
 
@@ -94,6 +95,36 @@ pub fn write_particles_csv<W: Write>(records: &[ParticleRecord], mut out: W) -> 
     Ok(())
 }
 
+/// The records grouped by `key`, groups in order of first appearance, in one pass (a
+/// benchmark writes hundreds of rows; a scan of all rows per group would be quadratic).
+fn grouped<K: std::hash::Hash + Eq + Clone>(
+    records: &[ParticleRecord],
+    key: impl Fn(&ParticleRecord) -> K,
+) -> Vec<(K, Vec<&ParticleRecord>)> {
+    let mut index: HashMap<K, usize> = HashMap::new();
+    let mut groups: Vec<(K, Vec<&ParticleRecord>)> = Vec::new();
+    for r in records {
+        let k = key(r);
+        let g = *index.entry(k.clone()).or_insert_with(|| {
+            groups.push((k, Vec::new()));
+            groups.len() - 1
+        });
+        groups[g].1.push(r);
+    }
+    groups
+}
+
+/// The records grouped by scene title ([`scene_title`]), scenes in order of first
+/// appearance, in one pass.
+pub fn scene_groups(records: &[ParticleRecord]) -> Vec<(String, Vec<&ParticleRecord>)> {
+    grouped(records, scene_title)
+}
+
+/// The scene title of a record (`C1 N=10 r=1e4`): the key of the tables and charts.
+pub fn scene_title(r: &ParticleRecord) -> String {
+    format!("{} {}", r.scene, r.variant)
+}
+
 /// The cheapest complete run (lowest mean cost per frame) of `method` on the scene
 /// `title` whose worst strain is at most `target` and which kept its guarantee: a DBSMC
 /// run that left its `s`-layer is not counted, even where its strain happened to stay
@@ -104,10 +135,20 @@ pub fn cheapest<'a>(
     method: &str,
     target: f64,
 ) -> Option<&'a ParticleRecord> {
-    records
-        .iter()
-        .filter(|r| format!("{} {}", r.scene, r.variant) == title && r.method == method)
-        .filter(|r| r.complete() && r.worst_strain <= target)
+    cheapest_of(
+        records
+            .iter()
+            .filter(|r| scene_title(r) == title && r.method == method),
+        target,
+    )
+}
+
+/// [`cheapest`] among `runs` (already one scene and method).
+fn cheapest_of<'a>(
+    runs: impl Iterator<Item = &'a ParticleRecord>,
+    target: f64,
+) -> Option<&'a ParticleRecord> {
+    runs.filter(|r| r.complete() && r.worst_strain <= target)
         .filter(|r| r.counters.layer_lost_at.is_none())
         .min_by(|a, b| a.ms_mean.total_cmp(&b.ms_mean))
 }
@@ -136,25 +177,16 @@ pub fn fitted_exponent(points: &[(f64, f64)]) -> Option<f64> {
 /// Markdown table: for every scene and method, the cheapest setting holding worst
 /// strain 1e-2, 1e-3 and 1e-4 for the whole run, with its mean cost per frame.
 pub fn cheapest_table(records: &[ParticleRecord], methods: &[String]) -> String {
-    let mut titles: Vec<String> = Vec::new();
-    for r in records {
-        let t = format!("{} {}", r.scene, r.variant);
-        if !titles.contains(&t) {
-            titles.push(t);
-        }
-    }
     let mut s = String::from(
         "| scene | method | worst strain <= 1e-2 | <= 1e-3 | <= 1e-4 |\n|---|---|---|---|---|\n",
     );
-    for t in &titles {
+    for (t, runs) in scene_groups(records) {
+        let by_method = grouped_refs(&runs, |r| r.method.clone());
         for m in methods {
-            if !records
-                .iter()
-                .any(|r| &format!("{} {}", r.scene, r.variant) == t && &r.method == m)
-            {
+            let Some(runs) = by_method.get(m) else {
                 continue;
-            }
-            let cell = |target: f64| match cheapest(records, t, m, target) {
+            };
+            let cell = |target: f64| match cheapest_of(runs.iter().copied(), target) {
                 Some(r) => format!("{} ({:.3} ms)", r.knob, r.ms_mean),
                 None => "none".into(),
             };
@@ -170,24 +202,26 @@ pub fn cheapest_table(records: &[ParticleRecord], methods: &[String]) -> String 
     s
 }
 
+/// `runs` by `key` (order within a group kept).
+fn grouped_refs<'a>(
+    runs: &[&'a ParticleRecord],
+    key: impl Fn(&ParticleRecord) -> String,
+) -> HashMap<String, Vec<&'a ParticleRecord>> {
+    let mut map: HashMap<String, Vec<&ParticleRecord>> = HashMap::new();
+    for r in runs {
+        map.entry(key(r)).or_default().push(r);
+    }
+    map
+}
+
 /// Markdown table: per scene and method, how many runs completed, stopped at the
 /// budget, failed, and (DBSMC) lost the bound, with the first failure.
 pub fn stability_table(records: &[ParticleRecord]) -> String {
-    let mut keys: Vec<(String, String)> = Vec::new();
-    for r in records {
-        let k = (format!("{} {}", r.scene, r.variant), r.method.clone());
-        if !keys.contains(&k) {
-            keys.push(k);
-        }
-    }
+    let groups = grouped(records, |r| (scene_title(r), r.method.clone()));
     let mut s = String::from(
         "| scene | method | runs | complete | budget | failed | strain bound lost (> 1.05 eps) | s-layer left | first failure |\n|---|---|---|---|---|---|---|---|---|\n",
     );
-    for (t, m) in keys {
-        let runs: Vec<&ParticleRecord> = records
-            .iter()
-            .filter(|r| format!("{} {}", r.scene, r.variant) == t && r.method == m)
-            .collect();
+    for ((t, m), runs) in groups {
         let count = |f: &dyn Fn(&ParticleRecord) -> bool| runs.iter().filter(|r| f(r)).count();
         let failed: Vec<&&ParticleRecord> = runs
             .iter()
@@ -313,6 +347,37 @@ mod tests {
         assert_eq!(
             cheapest(&records, "C1 N=10 r=1", "m", 1e-3).unwrap().knob,
             "b"
+        );
+    }
+
+    #[test]
+    fn tables_list_scenes_and_methods_in_order_of_first_appearance_with_their_own_runs() {
+        let on = |variant: &str, r: ParticleRecord| ParticleRecord {
+            variant: variant.into(),
+            ..r
+        };
+        // Interleaved scenes and methods, as a benchmark with resumed sweeps writes them.
+        let records = vec![
+            on("N=100 r=1", rec("b", "k=1", None, 1e-3, 2.0, "ok")),
+            on("N=10 r=1", rec("a", "k=1", None, 1e-3, 4.0, "ok")),
+            on("N=100 r=1", rec("a", "k=2", None, 5e-4, 3.0, "failed: x")),
+            on("N=10 r=1", rec("a", "k=2", None, 1e-4, 1.0, "ok")),
+        ];
+        let rows =
+            |t: String| -> Vec<String> { t.lines().skip(2).map(|l| l.to_string()).collect() };
+        let stability = rows(stability_table(&records));
+        assert_eq!(stability.len(), 3, "{stability:?}");
+        assert!(stability[0].starts_with("| C1 N=100 r=1 | b | 1 | 1 | 0 | 0 |"));
+        assert!(stability[1].starts_with("| C1 N=10 r=1 | a | 2 | 2 | 0 | 0 |"));
+        assert!(stability[2].starts_with("| C1 N=100 r=1 | a | 1 | 0 | 0 | 1 |"));
+        let cheapest = rows(cheapest_table(&records, &["a".into(), "b".into()]));
+        assert_eq!(
+            cheapest,
+            [
+                "| C1 N=100 r=1 | a | none | none | none |",
+                "| C1 N=100 r=1 | b | k=1 (2.000 ms) | k=1 (2.000 ms) | none |",
+                "| C1 N=10 r=1 | a | k=2 (1.000 ms) | k=2 (1.000 ms) | k=2 (1.000 ms) |",
+            ]
         );
     }
 
