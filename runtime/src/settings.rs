@@ -191,6 +191,10 @@ pub struct Settings {
     /// [`Settings::raise_gains`]); `None` keeps the gains and only counts.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub raise_gains: Option<f64>,
+    /// Set each gain at every update from the drift of `s_i'` measured over the
+    /// intervals before it (see [`Settings::follow_drift`]); `None` keeps the gains.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub follow_drift: Option<f64>,
     /// Start from these states `x0` and algebraic values `z0` instead of the model's
     /// [`initial_state`](crate::Model::initial_state) and
     /// [`initial_alg`](crate::Model::initial_alg) (see [`Settings::initial`]).
@@ -249,6 +253,7 @@ impl Settings {
             check_robustness: true,
             solver: SolverChoice::Auto,
             raise_gains: None,
+            follow_drift: None,
             initial: None,
         }
     }
@@ -382,6 +387,34 @@ impl Settings {
         self
     }
 
+    /// Let the gains follow the drift of the sliding variables' rates, measured online.
+    ///
+    /// Between two updates `v` is held, so `s_i'` moves away from its value `-k_i
+    /// sgn(s_i)` right after the update (exact `alpha`) only through the motion of the
+    /// state. A rate `s_i'` that drifts at `D_i` can still be swept across the whole
+    /// layer `2 eps_i` before it turns if `k_i >= 2 sqrt(eps_i D_i)`. At every update
+    /// the drift of the interval just ended, `|s_i'(t^-) - s_i'(t_b^+)| / (t - t_b)`, is
+    /// measured (no model evaluation: both rates are known), kept as `D_i =
+    /// max(measured, D_i / 2)` (a fading memory of the intervals before), and the gain
+    /// becomes `max(k_i configured, safety * 2 sqrt(eps_i D_i))`.
+    ///
+    /// This is a prediction from the past intervals, not the bound `M_i` of the
+    /// sufficient gain (a drift that grows faster than the memory fades can still leave
+    /// the layer, and the run reports it). With [`Settings::raise_gains`] as well, each
+    /// update starts from the followed gain and raises on top of it. Needs located
+    /// crossings ([`Crossing::Located`], the default) and a DBSMC policy; `safety > 0`
+    /// (1 is what the particle benchmark uses).
+    ///
+    /// ```
+    /// use dae_runtime::Settings;
+    /// let s = Settings::new(vec![1e-3], vec![0.05], vec![0.2]).follow_drift(1.0);
+    /// assert_eq!(s.follow_drift, Some(1.0));
+    /// ```
+    pub fn follow_drift(mut self, safety: f64) -> Self {
+        self.follow_drift = Some(safety);
+        self
+    }
+
     /// Start from `x0` (one value per state) and `z0` (one per constraint) instead of
     /// the model's own initial values, e.g. to start a model in a chosen consistent
     /// configuration without editing it. Lengths and finiteness are checked by
@@ -486,6 +519,22 @@ impl Settings {
                 return bad(
                     "raise_gains",
                     format!("margin {margin} must be finite and > 0"),
+                );
+            }
+        }
+        if let Some(safety) = self.follow_drift {
+            if !(safety.is_finite() && safety > 0.0) {
+                return bad(
+                    "follow_drift",
+                    format!("safety {safety} must be finite and > 0"),
+                );
+            }
+            if self.policy == Policy::Spsm || !matches!(self.crossing, Crossing::Located { .. }) {
+                return bad(
+                    "follow_drift",
+                    "needs the rates s' at the step ends: located crossings \
+                     (Crossing::Located, the default) and a DBSMC policy (not Spsm)"
+                        .into(),
                 );
             }
         }

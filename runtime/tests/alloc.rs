@@ -58,6 +58,10 @@ fn allocations_of_run(
     if !solver.is_exact() {
         settings = settings.raise_gains(0.1);
     }
+    if matches!(crossing, Crossing::Located { .. }) && policy != Policy::Spsm {
+        // Every run that can follow the drift does (its buffers are the simulator's).
+        settings = settings.follow_drift(1.0);
+    }
     let mut sim = Simulator::new(&p, settings).unwrap();
     let before = ALLOCATIONS.load(Ordering::Relaxed);
     COUNTING.with(|c| c.set(true));

@@ -14,8 +14,8 @@ pub use report::{
     stability_table, write_particles_csv,
 };
 pub use run::{
-    FrameObserver, MethodSpec, PILOT_SAFETY, ParticleRecord, RELAXED_MU_PER_FRAME,
-    RELAXED_STEP_PER_MU, dbsmc_settings, drive_scene, index_one, particle_pilot, relaxed_settings,
-    run_particle_method,
+    FrameObserver, MethodSpec, PILOT_SAFETY, ParticleRecord, RELAXED_DRIFT_SAFETY,
+    RELAXED_MU_PER_FRAME, RELAXED_STEP_PER_MU, dbsmc_settings, drive_scene, index_one,
+    particle_pilot, relaxed_settings, run_particle_method,
 };
 pub use scenes::{Grab, ParticleScene, SceneShape, c1, c2, c3, c4};

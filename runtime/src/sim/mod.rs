@@ -5,6 +5,7 @@
 mod change;
 mod control;
 mod crossing;
+mod drift;
 mod rk;
 mod robust;
 mod stats;
@@ -101,6 +102,10 @@ pub struct Simulator<M: Model> {
     ds0: Vec<f64>,
     /// `s'` at the current point (with the held `v`).
     ds: Vec<f64>,
+    /// `s'` right after the last update, and the drift `D_i` of `s_i'` the gains
+    /// follow ([`Settings::follow_drift`]).
+    ds_b: Vec<f64>,
+    drift: Vec<f64>,
     s_prev: Vec<f64>,
     z_eq: Vec<f64>,
     z_star: Vec<f64>,
@@ -197,6 +202,8 @@ impl<M: Model> Simulator<M> {
             s0: vm(),
             ds0: vm(),
             ds: vm(),
+            ds_b: vm(),
+            drift: vm(),
             s_prev: vm(),
             z_eq: vm(),
             z_star: vm(),
@@ -264,6 +271,12 @@ impl<M: Model> Simulator<M> {
     pub fn sliding(&self) -> &[f64] {
         &self.ctl.s
     }
+    /// The gains `k_i` in use now: the configured ones, or as raised
+    /// ([`Settings::raise_gains`]) or followed ([`Settings::follow_drift`]) at the last
+    /// update.
+    pub fn gains(&self) -> &[f64] {
+        &self.ctl.gains
+    }
     /// The loss of a layer after reaching so far (what [`Summary::bound_loss`] will
     /// say), for a run driven in pieces that must notice it before `finish`. `None`
     /// (without allocating) while every layer held.
@@ -298,6 +311,7 @@ impl<M: Model> Simulator<M> {
         let m = self.z.len();
         self.stats = Stats::new(m);
         self.ctl.reset(&self.set.gains);
+        self.drift.fill(0.0);
         let t0 = self.set.t_start;
         self.t = t0;
         self.tb = t0;
@@ -471,6 +485,30 @@ impl<M: Model> Simulator<M> {
     }
 
     /// Whether crossings are located inside the step (DBSMC with a held control).
+    /// [`Settings::follow_drift`]: measure the drift of `s'` over the interval that
+    /// ends at `t` (`ds` still holds the rate with the old `v`) and set the gains.
+    fn follow_drift(&mut self, t: f64) {
+        let Some(safety) = self.set.follow_drift else {
+            return;
+        };
+        if self.stats.updates == 0 || t <= self.tb {
+            return;
+        }
+        let dt = t - self.tb;
+        for i in 0..self.drift.len() {
+            let measured = (self.ds[i] - self.ds_b[i]).abs() / dt;
+            let (d, k) = drift::follow(
+                self.set.gains[i],
+                self.set.eps[i],
+                safety,
+                self.drift[i],
+                measured,
+            );
+            self.drift[i] = d;
+            self.ctl.gains[i] = k;
+        }
+    }
+
     fn located(&self) -> bool {
         matches!(self.set.crossing, Crossing::Located { .. }) && self.set.policy != Policy::Spsm
     }
@@ -616,6 +654,9 @@ impl<M: Model> Simulator<M> {
             raise: self.set.raise_gains,
             beta_ready: located,
         };
+        if located {
+            self.follow_drift(t);
+        }
         let violations = self
             .ctl
             .law(&self.model, t, &self.x, &self.z, switch, check, &mut self.v);
@@ -625,6 +666,7 @@ impl<M: Model> Simulator<M> {
         if located {
             // The beta of the law may have been re-evaluated only when not ready.
             self.ctl.s_rate(&self.v, &mut self.ds);
+            self.ds_b.copy_from_slice(&self.ds);
         }
         self.zb.copy_from_slice(&self.z);
         self.tb = t;

@@ -1,17 +1,21 @@
-//! The frame-tied DBSMC design (`dbsmc-relaxed`, docs/particles.md) at the runtime's
-//! default Dormand-Prince tolerance (`TOLERANCE_PER_EPS = 0.01` of the smallest layer),
-//! at a tolerance 100 times tighter, and with steps of at most 1/4 and 1/16 of the
-//! design's longest (`mu / 4`), on the runs of the particle benchmark that left their
-//! `s`-layer: does the layer loss come from the integration (then it goes away as the
-//! steps shrink) or from the assumed drift (then it does not)?
+//! The relaxed DBSMC design (`dbsmc-relaxed`, docs/particles.md) on the runs of the
+//! particle benchmark where its gains, held fixed at the frame-tied floor `c eps / mu`,
+//! left their `s`-layer: with fixed gains at the runtime's default Dormand-Prince
+//! tolerance (`TOLERANCE_PER_EPS = 0.01` of the smallest layer), at a tolerance 100
+//! times tighter, and with steps of at most 1/4 and 1/16 of the design's longest
+//! (`mu / 4`); and with the gains following the drift of `s'` (`Settings::follow_drift`)
+//! at safety 1 (the benchmark's design) and 2. Does the loss come from the integration
+//! (then it goes away as the steps shrink) or from a gain the drift outgrew?
 //!
 //! ```text
-//! cargo run --release -p dae-bench --example relaxed_tolerance
+//! cargo run --release -p dae-bench --example relaxed_design
 //! ```
 
 use std::time::Duration;
 
-use dae_bench::{MethodSpec, ParticleScene, c1, c3, drive_scene, relaxed_settings};
+use dae_bench::{
+    MethodSpec, ParticleScene, RELAXED_DRIFT_SAFETY, c1, c3, drive_scene, relaxed_settings,
+};
 use dae_particles::{Dbsmc, GridPins, ParticleDae, ParticleModel};
 use dae_runtime::Model;
 
@@ -21,20 +25,23 @@ const BUDGET: Duration = Duration::from_secs(30);
 /// How a run's steps are controlled.
 #[derive(Clone, Copy)]
 enum Control {
-    /// The runtime's default state tolerance.
-    Default,
-    /// A state tolerance of this fraction of the smallest layer.
+    /// Fixed gains, the runtime's default state tolerance.
+    Fixed,
+    /// Fixed gains, a state tolerance of this fraction of the smallest layer.
     State(f64),
-    /// Steps of at most this fraction of the design's longest.
+    /// Fixed gains, steps of at most this fraction of the design's longest.
     Shorter(f64),
+    /// Gains following the drift of `s'` with this safety factor.
+    Follow(f64),
 }
 
 impl Control {
     fn label(self) -> String {
         match self {
-            Control::Default => "state 1e-2 (default)".into(),
-            Control::State(f) => format!("state {f:e}"),
-            Control::Shorter(f) => format!("state 1e-2, max step x {f}"),
+            Control::Fixed => "fixed gains".into(),
+            Control::State(f) => format!("fixed gains, tolerance {f:e}"),
+            Control::Shorter(f) => format!("fixed gains, max step x {f}"),
+            Control::Follow(f) => format!("gains follow the drift, safety {f}"),
         }
     }
 }
@@ -46,13 +53,15 @@ fn run(scene: &ParticleScene, eps: f64, gain: f64, control: Control) -> Result<S
         .map(|i| eps * model.rest_length(i))
         .fold(f64::INFINITY, f64::min);
     let mut settings = relaxed_settings(&model, eps, gain);
+    settings.follow_drift = None;
     match control {
-        Control::Default => {}
+        Control::Fixed => {}
         Control::State(f) => settings = settings.tolerance(f * smallest, f * smallest),
         Control::Shorter(f) => {
             let h = settings.max_step * f;
             settings = settings.max_step(h)
         }
+        Control::Follow(f) => settings = settings.follow_drift(f),
     }
     let backend = Dbsmc::new(model, settings, "relaxed")
         .map_err(|e| e.to_string())?
@@ -94,20 +103,22 @@ fn main() {
     let scenes = match scenes {
         Ok(s) => s,
         Err(e) => {
-            eprintln!("relaxed_tolerance: {e}");
+            eprintln!("relaxed_design: {e}");
             std::process::exit(1);
         }
     };
     println!(
-        "| scene | eps | c | step control (state: tolerance / smallest eps_i) | worst strain | s-layer left (max \\|s\\|/eps) | ms / frame | updates / frame | steps / frame | frames |"
+        "| scene | eps | c | gains, step control (tolerance / smallest eps_i) | worst strain | s-layer left (max \\|s\\|/eps) | ms / frame | updates / frame | steps / frame | frames |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|");
     for (scene, eps, gain) in &scenes {
         for control in [
-            Control::Default,
+            Control::Fixed,
             Control::State(1e-4),
             Control::Shorter(0.25),
             Control::Shorter(0.0625),
+            Control::Follow(RELAXED_DRIFT_SAFETY),
+            Control::Follow(2.0 * RELAXED_DRIFT_SAFETY),
         ] {
             match run(scene, *eps, *gain, control) {
                 Ok(line) => println!("{line}"),
