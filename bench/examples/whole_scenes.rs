@@ -1,0 +1,106 @@
+//! The relaxed DBSMC design (`dbsmc-relaxed`, gains following the drift) through the
+//! whole 5 s of every scene of the particle benchmark at one setting, without the
+//! benchmark's 6 s budget per run: where the benchmark stops the large scenes after a
+//! few frames, this says whether the strain bound and the `s`-layer hold to the end
+//! (issue 13's first target), and at what cost per frame.
+//!
+//! ```text
+//! cargo run --release -p dae-bench --example whole_scenes [-- EPS C BUDGET [TEXT]]
+//! ```
+//!
+//! `EPS` (default 1e-2), `C` (the floor gain `c eps / mu`, default 8) and `BUDGET`, the
+//! wall-clock seconds one scene may take (default 120; the harness stops a run that
+//! has spent it, or a tenth of it while its projected total is over it, and the table
+//! says how many frames it ran). A scene that stops at the budget counts as not shown.
+//! `TEXT` keeps the scenes whose title contains it.
+
+use std::time::Duration;
+
+use dae_bench::{MethodSpec, ParticleScene, c1, c2, c3, c4, run_particle_method};
+use dae_particles::GridPins;
+
+fn scenes() -> Result<Vec<ParticleScene>, String> {
+    let e = |x: dae_particles::SystemError| x.to_string();
+    let mut v = Vec::new();
+    for n in [10, 100] {
+        for r in [1.0, 1e2, 1e4] {
+            v.push(c1(n, r).map_err(e)?);
+        }
+    }
+    v.push(c1(1000, 1.0).map_err(e)?);
+    v.push(c2(100, 32).map_err(e)?);
+    for pins in [GridPins::Corners, GridPins::Edge, GridPins::CornersHeavy] {
+        v.push(c3(32, pins, false).map_err(e)?);
+    }
+    v.push(c3(64, GridPins::Corners, false).map_err(e)?);
+    v.push(c4(8).map_err(e)?);
+    v.push(c4(32).map_err(e)?);
+    Ok(v)
+}
+
+fn main() {
+    let arg = |i: usize, default: f64| -> f64 {
+        match std::env::args().nth(i) {
+            None => default,
+            Some(a) => a.parse().unwrap_or_else(|_| {
+                eprintln!(
+                    "whole_scenes: `{a}` is not a number (usage: whole_scenes [EPS C BUDGET [TEXT]])"
+                );
+                std::process::exit(2);
+            }),
+        }
+    };
+    let (eps, gain) = (arg(1, 1e-2), arg(2, 8.0));
+    let budget = Duration::from_secs_f64(arg(3, 120.0));
+    let only = std::env::args().nth(4);
+    let mut scenes = scenes().unwrap_or_else(|e| {
+        eprintln!("whole_scenes: {e}");
+        std::process::exit(1);
+    });
+    scenes.retain(|s| only.as_ref().is_none_or(|t| s.title().contains(t.as_str())));
+    let spec = MethodSpec::DbsmcRelaxed { eps, gain };
+    println!(
+        "| scene | links | worst strain / eps | s-layer left (max \\|s\\|/eps) | ms / frame mean (max) | updates / frame | frames | status |"
+    );
+    println!("|---|---|---|---|---|---|---|---|");
+    let (mut lost, mut short) = (0, 0);
+    for scene in &scenes {
+        let r = run_particle_method(scene, &spec, None, budget, None, None);
+        let layer = match (r.counters.layer_lost_at, r.counters.layer_worst_ratio) {
+            (Some(t), Some(q)) => format!("{t:.3} s, {q:.3} eps"),
+            _ => "-".into(),
+        };
+        if r.counters.layer_lost_at.is_some() || r.worst_strain > 1.05 * eps {
+            lost += 1;
+        } else if !r.complete() {
+            short += 1;
+        }
+        println!(
+            "| {} | {} | {:.3} | {layer} | {:.3} ({:.3}) | {:.0} | {}/{} | {} |",
+            scene.title(),
+            scene.size(),
+            r.worst_strain / eps,
+            r.ms_mean,
+            r.ms_max,
+            r.counters.updates as f64 / r.frames.max(1) as f64,
+            r.frames,
+            r.frames_total,
+            r.status
+                .chars()
+                .take(60)
+                .collect::<String>()
+                .replace('|', "/"),
+        );
+    }
+    println!(
+        "\n{} of {} scenes held the strain within 1.05 eps and kept the s-layer to the end, \
+         {short} held them until the budget stopped them, {lost} lost one ({} {}).",
+        scenes.len() - lost - short,
+        scenes.len(),
+        spec.method(),
+        spec.knob()
+    );
+    if lost > 0 {
+        std::process::exit(1);
+    }
+}
