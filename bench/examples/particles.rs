@@ -20,7 +20,7 @@ use std::time::{Duration, Instant};
 use dae_bench::{
     Capture, MethodSpec, ParticleRecord, ParticleScene, bound_held, c1, c2, c3, c4, cheapest,
     cheapest_table, drive_scene, index_one, particle_pilot, ratio_chart, run_particle_method,
-    scene_groups, stability_table, strain_chart, write_particles_csv, write_pictures,
+    scene_groups, scene_title, stability_table, strain_chart, write_particles_csv, write_pictures,
 };
 use dae_particles::GridPins;
 use dae_runtime::{Integrator, SolverChoice};
@@ -483,7 +483,7 @@ fn main() {
             })
             .filter_map(|spec| {
                 let r = records.iter().find(|r| {
-                    format!("{} {}", r.scene, r.variant) == title
+                    scene_title(r) == title
                         && r.method == spec.method()
                         && r.knob == spec.knob()
                 })?;

@@ -155,7 +155,7 @@ pub fn ratio_chart(
                     let title = records
                         .iter()
                         .find(|r| r.scene == "C1" && r.size == links && r.param == q)
-                        .map(|r| format!("{} {}", r.scene, r.variant))?;
+                        .map(super::scene_title)?;
                     cheapest(records, &title, m, target).map(|r| (q, r.ms_mean))
                 })
                 .collect(),

@@ -97,10 +97,10 @@ pub fn write_particles_csv<W: Write>(records: &[ParticleRecord], mut out: W) -> 
 
 /// The records grouped by `key`, groups in order of first appearance, in one pass (a
 /// benchmark writes hundreds of rows; a scan of all rows per group would be quadratic).
-fn grouped<K: std::hash::Hash + Eq + Clone>(
-    records: &[ParticleRecord],
+fn grouped<'a, K: std::hash::Hash + Eq + Clone>(
+    records: impl IntoIterator<Item = &'a ParticleRecord>,
     key: impl Fn(&ParticleRecord) -> K,
-) -> Vec<(K, Vec<&ParticleRecord>)> {
+) -> Vec<(K, Vec<&'a ParticleRecord>)> {
     let mut index: HashMap<K, usize> = HashMap::new();
     let mut groups: Vec<(K, Vec<&ParticleRecord>)> = Vec::new();
     for r in records {
@@ -181,9 +181,9 @@ pub fn cheapest_table(records: &[ParticleRecord], methods: &[String]) -> String 
         "| scene | method | worst strain <= 1e-2 | <= 1e-3 | <= 1e-4 |\n|---|---|---|---|---|\n",
     );
     for (t, runs) in scene_groups(records) {
-        let by_method = grouped_refs(&runs, |r| r.method.clone());
+        let by_method = grouped(runs, |r| r.method.clone());
         for m in methods {
-            let Some(runs) = by_method.get(m) else {
+            let Some((_, runs)) = by_method.iter().find(|(k, _)| k == m) else {
                 continue;
             };
             let cell = |target: f64| match cheapest_of(runs.iter().copied(), target) {
@@ -200,18 +200,6 @@ pub fn cheapest_table(records: &[ParticleRecord], methods: &[String]) -> String 
         }
     }
     s
-}
-
-/// `runs` by `key` (order within a group kept).
-fn grouped_refs<'a>(
-    runs: &[&'a ParticleRecord],
-    key: impl Fn(&ParticleRecord) -> String,
-) -> HashMap<String, Vec<&'a ParticleRecord>> {
-    let mut map: HashMap<String, Vec<&ParticleRecord>> = HashMap::new();
-    for r in runs {
-        map.entry(key(r)).or_default().push(r);
-    }
-    map
 }
 
 /// Markdown table: per scene and method, how many runs completed, stopped at the

@@ -484,9 +484,9 @@ impl<M: Model> Simulator<M> {
         Ok(())
     }
 
-    /// Whether crossings are located inside the step (DBSMC with a held control).
     /// [`Settings::follow_drift`]: measure the drift of `s'` over the interval that
-    /// ends at `t` (`ds` still holds the rate with the old `v`) and set the gains.
+    /// ends at `t` (`ds` still holds the rate with the old `v`: the settings only allow
+    /// it with located crossings) and set the gains.
     fn follow_drift(&mut self, t: f64) {
         let Some(safety) = self.set.follow_drift else {
             return;
@@ -509,6 +509,7 @@ impl<M: Model> Simulator<M> {
         }
     }
 
+    /// Whether crossings are located inside the step (DBSMC with a held control).
     fn located(&self) -> bool {
         matches!(self.set.crossing, Crossing::Located { .. }) && self.set.policy != Policy::Spsm
     }
@@ -654,9 +655,7 @@ impl<M: Model> Simulator<M> {
             raise: self.set.raise_gains,
             beta_ready: located,
         };
-        if located {
-            self.follow_drift(t);
-        }
+        self.follow_drift(t);
         let violations = self
             .ctl
             .law(&self.model, t, &self.x, &self.z, switch, check, &mut self.v);
@@ -666,7 +665,9 @@ impl<M: Model> Simulator<M> {
         if located {
             // The beta of the law may have been re-evaluated only when not ready.
             self.ctl.s_rate(&self.v, &mut self.ds);
-            self.ds_b.copy_from_slice(&self.ds);
+            if self.set.follow_drift.is_some() {
+                self.ds_b.copy_from_slice(&self.ds);
+            }
         }
         self.zb.copy_from_slice(&self.z);
         self.tb = t;
