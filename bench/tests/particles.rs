@@ -4,9 +4,9 @@
 use std::time::Duration;
 
 use dae_bench::{
-    Chain5, IndexOneParticles, MethodSpec, RELAXED_DRIFT_SAFETY, RELAXED_MU_PER_FRAME,
-    RELAXED_STEP_PER_MU, Xpbd, c1, c4, drive_scene, generated_chain, generated_grid,
-    generated_strands, particle_pilot, relaxed_settings, run_particle_method,
+    Chain5, IndexOneParticles, MethodSpec, ParticleRecord, ParticleScene, RELAXED_DRIFT_SAFETY,
+    RELAXED_MU_PER_FRAME, RELAXED_STEP_PER_MU, Xpbd, c1, c4, drive_scene, generated_chain,
+    generated_grid, generated_strands, particle_pilot, relaxed_settings, run_particle_method,
 };
 use dae_particles::{
     Backend, Dbsmc, FRAME, GrabPath, GridPins, Kinematics, Motion, ParticleDae, ParticleModel, Pin,
@@ -266,38 +266,27 @@ fn the_relaxed_design_holds_a_heavy_end_chain_without_a_pilot() {
     );
 }
 
-/// Fixed gains at the frame-tied floor lose the layer of a light 10-link chain at eps =
-/// 1e-4 (at 1.398 s: the drift of `s'` outgrows a gain of `8 eps / mu`, and `s` grazes
-/// the boundary it left), and the same design with its gains following the drift keeps
-/// the layer and the strain over the whole 5 s. The runtime's monitor is the judge of
-/// the layer; the strain is measured on the positions, independently of `s`.
+/// Fixed gains at the frame-tied floor lose the layer of the heavy-ended 10-link chain
+/// (end mass 1e4) at eps = 1e-2 (at 0.330 s, and the strain with it: the drift of `s'`
+/// outgrows a gain of `8 eps / mu` until the updates come every step), and the same
+/// design with its gains following the drift keeps the layer and the strain over the
+/// whole 5 s. The runtime's monitor is the judge of the layer; the strain is measured
+/// on the positions, independently of `s`.
 #[test]
 fn gains_that_follow_the_drift_keep_the_layer_that_fixed_gains_lose() {
-    let scene = c1(10, 1.0).unwrap();
-    let (eps, gain) = (1e-4, 8.0);
-    let spec = MethodSpec::DbsmcRelaxed { eps, gain };
-    let run = |follow: bool| {
-        let model = ParticleModel::new(&scene.system).unwrap();
-        let mut settings = relaxed_settings(&model, eps, gain);
-        if !follow {
-            settings.follow_drift = None;
-        }
-        let backend = Dbsmc::new(model, settings, "relaxed")
-            .unwrap()
-            .keep_going_after_bound_loss();
-        drive_scene(&scene, &spec, backend, Duration::from_secs(120), None, None)
-    };
-    let fixed = run(false);
+    let scene = c1(10, 1e4).unwrap();
+    let (eps, gain) = (1e-2, 8.0);
+    let fixed = relaxed_run(&scene, eps, gain, false);
     assert!(fixed.complete(), "{}", fixed.status);
     let lost = fixed
         .counters
         .layer_lost_at
         .expect("fixed gains keep the layer");
     assert!(
-        (1.0..2.0).contains(&lost),
+        (0.1..1.0).contains(&lost),
         "fixed gains left the layer at {lost} s"
     );
-    let followed = run(true);
+    let followed = relaxed_run(&scene, eps, gain, true);
     assert!(followed.complete(), "{}", followed.status);
     assert_eq!(followed.counters.layer_lost_at, None);
     assert!(
@@ -305,6 +294,39 @@ fn gains_that_follow_the_drift_keep_the_layer_that_fixed_gains_lose() {
         "{}",
         followed.worst_strain
     );
+}
+
+/// A gain below the drift's `2 sqrt(eps D)` grazes the layer (`s` turns back inside the
+/// side it left and returns to the same level), which located crossings keep: fixed
+/// gains on the light 10-link chain at eps = 1e-4 hold the layer and the strain for the
+/// whole 5 s. They left it at 1.398 s while the root search of a return to the level a
+/// step started on took its side from the step's start (which rounding may put a hair
+/// beyond the level) and accepted wherever it stopped; either fix alone (the side from
+/// the cubic's motion at the event, `Cubic::side_before`, or a cut at the cubic's event
+/// when no root is found) keeps this run in its layer.
+#[test]
+fn fixed_gains_that_graze_the_layer_keep_it_on_a_light_chain() {
+    let scene = c1(10, 1.0).unwrap();
+    let eps = 1e-4;
+    let fixed = relaxed_run(&scene, eps, 8.0, false);
+    assert!(fixed.complete(), "{}", fixed.status);
+    assert_eq!(fixed.counters.layer_lost_at, None);
+    assert!(fixed.worst_strain <= 1.05 * eps, "{}", fixed.worst_strain);
+}
+
+/// The frame-tied design on `scene` for 5 s, its gains following the drift or fixed at
+/// the floor, going on after a lost layer (to see the strain).
+fn relaxed_run(scene: &ParticleScene, eps: f64, gain: f64, follow: bool) -> ParticleRecord {
+    let spec = MethodSpec::DbsmcRelaxed { eps, gain };
+    let model = ParticleModel::new(&scene.system).unwrap();
+    let mut settings = relaxed_settings(&model, eps, gain);
+    if !follow {
+        settings.follow_drift = None;
+    }
+    let backend = Dbsmc::new(model, settings, "relaxed")
+        .unwrap()
+        .keep_going_after_bound_loss();
+    drive_scene(scene, &spec, backend, Duration::from_secs(120), None, None)
 }
 
 /// Both models at one random state (pinned particles on their pins at `t`, the others

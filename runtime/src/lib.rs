@@ -392,8 +392,8 @@ mod trace;
 
 pub use error::{Quantity, SimError};
 pub use settings::{
-    AlphaChoice, BOUND_TOL, CROSSING_TOL, Crossing, Initial, Integrator, Policy, Reaching,
-    Settings, TOLERANCE_PER_EPS, Tolerance,
+    AlphaChoice, BOUND_TOL, CROSSING_TOL, Crossing, Initial, Integrator, LAYER_ERROR_PER_STEP,
+    Policy, Reaching, Settings, TOLERANCE_PER_EPS, Tolerance,
 };
 pub use sim::Simulator;
 pub use solve::{

@@ -6,7 +6,7 @@ mod common;
 
 use common::pendulum::Pendulum;
 use common::{Chain, Tracking, independent_max_s};
-use dae_runtime::{Integrator, Model, Settings, Simulator, Summary, Trace};
+use dae_runtime::{AlphaChoice, Integrator, Model, Settings, Simulator, Summary, Trace};
 use proptest::prelude::*;
 
 /// A run with every step recorded; panics on failure.
@@ -224,4 +224,60 @@ fn the_step_end_rule_overshoots_where_located_crossings_do_not() {
     assert!(!s.bound_held());
     let (s, _) = traced(&Tracking::default(), tracking(h));
     assert!(s.bound_held(), "{:?}", s.bound_loss);
+}
+
+/// Gains a thirtieth and a hundredth of the pendulum's (the design's `mu^2 beta`
+/// against the drift of `s'`): after an update at one level `s` turns back inside and
+/// returns to the same level (most updates come from the side of the previous one), in
+/// steps that start on that level. With the exact `alpha` (`s' = -k sgn(s)` right after
+/// an update) only located returns keep the layer: by the summary and by an independent
+/// fine integration. Each case failed before a fix: Dormand-Prince steps of 0.06 s met
+/// the state tolerance but left `s` 6.7 % beyond the layer by the fine integration
+/// (the test of each step's error in `s`, `LAYER_ERROR_PER_STEP`); RK4 steps of 0.1 s
+/// fitted cubics that showed events the true `s` never reached, and the refinement
+/// walked to the step's end past a real crossing (3.29 eps at 3.95 s; now the step is
+/// cut at the cubic's event and looked at again).
+#[test]
+fn a_gain_that_only_grazes_the_layer_returns_to_its_level_without_leaving_it() {
+    for (label, integrator, h, divisor) in [
+        (
+            "Dormand-Prince, gains / 30",
+            Integrator::DormandPrince,
+            1.0,
+            30.0,
+        ),
+        ("RK4 h = 0.1, gains / 100", Integrator::Rk4, 0.1, 100.0),
+        ("RK4 h = 1e-3, gains / 30", Integrator::Rk4, 1e-3, 30.0),
+    ] {
+        let s = pendulum(h);
+        let gains = s.gains.iter().map(|k| k / divisor).collect();
+        let settings = Settings::new(s.eps, s.mu, gains)
+            .alpha(AlphaChoice::Exact)
+            .integrator(integrator)
+            .step(h)
+            .t_end(5.0);
+        let (_, trace) = traced(&Pendulum::default(), settings.clone());
+        let t = trace.times();
+        let updates = trace.update_times();
+        let at = |u: f64| {
+            t.iter()
+                .position(|&s| s == u)
+                .expect("an update is a sample")
+        };
+        let same: usize = (0..2)
+            .map(|i| {
+                let side = |u: f64| trace.s(at(u))[i].signum();
+                updates
+                    .windows(2)
+                    .filter(|w| side(w[0]) == side(w[1]))
+                    .count()
+            })
+            .sum();
+        assert!(
+            same * 2 > updates.len(),
+            "{label}: {same} of {} updates from the side of the previous one",
+            updates.len()
+        );
+        assert_bound(label, &Pendulum::default(), settings, 50);
+    }
 }

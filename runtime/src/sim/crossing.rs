@@ -178,6 +178,23 @@ impl Cubic {
         total
     }
 
+    /// The side of `target` (`+1` above, `-1` below) the cubic comes from when it
+    /// reaches it at the event `theta`: against its motion there. Not the side of the
+    /// step's start: a step that starts on the level itself (after an update there)
+    /// may start a rounding error beyond it, and a grazing `s` that turns inside and
+    /// comes back to the same level would then have its bracket turned around (the
+    /// root search walks to the step's end, and the excursion beyond the level is
+    /// accepted uncut).
+    pub(crate) fn side_before(&self, theta: f64, target: f64) -> f64 {
+        let rate = self.slope(theta);
+        if rate != 0.0 {
+            -rate.signum()
+        } else {
+            // A tangency: only the start can tell.
+            (self.eval(0.0) - target).signum()
+        }
+    }
+
     /// Rate of change in `theta` at `t` (for Newton steps on the true `s`).
     pub(crate) fn rate(&self, t: f64) -> f64 {
         self.slope(t)
@@ -297,6 +314,29 @@ mod tests {
             surface_from: Some(-1.0),
         };
         assert_eq!(c.first_event(w), None);
+    }
+
+    #[test]
+    fn a_grazing_return_to_the_level_it_started_a_rounding_error_beyond_comes_from_inside() {
+        // The C4 W=8 step that left its layer: an update at s = -1 (the located level,
+        // reached 2.6e-10 beyond it), s turns inside and comes back out past -1.
+        let (l, h) = (1.0, 0.2896);
+        let c = Cubic::hermite(-l - 2.6e-10, 8.95, -1.28, -11.57, h);
+        let w = Watch {
+            level: l,
+            surface_from: None,
+        };
+        let theta = c.first_event(w).unwrap();
+        assert!((c.eval(theta) + l).abs() < 1e-12 && theta > 0.5, "{theta}");
+        // Before the event the variable is inside (above -1), whatever the start says.
+        assert_eq!(c.side_before(theta, -l), 1.0);
+        assert_eq!((c.eval(0.0) + l).signum(), -1.0);
+        // The upper level, and the surface reached from above.
+        let up = Cubic::hermite(l + 1e-12, -3.0, 1.4, 4.0, 1.0);
+        let t_up = up.first_event(w).unwrap();
+        assert_eq!(up.side_before(t_up, l), -1.0);
+        let down = Cubic::hermite(3.0, -4.0, -1.0, -4.0, 1.0);
+        assert_eq!(down.side_before(0.75, 0.0), 1.0);
     }
 
     #[test]

@@ -107,6 +107,9 @@ pub struct Simulator<M: Model> {
     ds_b: Vec<f64>,
     drift: Vec<f64>,
     s_prev: Vec<f64>,
+    /// `z` and `s` at the end of an embedded pair's trial step (its error in `s`).
+    z_trial: Vec<f64>,
+    s_trial: Vec<f64>,
     z_eq: Vec<f64>,
     z_star: Vec<f64>,
     wres: Vec<f64>,
@@ -205,6 +208,8 @@ impl<M: Model> Simulator<M> {
             ds_b: vm(),
             drift: vm(),
             s_prev: vm(),
+            z_trial: vm(),
+            s_trial: vm(),
             z_eq: vm(),
             z_star: vm(),
             wres: vm(),

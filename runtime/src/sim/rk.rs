@@ -115,7 +115,8 @@ pub(crate) struct Rk {
     ys: Vec<f64>,
     /// The new solution of the last step.
     pub(crate) y1: Vec<f64>,
-    err: Vec<f64>,
+    /// The last embedded step's error estimate `y1 - y_hat`.
+    pub(crate) err: Vec<f64>,
     /// Dense output: the step's start `y0`, length `h`, and for Dormand-Prince the
     /// combination `h sum d_j k_j`; for Hermite the end derivative `f1`.
     y0: Vec<f64>,

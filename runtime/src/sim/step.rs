@@ -14,7 +14,7 @@ use super::crossing::{Cubic, Watch};
 use super::rk::{self, BOGACKI_SHAMPINE, DORMAND_PRINCE, Pair};
 use super::{Check, Simulator, Switch};
 use crate::error::Quantity;
-use crate::{Integrator, Model, Policy, SimError};
+use crate::{Integrator, LAYER_ERROR_PER_STEP, Model, Policy, SimError};
 
 /// How far past the crossing predicted from the current `s'` an error-controlled step
 /// may reach (`s'` drifts within an interval, so the crossing lands somewhat before or
@@ -34,6 +34,21 @@ const MAX_NEWTON: usize = 8;
 /// reported (a step too large can leave the model's domain where a smaller one would
 /// not).
 const MAX_NONFINITE_RETRIES: usize = 8;
+
+/// The estimated error of a step in the sliding variables, `s` at the solution against
+/// `s_hat` at the embedded one, as a multiple of [`LAYER_ERROR_PER_STEP`] `eps_i` (the
+/// largest over `i`). A non-finite `s` is not judged here: the step is accepted and the
+/// point's evaluation reports it, as without this test.
+fn layer_error(s: &[f64], s_hat: &[f64], eps: &[f64]) -> f64 {
+    let mut worst = 0.0f64;
+    for ((a, b), e) in s.iter().zip(s_hat).zip(eps) {
+        if !(a.is_finite() && b.is_finite()) {
+            return 0.0;
+        }
+        worst = worst.max((a - b).abs() / (LAYER_ERROR_PER_STEP * e));
+    }
+    worst
+}
 
 /// The event a cut is aimed at: a sliding variable, the `theta` of the event on the
 /// cubic, and the value of `s` to reach (`None` for the start of an outward motion at
@@ -262,6 +277,8 @@ impl<M: Model> Simulator<M> {
         let mut rejected_before = false;
         let mut nonfinite = 0;
         let mut last_nonfinite = None;
+        // The error in `s` of a trial that passed the state's test (0 otherwise).
+        let mut s_shrink = 0.0f64;
         let outcome = loop {
             h = h.min(h_max);
             // No sliver of a step before the end of the piece.
@@ -298,14 +315,32 @@ impl<M: Model> Simulator<M> {
                     });
                 }
             } else if err <= 1.0 {
-                break Ok(err);
+                // The state's error is within the tolerance; so must be the error it
+                // makes in each `s_i` (which weighs the states by `mu` and the model's
+                // derivatives: on the pendulum with long steps, ten times the state's).
+                let (x_hat, z1) = (&mut self.xs, &mut self.z_trial);
+                for ((xh, y), e) in x_hat.iter_mut().zip(&self.rk.y1).zip(&self.rk.err) {
+                    *xh = y - e;
+                }
+                for ((z, z0), v) in z1.iter_mut().zip(z0).zip(v) {
+                    *z = z0 + h * v;
+                }
+                self.ctl.sliding(model, t0 + h, &self.rk.y1, z1);
+                self.s_trial.copy_from_slice(&self.ctl.s);
+                self.ctl.sliding(model, t0 + h, x_hat, z1);
+                let s_err = layer_error(&self.s_trial, &self.ctl.s, &self.set.eps);
+                if s_err <= 1.0 {
+                    break Ok(err.max(s_err));
+                }
+                s_shrink = s_err;
             }
             self.stats.rejected += 1;
             h *= if nonfinite > 0 {
                 0.2
             } else {
-                rk::step_factor(pair, err, true)
+                rk::step_factor(pair, err.max(s_shrink), true)
             };
+            s_shrink = 0.0;
             rejected_before = true;
             if let Some(limit) = self.set.max_steps {
                 if self.stats.steps + self.stats.rejected >= limit {
@@ -316,7 +351,9 @@ impl<M: Model> Simulator<M> {
         let err = match outcome {
             Ok(err) => err,
             Err(e) => {
+                // The trials' tests of `s` evaluated it elsewhere: back to the point.
                 self.t = t0;
+                self.ctl.sliding(&self.model, t0, &self.x, &self.z);
                 return Err(e);
             }
         };
@@ -413,7 +450,12 @@ impl<M: Model> Simulator<M> {
                 if (c.eval(1.0) - c.eval(ev.theta)).abs() <= tol * scale {
                     break;
                 }
-                let theta = self.refine(t0, h, &ev, &c, tol * scale);
+                // A cubic fitted over a step too long for it can show an event the
+                // true `s` does not reach (the refinement then finds no root and would
+                // walk to the step's end, and an earlier event of another variable,
+                // hidden behind this one, be missed): the step is cut at the cubic's
+                // event instead, and the shorter step looked at again.
+                let theta = self.refine(t0, h, &ev, &c, tol * scale).unwrap_or(ev.theta);
                 self.cut(t0, t0 + theta * h);
                 cut = true;
                 self.build_cubics(self.t - t0);
@@ -479,18 +521,18 @@ impl<M: Model> Simulator<M> {
 
     /// Newton iterations for `s_i(theta) = target` on the true `s` along the dense
     /// output (slope from the cubic, bisection when a step leaves the bracket), until
-    /// within a quarter of `tol_abs`.
-    fn refine(&mut self, t0: f64, h: f64, ev: &Event, c: &Cubic, tol_abs: f64) -> f64 {
+    /// within a quarter of `tol_abs`; `None` when they do not get there.
+    fn refine(&mut self, t0: f64, h: f64, ev: &Event, c: &Cubic, tol_abs: f64) -> Option<f64> {
         let Some(target) = ev.target else {
-            return ev.theta;
+            return Some(ev.theta);
         };
         let mut theta = ev.theta;
         let (mut lo, mut hi) = (0.0f64, 1.0f64);
-        let start_side = (c.eval(0.0) - target).signum();
+        let start_side = c.side_before(ev.theta, target);
         for _ in 0..MAX_NEWTON {
             let r = self.s_along(t0, h, theta, ev.i) - target;
             if r.abs() <= 0.25 * tol_abs {
-                break;
+                return Some(theta);
             }
             // Before the event the variable is still on the side it started from.
             if r.signum() == start_side {
@@ -504,7 +546,8 @@ impl<M: Model> Simulator<M> {
             }
             theta = next;
         }
-        theta
+        let r = self.s_along(t0, h, theta, ev.i) - target;
+        (r.abs() <= 0.25 * tol_abs).then_some(theta)
     }
 
     /// The true `s_i` at `t0 + theta h` along the dense output of `x` (which starts at
