@@ -116,7 +116,11 @@
 //! crossing's tolerance (at `0.1 eps` the Bogacki-Shampine runs of `located.rs` overshoot
 //! to 1.05 eps between samples), and since steps are aimed at the next crossing anyway
 //! a tighter tolerance costs little (thesis scene, Dormand-Prince: 7.0 `f` per update
-//! at tolerances from 2e-2 to 1e-4, 10.9 at 1e-6). `z` is not part of the error
+//! at tolerances from 2e-2 to 1e-4, 10.9 at 1e-6). With constraints a step must also
+//! keep its estimated error in every sliding variable, `|s_i(x) - s_i(x_hat)|` between
+//! the solution and the embedded one, within [`LAYER_ERROR_PER_STEP`] `eps_i` (two
+//! `sliding` calls per trial): the state's error alone does not bound `s`'s, which
+//! weighs the states by `mu` and the model's derivatives. `z` is not part of the error
 //! estimate: its ramp is exact. Steps also end at [`Settings::max_step`], at the
 //! targets of [`Simulator::advance_to`], and under [`Policy::Fixed`] at the update
 //! times, so that the period itself is the step when the accuracy allows it. A step
