@@ -266,34 +266,29 @@ fn the_relaxed_design_holds_a_heavy_end_chain_without_a_pilot() {
     );
 }
 
-/// Fixed gains at the frame-tied floor lose the layer of the heavy-ended 10-link chain
-/// (end mass 1e4) at eps = 1e-2 (at 0.330 s, and the strain with it: the drift of `s'`
-/// outgrows a gain of `8 eps / mu` until the updates come every step), and the same
-/// design with its gains following the drift keeps the layer and the strain over the
-/// whole 5 s. The runtime's monitor is the judge of the layer; the strain is measured
-/// on the positions, independently of `s`.
+/// The heavy-ended 10-link chain (end mass 1e4) at eps = 1e-2, the frame-tied design
+/// with its gains fixed at the floor `8 eps / mu` and with them following the drift:
+/// both keep the layer and the strain over the whole 5 s. The fixed gains graze the
+/// layer, with located returns that come every few microseconds while the end whips;
+/// they left it (0.330 s, 12 eps, and the strain with it) while a step was taken as
+/// ending at its event when the event's variable came back to its level by the step's
+/// end after a dip beyond it, and (0.511 s) when another variable crossed its level
+/// later in the same step. The runtime's monitor is the judge of the layer; the strain
+/// is measured on the positions, independently of `s`.
 #[test]
-fn gains_that_follow_the_drift_keep_the_layer_that_fixed_gains_lose() {
+fn fixed_and_followed_gains_keep_the_layer_on_the_heavy_end_chain() {
     let scene = c1(10, 1e4).unwrap();
     let (eps, gain) = (1e-2, 8.0);
-    let fixed = relaxed_run(&scene, eps, gain, false);
-    assert!(fixed.complete(), "{}", fixed.status);
-    let lost = fixed
-        .counters
-        .layer_lost_at
-        .expect("fixed gains keep the layer");
-    assert!(
-        (0.1..1.0).contains(&lost),
-        "fixed gains left the layer at {lost} s"
-    );
-    let followed = relaxed_run(&scene, eps, gain, true);
-    assert!(followed.complete(), "{}", followed.status);
-    assert_eq!(followed.counters.layer_lost_at, None);
-    assert!(
-        followed.worst_strain <= 1.05 * eps,
-        "{}",
-        followed.worst_strain
-    );
+    for follow in [false, true] {
+        let run = relaxed_run(&scene, eps, gain, follow);
+        assert!(run.complete(), "follow {follow}: {}", run.status);
+        assert_eq!(run.counters.layer_lost_at, None, "follow {follow}");
+        assert!(
+            run.worst_strain <= 1.05 * eps,
+            "follow {follow}: {}",
+            run.worst_strain
+        );
+    }
 }
 
 /// A gain below the drift's `2 sqrt(eps D)` grazes the layer (`s` turns back inside the

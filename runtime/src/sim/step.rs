@@ -447,7 +447,17 @@ impl<M: Model> Simulator<M> {
                     Some(0.0) => self.set.eps[ev.i],
                     _ => self.watch(ev.i).level,
                 };
-                if (c.eval(1.0) - c.eval(ev.theta)).abs() <= tol * scale {
+                // The event is the step's end (within the tolerance): for a level, when
+                // nothing of the cubic goes beyond it by more than that (the end's value
+                // alone would pass a dip beyond the level that comes back to it by the
+                // end, as `s` does when the drift turns twice within a step); and no
+                // other variable leaves its watch within the step (a later crossing
+                // of another variable is not the first event, but it is inside the step).
+                let at_end = match ev.target {
+                    Some(level) if level != 0.0 => c.max_abs() <= level.abs() + tol * scale,
+                    _ => (c.eval(1.0) - c.eval(ev.theta)).abs() <= tol * scale,
+                } && self.others_within(ev.i, tol);
+                if at_end {
                     break;
                 }
                 // A cubic fitted over a step too long for it can show an event the
@@ -477,6 +487,15 @@ impl<M: Model> Simulator<M> {
             self.measure.max_s[i] = c.max_abs();
             self.measure.time_beyond[i] = c.time_beyond(bound * self.set.eps[i]) * h;
         }
+    }
+
+    /// Whether every sliding variable but `skip` stays within its watch level (to the
+    /// tolerance `tol` of it) on the current step's cubic.
+    fn others_within(&self, skip: usize, tol: f64) -> bool {
+        self.cubics
+            .iter()
+            .enumerate()
+            .all(|(i, c)| i == skip || c.max_abs() <= self.watch(i).level * (1.0 + tol))
     }
 
     /// The step against which progress is judged: the fixed step, or for the embedded
