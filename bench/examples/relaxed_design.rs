@@ -1,11 +1,11 @@
-//! The relaxed DBSMC design (`dbsmc-relaxed`, docs/particles.md) on the runs of the
+//! The relaxed DBSMC design (`dbsmc-relaxed`, docs/particles.md) on the five runs of the
 //! particle benchmark where its gains, held fixed at the frame-tied floor `c eps / mu`,
-//! left their `s`-layer: with fixed gains at the runtime's default Dormand-Prince
-//! tolerance (`TOLERANCE_PER_EPS = 0.01` of the smallest layer), at a tolerance 100
-//! times tighter, and with steps of at most 1/4 and 1/16 of the design's longest
-//! (`mu / 4`); and with the gains following the drift of `s'` (`Settings::follow_drift`)
-//! at safety 1 (the benchmark's design) and 2. Does the loss come from the integration
-//! (then it goes away as the steps shrink) or from a gain the drift outgrew?
+//! once left their `s`-layer (before the runtime's located crossings were fixed): with
+//! fixed gains at the runtime's default Dormand-Prince tolerance (`TOLERANCE_PER_EPS =
+//! 0.01` of the smallest layer), at a tolerance 100 times tighter, and with steps of at
+//! most 1/4 and 1/16 of the design's longest (`mu / 4`); and with the gains following
+//! the drift of `s'` (`Settings::follow_drift`) at safety 1 (the benchmark's design) and
+//! 2. Which keep the layer, and at what cost per frame?
 //!
 //! ```text
 //! cargo run --release -p dae-bench --example relaxed_design

@@ -232,7 +232,7 @@ fn the_step_end_rule_overshoots_where_located_crossings_do_not() {
 /// steps that start on that level. With the exact `alpha` (`s' = -k sgn(s)` right after
 /// an update) only located returns keep the layer: by the summary and by an independent
 /// fine integration. Each case failed before a fix: Dormand-Prince steps of 0.06 s met
-/// the state tolerance but left `s` 6.7 % beyond the layer by the fine integration
+/// the state tolerance but left `s` 10 % beyond the layer by the fine integration
 /// (the test of each step's error in `s`, `LAYER_ERROR_PER_STEP`); RK4 steps of 0.1 s
 /// fitted cubics that showed events the true `s` never reached, and the refinement
 /// walked to the step's end past a real crossing (3.29 eps at 3.95 s; now the step is

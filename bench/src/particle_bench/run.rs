@@ -339,8 +339,8 @@ pub const RELAXED_MU_PER_FRAME: f64 = 0.25;
 pub const RELAXED_STEP_PER_MU: f64 = 0.25;
 
 /// Safety factor of the relaxed design's gains over the drift of `s'` measured online
-/// ([`Settings::follow_drift`]): 1 held every scene of `relaxed_design` where fixed
-/// gains lost their layer, 2 cost 1.8-4.4x more per frame there (one run of
+/// ([`Settings::follow_drift`]): 1 kept the layer on every scene of `relaxed_design`,
+/// 2 cost 1.5-3.8x more per frame there and kept nothing more (one run of
 /// `cargo run --release -p dae-bench --example relaxed_design`).
 pub const RELAXED_DRIFT_SAFETY: f64 = 1.0;
 
