@@ -13,11 +13,9 @@
 
 use std::time::Duration;
 
-use dae_bench::{
-    MethodSpec, ParticleScene, RELAXED_DRIFT_SAFETY, c1, c3, drive_scene, relaxed_settings,
-};
-use dae_particles::{Dbsmc, GridPins, ParticleDae, ParticleModel};
-use dae_runtime::Model;
+use dae_bench::{ParticleScene, RELAXED_DRIFT_SAFETY, c1, c3, run_relaxed_with};
+use dae_particles::GridPins;
+use dae_runtime::Settings;
 
 /// Budget of one run (wall clock).
 const BUDGET: Duration = Duration::from_secs(30);
@@ -46,34 +44,32 @@ impl Control {
     }
 }
 
-fn run(scene: &ParticleScene, eps: f64, gain: f64, control: Control) -> Result<String, String> {
-    let spec = MethodSpec::DbsmcRelaxed { eps, gain };
-    let model = ParticleModel::new(&scene.system).map_err(|e| e.to_string())?;
-    let smallest = (0..model.n_constraints())
-        .map(|i| eps * model.rest_length(i))
-        .fold(f64::INFINITY, f64::min);
-    let mut settings = relaxed_settings(&model, eps, gain);
-    settings.follow_drift = None;
-    match control {
-        Control::Fixed => {}
-        Control::State(f) => settings = settings.tolerance(f * smallest, f * smallest),
-        Control::Shorter(f) => {
-            let h = settings.max_step * f;
-            settings = settings.max_step(h)
+fn run(scene: &ParticleScene, eps: f64, gain: f64, control: Control) -> String {
+    let r = run_relaxed_with(scene, eps, gain, BUDGET, |settings| {
+        let settings = Settings {
+            follow_drift: None,
+            ..settings
+        };
+        match control {
+            Control::Fixed => settings,
+            Control::State(f) => {
+                let smallest = settings.eps.iter().copied().fold(f64::INFINITY, f64::min);
+                settings.tolerance(f * smallest, f * smallest)
+            }
+            Control::Shorter(f) => {
+                let h = settings.max_step * f;
+                settings.max_step(h)
+            }
+            Control::Follow(f) => settings.follow_drift(f),
         }
-        Control::Follow(f) => settings = settings.follow_drift(f),
-    }
-    let backend = Dbsmc::new(model, settings, "relaxed")
-        .map_err(|e| e.to_string())?
-        .keep_going_after_bound_loss();
-    let r = drive_scene(scene, &spec, backend, BUDGET, None, None);
+    });
     let frames = r.frames.max(1) as f64;
     let lost = match (r.counters.layer_lost_at, r.counters.layer_worst_ratio) {
         (Some(t), Some(q)) if q < 1e3 => format!("{t:.3} s, {q:.3} eps"),
         (Some(t), Some(q)) => format!("{t:.3} s, {q:.2e} eps"),
         _ => "-".into(),
     };
-    Ok(format!(
+    format!(
         "| {} | {eps:e} | {gain} | {} | {:.2e} | {lost} | {:.2} | {:.0} | {:.0} | {}/{} {} |",
         scene.title(),
         control.label(),
@@ -84,7 +80,7 @@ fn run(scene: &ParticleScene, eps: f64, gain: f64, control: Control) -> Result<S
         r.frames,
         r.frames_total,
         r.status.chars().take(40).collect::<String>(),
-    ))
+    )
 }
 
 fn main() {
@@ -120,10 +116,7 @@ fn main() {
             Control::Follow(RELAXED_DRIFT_SAFETY),
             Control::Follow(2.0 * RELAXED_DRIFT_SAFETY),
         ] {
-            match run(scene, *eps, *gain, control) {
-                Ok(line) => println!("{line}"),
-                Err(e) => println!("| {} | {eps:e} | {gain} | failed: {e} |", scene.title()),
-            }
+            println!("{}", run(scene, *eps, *gain, control));
         }
     }
 }

@@ -7,12 +7,13 @@ use dae_bench::{
     Chain5, IndexOneParticles, MethodSpec, ParticleRecord, ParticleScene, RELAXED_DRIFT_SAFETY,
     RELAXED_MU_PER_FRAME, RELAXED_STEP_PER_MU, Xpbd, c1, c4, drive_scene, generated_chain,
     generated_grid, generated_strands, particle_pilot, relaxed_settings, run_particle_method,
+    run_relaxed_with,
 };
 use dae_particles::{
-    Backend, Dbsmc, FRAME, GrabPath, GridPins, Kinematics, Motion, ParticleDae, ParticleModel, Pin,
-    Scene, System, chain, grid, strands,
+    Backend, FRAME, GrabPath, GridPins, Kinematics, Motion, ParticleDae, ParticleModel, Pin, Scene,
+    System, chain, grid, strands,
 };
-use dae_runtime::{Integrator, Model, SolverChoice};
+use dae_runtime::{Integrator, Model, Settings, SolverChoice};
 
 struct Lcg(u64);
 impl Lcg {
@@ -312,16 +313,16 @@ fn fixed_gains_that_graze_the_layer_keep_it_on_a_light_chain() {
 /// The frame-tied design on `scene` for 5 s, its gains following the drift or fixed at
 /// the floor, going on after a lost layer (to see the strain).
 fn relaxed_run(scene: &ParticleScene, eps: f64, gain: f64, follow: bool) -> ParticleRecord {
-    let spec = MethodSpec::DbsmcRelaxed { eps, gain };
-    let model = ParticleModel::new(&scene.system).unwrap();
-    let mut settings = relaxed_settings(&model, eps, gain);
-    if !follow {
-        settings.follow_drift = None;
-    }
-    let backend = Dbsmc::new(model, settings, "relaxed")
-        .unwrap()
-        .keep_going_after_bound_loss();
-    drive_scene(scene, &spec, backend, Duration::from_secs(120), None, None)
+    run_relaxed_with(scene, eps, gain, Duration::from_secs(120), |s| {
+        if follow {
+            s
+        } else {
+            Settings {
+                follow_drift: None,
+                ..s
+            }
+        }
+    })
 }
 
 /// Both models at one random state (pinned particles on their pins at `t`, the others

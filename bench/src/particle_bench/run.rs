@@ -369,6 +369,40 @@ pub fn relaxed_settings<M: ParticleDae>(model: &M, eps: f64, gain: f64) -> Setti
         .follow_drift(RELAXED_DRIFT_SAFETY)
 }
 
+/// The frame-tied design ([`relaxed_settings`]) on the hand-written model of `scene`,
+/// its settings changed by `adjust` (fixed gains, another tolerance or longest step),
+/// going on after a lost layer to measure what follows (the strain).
+pub fn run_relaxed_with(
+    scene: &ParticleScene,
+    eps: f64,
+    gain: f64,
+    budget: Duration,
+    adjust: impl FnOnce(Settings) -> Settings,
+) -> ParticleRecord {
+    let spec = MethodSpec::DbsmcRelaxed { eps, gain };
+    let backend = ParticleModel::new(&scene.system)
+        .map_err(|e| e.to_string())
+        .and_then(|model| {
+            let settings = adjust(relaxed_settings(&model, eps, gain));
+            Dbsmc::new(model, settings, "relaxed").map_err(|e| e.to_string())
+        });
+    match backend {
+        Ok(b) => drive_scene(
+            scene,
+            &spec,
+            b.keep_going_after_bound_loss(),
+            budget,
+            None,
+            None,
+        ),
+        Err(e) => {
+            let mut r = blank(scene, &spec);
+            r.status = format!("failed: {e}");
+            r
+        }
+    }
+}
+
 /// Build the backend of `spec` for `scene` (DBSMC needs the pilot bounds).
 pub fn run_particle_method(
     scene: &ParticleScene,

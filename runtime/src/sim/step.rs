@@ -277,8 +277,6 @@ impl<M: Model> Simulator<M> {
         let mut rejected_before = false;
         let mut nonfinite = 0;
         let mut last_nonfinite = None;
-        // The error in `s` of a trial that passed the state's test (0 otherwise).
-        let mut s_shrink = 0.0f64;
         let outcome = loop {
             h = h.min(h_max);
             // No sliver of a step before the end of the piece.
@@ -300,7 +298,7 @@ impl<M: Model> Simulator<M> {
                     None => SimError::StepUnderflow { t: t0, h },
                 });
             }
-            let err = self.rk.embedded(pair, &self.x0, h, tol, &mut rhs);
+            let mut err = self.rk.embedded(pair, &self.x0, h, tol, &mut rhs);
             self.stats.rhs_evals += pair.stages() as u64 - 1;
             if let Some(i) = self.rk.y1.iter().position(|y| !y.is_finite()) {
                 nonfinite += 1;
@@ -314,33 +312,34 @@ impl<M: Model> Simulator<M> {
                         t: t0 + h,
                     });
                 }
-            } else if err <= 1.0 {
-                // The state's error is within the tolerance; so must be the error it
-                // makes in each `s_i` (which weighs the states by `mu` and the model's
-                // derivatives: on the pendulum with long steps, ten times the state's).
-                let (x_hat, z1) = (&mut self.xs, &mut self.z_trial);
-                for ((xh, y), e) in x_hat.iter_mut().zip(&self.rk.y1).zip(&self.rk.err) {
-                    *xh = y - e;
+            } else {
+                if err <= 1.0 {
+                    // The state's error is within the tolerance; so must be the error it
+                    // makes in each `s_i` (which weighs the states by `mu` and the
+                    // model's derivatives: on the pendulum with long steps, ten times
+                    // the state's).
+                    let (x_hat, z1) = (&mut self.xs, &mut self.z_trial);
+                    for ((xh, y), e) in x_hat.iter_mut().zip(&self.rk.y1).zip(&self.rk.err) {
+                        *xh = y - e;
+                    }
+                    for ((z, z0), v) in z1.iter_mut().zip(z0).zip(v) {
+                        *z = z0 + h * v;
+                    }
+                    self.ctl.sliding(model, t0 + h, &self.rk.y1, z1);
+                    self.s_trial.copy_from_slice(&self.ctl.s);
+                    self.ctl.sliding(model, t0 + h, x_hat, z1);
+                    err = err.max(layer_error(&self.s_trial, &self.ctl.s, &self.set.eps));
                 }
-                for ((z, z0), v) in z1.iter_mut().zip(z0).zip(v) {
-                    *z = z0 + h * v;
+                if err <= 1.0 {
+                    break Ok(err);
                 }
-                self.ctl.sliding(model, t0 + h, &self.rk.y1, z1);
-                self.s_trial.copy_from_slice(&self.ctl.s);
-                self.ctl.sliding(model, t0 + h, x_hat, z1);
-                let s_err = layer_error(&self.s_trial, &self.ctl.s, &self.set.eps);
-                if s_err <= 1.0 {
-                    break Ok(err.max(s_err));
-                }
-                s_shrink = s_err;
             }
             self.stats.rejected += 1;
             h *= if nonfinite > 0 {
                 0.2
             } else {
-                rk::step_factor(pair, err.max(s_shrink), true)
+                rk::step_factor(pair, err, true)
             };
-            s_shrink = 0.0;
             rejected_before = true;
             if let Some(limit) = self.set.max_steps {
                 if self.stats.steps + self.stats.rejected >= limit {
