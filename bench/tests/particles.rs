@@ -310,6 +310,32 @@ fn fixed_gains_that_graze_the_layer_keep_it_on_a_light_chain() {
     assert!(fixed.worst_strain <= 1.05 * eps, "{}", fixed.worst_strain);
 }
 
+/// Fixed gains on the heavy-end chain with steps of at most a sixteenth of the design's
+/// longest (`relaxed_design`'s row "max step x 0.0625") keep the layer for the whole
+/// 5 s. They left it twice: at 0.727 s, where a step started on the level (1.08e-4 of it
+/// beyond, within the crossing tolerance), moved inside, then out through the level,
+/// and the root search, bracketed by the whole step, found the start's crossing, so
+/// the steps were cut ever shorter at their start until the progress guard took one
+/// whole, blind (2.9 eps); and at 3.966 s, where a step counted as ending at the start
+/// of an outward motion because its end came back near that value after an excursion
+/// to 1.05 eps between them.
+#[test]
+fn fixed_gains_with_short_steps_keep_the_layer_on_the_heavy_end_chain() {
+    let scene = c1(10, 1e4).unwrap();
+    let eps = 1e-2;
+    let run = run_relaxed_with(&scene, eps, 8.0, Duration::from_secs(240), |s| {
+        let h = s.max_step / 16.0;
+        Settings {
+            follow_drift: None,
+            ..s
+        }
+        .max_step(h)
+    });
+    assert!(run.complete(), "{}", run.status);
+    assert_eq!(run.counters.layer_lost_at, None);
+    assert!(run.worst_strain <= 1.05 * eps, "{}", run.worst_strain);
+}
+
 /// The frame-tied design on `scene` for 5 s, its gains following the drift or fixed at
 /// the floor, going on after a lost layer (to see the strain).
 fn relaxed_run(scene: &ParticleScene, eps: f64, gain: f64, follow: bool) -> ParticleRecord {

@@ -67,6 +67,14 @@ impl Cubic {
         (self.breaks, self.n_breaks)
     }
 
+    /// The monotone piece `[b_k, b_k+1]` between the cubic's breaks (its ends and
+    /// extrema) that holds `theta`.
+    pub(crate) fn piece(&self, theta: f64) -> (f64, f64) {
+        let (b, n) = self.breaks();
+        let k = (1..n - 1).rev().find(|&k| b[k] <= theta).unwrap_or(0);
+        (b[k], b[k + 1])
+    }
+
     /// The root of `p = level` in `[lo, hi]` where `p - level` changes sign from `lo` to
     /// `hi` (a monotone piece): Newton steps, bisection whenever a step would leave the
     /// bracket, to the last bits.
@@ -153,6 +161,14 @@ impl Cubic {
         self.vals[..self.n_breaks]
             .iter()
             .fold(0.0f64, |m, p| m.max(p.abs()))
+    }
+
+    /// Largest `|p|` on `[from, 1]`.
+    pub(crate) fn max_abs_from(&self, from: f64) -> f64 {
+        let (b, n) = self.breaks();
+        (0..n)
+            .filter(|&k| b[k] > from)
+            .fold(self.eval(from).abs(), |m, k| m.max(self.vals[k].abs()))
     }
 
     /// Measure of `{theta in [0, 1] : |p(theta)| > level}`.
@@ -337,6 +353,48 @@ mod tests {
         assert_eq!(up.side_before(t_up, l), -1.0);
         let down = Cubic::hermite(3.0, -4.0, -1.0, -4.0, 1.0);
         assert_eq!(down.side_before(0.75, 0.0), 1.0);
+    }
+
+    #[test]
+    fn the_crossing_is_looked_for_on_the_monotone_piece_of_its_event() {
+        // The C1 N=10 r=1e4 step (fixed gains, steps of mu / 64) that cut itself ever
+        // shorter: it starts 1.08e-4 of the level beyond it, moves inside by 5.6e-5,
+        // turns out through the level and comes back. Within the crossing tolerance the
+        // start is a root too; the piece of the event excludes it.
+        let (l, h) = (1e-3, 2.277e-5);
+        let c = Cubic::hermite(-1.000108e-3, 1.332, 1.462963e-4, 211.3, h);
+        let w = Watch {
+            level: l,
+            surface_from: None,
+        };
+        let theta = c.first_event(w).unwrap();
+        let (lo, hi) = c.piece(theta);
+        let (b, n) = c.breaks();
+        assert_eq!(n, 4);
+        assert_eq!((lo, hi), (b[1], b[2]));
+        assert!(lo > 0.01 && lo < theta && theta < hi, "{lo} {theta} {hi}");
+        assert!(c.eval(lo) > -l && c.eval(hi) < -l);
+        // The ends of the cubic are their own pieces' ends.
+        assert_eq!(c.piece(0.0), (0.0, b[1]));
+        assert_eq!(c.piece(1.0), (b[2], 1.0));
+    }
+
+    #[test]
+    fn largest_value_after_a_point_sees_an_excursion_that_comes_back() {
+        // p = 1 - t + 3 t^2 - 2 t^3: an outward motion starts at its minimum (0.90
+        // near 0.21), goes out to 1.10 near 0.79 and comes back to 1 by the end.
+        let c = Cubic::hermite(1.0, -1.0, 1.0, -1.0, 1.0);
+        let (b, _) = c.breaks();
+        let (first, peak) = (b[1], b[2]);
+        assert!(c.eval(peak) > c.eval(first));
+        let m = c.max_abs_from(first);
+        assert_eq!(m, c.eval(peak).abs());
+        assert!(m > c.eval(first).abs() + 0.05 && m > c.eval(1.0).abs() + 0.05);
+        // From beyond the peak only the end and the way there count.
+        assert_eq!(
+            c.max_abs_from(0.99),
+            c.eval(0.99).abs().max(c.eval(1.0).abs())
+        );
     }
 
     #[test]

@@ -452,9 +452,16 @@ impl<M: Model> Simulator<M> {
                 // end, as `s` does when the drift turns twice within a step); and no
                 // other variable leaves its watch within the step (a later crossing
                 // of another variable is not the first event, but it is inside the step).
+                // For the start of an outward motion, likewise: the end near the event's
+                // value, and nothing further out between them.
                 let at_end = match ev.target {
                     Some(level) if level != 0.0 => c.max_abs() <= level.abs() + tol * scale,
-                    _ => (c.eval(1.0) - c.eval(ev.theta)).abs() <= tol * scale,
+                    Some(_) => (c.eval(1.0) - c.eval(ev.theta)).abs() <= tol * scale,
+                    None => {
+                        let p = c.eval(ev.theta);
+                        (c.eval(1.0) - p).abs() <= tol * scale
+                            && c.max_abs_from(ev.theta) <= p.abs() + tol * scale
+                    }
                 } && self.others_within(ev.i, tol);
                 if at_end {
                     break;
@@ -545,7 +552,12 @@ impl<M: Model> Simulator<M> {
             return Some(ev.theta);
         };
         let mut theta = ev.theta;
-        let (mut lo, mut hi) = (0.0f64, 1.0f64);
+        // The crossing is on the cubic's monotone piece that holds the event: a root
+        // elsewhere on the true `s` is another crossing of the level (a step that
+        // starts on the level, within the tolerance beyond it, and moves inside before it
+        // turns outward has one at its start: cut there, it would end where it began,
+        // and the next step the same, without end).
+        let (mut lo, mut hi) = c.piece(ev.theta);
         let start_side = c.side_before(ev.theta, target);
         for _ in 0..MAX_NEWTON {
             let r = self.s_along(t0, h, theta, ev.i) - target;
