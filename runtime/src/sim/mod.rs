@@ -531,6 +531,11 @@ impl<M: Model> Simulator<M> {
     /// is known).
     fn eval_point(&mut self, t: f64) {
         self.ctl.sliding(&self.model, t, &self.x, &self.z);
+        self.eval_point_but_s(t);
+    }
+
+    /// [`Self::eval_point`] with `s` already evaluated there.
+    fn eval_point_but_s(&mut self, t: f64) {
         if self.located() {
             self.ctl.eval_jacobian(&self.model, t, &self.x, &self.z);
             self.ctl.eval_beta(&self.model, t, &self.x, &self.z);

@@ -298,6 +298,9 @@ impl<M: Model> Simulator<M> {
                     None => SimError::StepUnderflow { t: t0, h },
                 });
             }
+            // The trial's end as the accepted point will have it (`ramp_z`), so that
+            // `s` there, evaluated for the test below, is the point's own.
+            let t1 = if h >= remaining { end } else { t0 + h };
             let mut err = self.rk.embedded(pair, &self.x0, h, tol, &mut rhs);
             self.stats.rhs_evals += pair.stages() as u64 - 1;
             if let Some(i) = self.rk.y1.iter().position(|y| !y.is_finite()) {
@@ -322,12 +325,12 @@ impl<M: Model> Simulator<M> {
                     for ((xh, y), e) in x_hat.iter_mut().zip(&self.rk.y1).zip(&self.rk.err) {
                         *xh = y - e;
                     }
-                    for ((z, z0), v) in z1.iter_mut().zip(z0).zip(v) {
-                        *z = z0 + h * v;
+                    for ((z, zb), v) in z1.iter_mut().zip(&self.zb).zip(v) {
+                        *z = zb + v * (t1 - self.tb);
                     }
-                    self.ctl.sliding(model, t0 + h, &self.rk.y1, z1);
+                    self.ctl.sliding(model, t1, &self.rk.y1, z1);
                     self.s_trial.copy_from_slice(&self.ctl.s);
-                    self.ctl.sliding(model, t0 + h, x_hat, z1);
+                    self.ctl.sliding(model, t1, x_hat, z1);
                     err = err.max(layer_error(&self.s_trial, &self.ctl.s, &self.set.eps));
                 }
                 if err <= 1.0 {
@@ -360,7 +363,10 @@ impl<M: Model> Simulator<M> {
         self.x.copy_from_slice(&self.rk.y1);
         self.t = if h >= remaining { end } else { t0 + h };
         self.ramp_z();
-        self.eval_point(self.t);
+        // `s` at the point was evaluated for the step's test (every accepted step ends
+        // with one).
+        self.ctl.s.copy_from_slice(&self.s_trial);
+        self.eval_point_but_s(self.t);
         // FSAL: the last stage is f at the new point.
         self.f_cur.copy_from_slice(&self.rk.k[pair.stages() - 1]);
         self.f_cur_valid = true;
