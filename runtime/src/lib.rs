@@ -48,12 +48,15 @@
 //!    (one [`Model::sliding`] per iteration) along the integrator's dense output of `x`
 //!    (Dormand-Prince: its continuous extension of order 4; the others: the cubic
 //!    Hermite of `x` from `f` at both ends), with `z` on its ramp, until `|s_i|` is
-//!    within a quarter of the tolerance of `eps_i`.
+//!    within a quarter of the tolerance of `eps_i`. The iterations stay on the cubic's
+//!    monotone piece that holds the event: a step that starts on the level (within the
+//!    tolerance) has a root at its start too, and a cut there would end where it began.
 //! 3. **Cut.** The step is cut there: the embedded pairs take the dense output as the
 //!    new state, the fixed-step integrators integrate again from the step's start to
 //!    the cut. The cubic is rebuilt on the shortened step from the exact end values;
 //!    the step is accepted when its first event lies within `tol eps_i` of its end (in
-//!    `s`), otherwise it is cut again.
+//!    `s`) with nothing of the cubic further out between them, and no other variable
+//!    leaves its layer within the step; otherwise it is cut again.
 //! 4. **Update** at the end of the step when some `|s_i| >= (1 - tol) eps_i` moves
 //!    outward by the exact `s'` (or an event says so).
 //!
@@ -287,10 +290,10 @@
 //! the layer instead (`s_i` turns back inside and returns to the level it left, where
 //! the located crossing updates again), which also keeps it: on the five particle runs
 //! of `cargo run --release -p dae-bench --example relaxed_design` fixed gains kept the
-//! layer in 19 of 20 step controls, followed gains in all; the followed gains cost
-//! 1.1-1.5x more where fixed ones graze rarely (a cloth: 172 against 96 updates per
-//! frame) and 2.1x less where they graze often (a light 100-link chain: 1,495 against
-//! 3,261). It predicts from the past intervals: a drift that grows faster than that
+//! layer in all 20 step controls, followed gains in all 10; the followed gains cost
+//! 1.2-1.6x more where fixed ones graze rarely (a cloth: 177 against 92 updates per
+//! frame) and 2.2x less where they graze often (a light 100-link chain: 1,530 against
+//! 3,300). It predicts from the past intervals: a drift that grows faster than that
 //! still leaves the layer, and the monitor reports it ([`Summary::bound_loss`]).
 //!
 //! **`z` and `z_eq` with an approximate inverse.** `z` is still the held ramp: it
