@@ -77,8 +77,9 @@ pub(crate) struct Args {
     /// Gains k (like --eps), or `auto` (from the design's gain choice, --gains).
     #[arg(long, default_value = "auto")]
     gain: String,
-    /// A fixed integration step (RK4, or --integrator euler) [default: steps chosen by
-    /// error control, see --integrator and --tol].
+    /// A fixed integration step (RK4, or --integrator euler), the longest taken (steps are
+    /// shortened at crossings and where their error in s would exceed 1e-3 of eps)
+    /// [default: steps chosen by error control, see --integrator and --tol].
     #[arg(long)]
     step: Option<f64>,
     /// Integrator: `dopri5` (Dormand-Prince 5(4), error-controlled; the default without

@@ -123,7 +123,14 @@
 //! keep its estimated error in every sliding variable, `|s_i(x) - s_i(x_hat)|` between
 //! the solution and the embedded one, within [`LAYER_ERROR_PER_STEP`] `eps_i` (two
 //! `sliding` calls per trial): the state's error alone does not bound `s`'s, which
-//! weighs the states by `mu` and the model's derivatives. `z` is not part of the error
+//! weighs the states by `mu` and the model's derivatives. The fixed-step integrators
+//! with located crossings (monitored policy) apply the same test to every step, with
+//! an embedded solution of one order less built from `f` at the step's end (which is
+//! the next step's first stage, so an accepted step costs no extra `f`): a step that
+//! fails it is retried shorter, and the steps after it stay shorter until the error
+//! allows the user's step again. The user's step is the longest; RK4 steps of 0.1 s on
+//! the pendulum with a tenth of its gains went 1.45 % beyond the layer without this
+//! test (`runtime/tests/located.rs`). `z` is not part of the error
 //! estimate: its ramp is exact. Steps also end at [`Settings::max_step`], at the
 //! targets of [`Simulator::advance_to`], and under [`Policy::Fixed`] at the update
 //! times, so that the period itself is the step when the accuracy allows it. A step

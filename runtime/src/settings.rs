@@ -51,7 +51,9 @@ pub const TOLERANCE_PER_EPS: f64 = 0.01;
 /// Largest estimated error of one error-controlled step in each sliding variable, as a
 /// fraction of its layer: the embedded pairs accept a step only when `|s_i(x) -
 /// s_i(x_hat)| <= LAYER_ERROR_PER_STEP eps_i` for the solution `x` and the embedded
-/// one `x_hat`, whatever the state tolerance. The state's error alone does not bound
+/// one `x_hat`, whatever the state tolerance (the fixed-step integrators with located
+/// crossings likewise, with an embedded solution built from `f` at the step's end, and
+/// [`Settings::step`] as the longest step). The state's error alone does not bound
 /// `s`'s: `s` weighs the states by `mu` and the model's derivatives (on the pendulum
 /// of `runtime/tests/located.rs` with a thirtieth of its gains, steps of 0.06 s that
 /// met the default state tolerance left `s` 10 % beyond its layer, by an independent
@@ -154,7 +156,11 @@ pub struct Settings {
     /// (T 3.22); zero unless configured.
     pub crossing_margin: Vec<f64>,
     /// Integration step `h > 0` of the fixed-step integrators (Euler, RK4); the
-    /// embedded pairs ignore it (their first step is chosen from the tolerance).
+    /// embedded pairs ignore it (their first step is chosen from the tolerance). With
+    /// located crossings and the monitored policy it is the longest step: a step is
+    /// shortened at a crossing, aimed at the next one, and retried shorter (with the
+    /// steps after it) while its estimated error in some `s_i` is above
+    /// [`LAYER_ERROR_PER_STEP`] `eps_i`.
     pub step: f64,
     /// Integrator for `x`.
     pub integrator: Integrator,

@@ -91,7 +91,8 @@ pub struct Summary {
     pub t_end: f64,
     /// Number of accepted integration steps (a step cut at a crossing counts once).
     pub steps: u64,
-    /// Steps rejected by the error control of the embedded pairs.
+    /// Steps rejected by the error control: of the embedded pairs, or of a fixed step
+    /// on its error in `s` (located crossings; the step is then taken shorter).
     pub rejected_steps: u64,
     /// Steps cut short at a located crossing.
     pub located_crossings: u64,

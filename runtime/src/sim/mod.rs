@@ -135,7 +135,8 @@ struct RunState {
     k: u64,
     n: u64,
     grid_target: f64,
-    /// The embedded pairs' next step, once known.
+    /// The embedded pairs' next step, once known; for the fixed-step integrators with
+    /// located crossings, a limit below the user's step that the error in `s` set.
     h_next: Option<f64>,
     /// The end of the last step was reached at a piece's target before `t_end`; its
     /// sample is recorded by the next piece (or `finish`, as the last one).

@@ -30,6 +30,10 @@ const STALL_FRACTION: f64 = 1e-6;
 const STALL_STEPS: u32 = 2;
 /// Newton iterations on the true `s` per cut.
 const MAX_NEWTON: usize = 8;
+/// Retries of a fixed step shortened for its error in `s` (each at most a tenth of the
+/// last): the estimate follows `h^4` (RK4) or `h^2` (Euler), so one or two suffice; the
+/// rest guards a model whose `s` is not smooth.
+const MAX_LAYER_RETRIES: usize = 6;
 /// Consecutive non-finite trial steps of an embedded pair before the failure is
 /// reported (a step too large can leave the model's domain where a smaller one would
 /// not).
@@ -90,13 +94,17 @@ impl<M: Model> Simulator<M> {
             self.adaptive_step(target)?;
         } else {
             let mut t_new = self.grid_time();
-            let aims = self.located() && self.set.policy == Policy::Monitor && !self.stalled();
-            let aim = if aims {
+            let monitored = self.located() && self.set.policy == Policy::Monitor;
+            let aims = monitored && !self.stalled();
+            let mut aim = if aims {
                 t0 + AIM_PAST_CROSSING * self.predicted_crossing()
             } else {
                 f64::INFINITY
             };
-            let off_grid = aim < t_new;
+            if let (true, Some(h)) = (monitored, self.run.h_next) {
+                aim = aim.min(t0 + h);
+            }
+            let mut off_grid = aim < t_new;
             if off_grid {
                 // The user's step is the longest: a step aimed past the predicted
                 // crossing is not wasted on motion after it, and its trial end stays
@@ -105,10 +113,16 @@ impl<M: Model> Simulator<M> {
             }
             self.first_stage();
             self.fixed_step(t_new - t0);
+            let s_known = monitored && self.fixed_layer_error(t0, &mut t_new, &mut off_grid);
             self.x.copy_from_slice(&self.rk.y1);
             self.t = t_new;
             self.ramp_z();
-            self.eval_point(t_new);
+            if s_known {
+                self.ctl.s.copy_from_slice(&self.s_trial);
+                self.eval_point_but_s(t_new);
+            } else {
+                self.eval_point(t_new);
+            }
             if self.located() {
                 self.ctl.s_rate(&self.v, &mut self.ds);
                 self.locate(t0);
@@ -218,6 +232,66 @@ impl<M: Model> Simulator<M> {
             }
         }
         self.rk.fixed_done(&self.x0, h);
+    }
+
+    /// The error control of a fixed step (Euler or RK4, monitored with located
+    /// crossings) on its error in `s`: the step just taken from `t0` to `t_new` is
+    /// retried shorter while its estimated error in some `s_i` is above
+    /// [`LAYER_ERROR_PER_STEP`] `eps_i`, and the next step's limit is set from the
+    /// error (at most the user's step). The estimate compares the solution with an
+    /// embedded one of one order less built from `f` at the step's end (Heun for Euler;
+    /// for RK4 the fourth stage taken at the solution, `x_hat = x + h (f(x) - k_4) / 6`),
+    /// which is the next step's first stage, so an accepted step costs no extra `f`.
+    /// Leaves `s` at the end in `s_trial` and `f` there in `rk.f1`; returns whether
+    /// `s_trial` is the end's (not when the step is not finite).
+    fn fixed_layer_error(&mut self, t0: f64, t_new: &mut f64, off_grid: &mut bool) -> bool {
+        // The error estimate is of order h^2 (Euler) or h^4 (RK4).
+        let order = if self.set.integrator == Integrator::Euler {
+            2.0
+        } else {
+            4.0
+        };
+        let user_step = self.set.step;
+        for attempt in 0..=MAX_LAYER_RETRIES {
+            let h = *t_new - t0;
+            if self.rk.y1.iter().any(|y| !y.is_finite()) {
+                return false;
+            }
+            let dt = *t_new - self.tb;
+            for ((z, zb), v) in self.z_trial.iter_mut().zip(&self.zb).zip(&self.v) {
+                *z = zb + v * dt;
+            }
+            let (model, rk) = (&self.model, &mut self.rk);
+            model.rhs(*t_new, &rk.y1, &self.z_trial, &mut rk.f1);
+            rk.f1_known = true;
+            self.stats.rhs_evals += 1;
+            let last = if order == 2.0 { 0 } else { 3 };
+            let c = if order == 2.0 { 0.5 * h } else { h / 6.0 };
+            for i in 0..self.xs.len() {
+                self.xs[i] = rk.y1[i] + c * (rk.f1[i] - rk.k[last][i]);
+            }
+            self.ctl.sliding(model, *t_new, &rk.y1, &self.z_trial);
+            self.s_trial.copy_from_slice(&self.ctl.s);
+            self.ctl.sliding(model, *t_new, &self.xs, &self.z_trial);
+            let err = layer_error(&self.s_trial, &self.ctl.s, &self.set.eps);
+            let factor = |err: f64| 0.9 * err.max(1e-12).powf(-1.0 / order);
+            let resolvable = h > 16.0 * f64::EPSILON * t0.abs().max(1.0);
+            if err <= 1.0 || attempt == MAX_LAYER_RETRIES || !resolvable {
+                // The user's step stands until it fails the test; from then on the
+                // limit follows the error until it grows back to the user's step.
+                if attempt > 0 || self.run.h_next.is_some() {
+                    let next = h * factor(err).min(4.0);
+                    self.run.h_next = (next < user_step).then_some(next);
+                }
+                return true;
+            }
+            self.stats.rejected += 1;
+            *t_new = t0 + h * factor(err).clamp(0.1, 0.9);
+            *off_grid = true;
+            // rk.k[0] still holds f at the step's start.
+            self.fixed_step(*t_new - t0);
+        }
+        unreachable!("the last attempt returns")
     }
 
     /// The end derivative of the last fixed step (for its Hermite dense output) at the
