@@ -744,6 +744,7 @@ impl Report<'_> {
             "steps": s.steps,
             "rejected_steps": s.rejected_steps,
             "located_crossings": s.located_crossings,
+            "unlocated_steps": s.unlocated_steps,
             "updates": s.updates,
             "f_evals": s.f_evals,
             "f_evals_per_update": s.f_evals as f64 / s.updates.max(1) as f64,
@@ -796,6 +797,12 @@ impl Report<'_> {
             s.f_evals,
             s.f_evals as f64 / s.updates.max(1) as f64
         );
+        if s.unlocated_steps > 0 {
+            println!(
+                "  {} steps taken whole by the progress guard (no progress in the steps before them): crossings were not located inside them",
+                s.unlocated_steps
+            );
+        }
         let m = self.model.n_constraints();
         if m == 0 {
             println!("  no constraints: integrated as an ODE");

@@ -82,13 +82,19 @@
 //! crossing condition at that update) is watched at `(1 + tol)` times its `|s|`: it
 //! gets a fresh control each time it moves out by that fraction, as the step-end rule's
 //! update after every step gave it, and the integration cannot stall on events at the
-//! step's start.
+//! step's start. Should steps still shrink to nothing (two in a row shorter than a
+//! millionth of the reference step: a variable resting on its watch level with its
+//! rate lost in rounding), a progress guard takes the next step whole, without locating
+//! in it, and updates at its end; its excursion is still measured on the cubics, and
+//! [`Summary::unlocated_steps`] counts such steps.
 //!
-//! **Cost.** Per step: one [`Model::sliding`], [`Model::jacobian`] and [`Model::beta`]
-//! at its end and the integrator's `f` evaluations (Euler 1, RK4 4, Bogacki-Shampine 3,
-//! Dormand-Prince 6; each pair reuses its last stage as the next step's first, which
-//! holds across an update because `f` does not depend on `v`, but not after a cut: one
-//! more `f` there). Per located crossing: a few [`Model::sliding`] evaluations along the
+//! **Cost.** Per step: two [`Model::sliding`] at its end (the solution's, which is the
+//! point's, and the embedded solution's, for the test of the step's error in `s`), one
+//! [`Model::jacobian`] and [`Model::beta`] there, and the integrator's `f` evaluations
+//! (Euler 1, RK4 4, Bogacki-Shampine 3, Dormand-Prince 6; each reuses its last stage, or
+//! for Euler and RK4 the `f` at the step's end that the test needs, as the next step's
+//! first, which holds across an update because `f` does not depend on `v`, but not
+//! after a cut: one more `f` there). Per located crossing: a few [`Model::sliding`] evaluations along the
 //! dense output, and for the fixed-step integrators one `f` for the end derivative and
 //! the step integrated again to the cut. Per update: one factorisation and one solve
 //! (`J_Omega` and `beta` of the step's end reused). Measured on the double pendulum of

@@ -796,6 +796,7 @@ impl<M: Model> Simulator<M> {
             steps: st.steps,
             rejected_steps: st.rejected,
             located_crossings: st.cuts,
+            unlocated_steps: st.unlocated,
             updates: st.updates,
             reaching_updates: st.reaching_updates,
             reaching_time: st.reaching_time,

@@ -28,6 +28,8 @@ pub(crate) struct Stats {
     pub(crate) steps: u64,
     pub(crate) rejected: u64,
     pub(crate) cuts: u64,
+    /// Steps the progress guard took whole, without locating crossings in them.
+    pub(crate) unlocated: u64,
     pub(crate) updates: u64,
     pub(crate) reaching_updates: u64,
     pub(crate) steps_since_update: u64,

@@ -513,6 +513,7 @@ impl<M: Model> Simulator<M> {
             // Two steps in a row made (almost) no progress: this one is not cut, and
             // the control is updated at its end, as the step-end rule does.
             self.run.force_update = true;
+            self.stats.unlocated += 1;
         } else if self.set.policy == Policy::Monitor {
             let mut cut = false;
             for _ in 0..MAX_CUTS {
