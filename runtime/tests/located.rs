@@ -60,6 +60,17 @@ fn chain(h: f64) -> Settings {
         .t_end(2.0)
 }
 
+/// The pendulum for 5 s with its gains divided by `divisor` and the exact `alpha`.
+fn weak_pendulum(integrator: Integrator, h: f64, divisor: f64) -> Settings {
+    let s = pendulum(h);
+    let gains = s.gains.iter().map(|k| k / divisor).collect();
+    Settings::new(s.eps, s.mu, gains)
+        .alpha(AlphaChoice::Exact)
+        .integrator(integrator)
+        .step(h)
+        .t_end(5.0)
+}
+
 fn pendulum(h: f64) -> Settings {
     let (mu, beta) = ([0.076, 0.066], [1.3e3, 2.3e3]);
     let gains = (0..2).map(|i| mu[i] * mu[i] * beta[i]).collect();
@@ -249,13 +260,7 @@ fn a_gain_that_only_grazes_the_layer_returns_to_its_level_without_leaving_it() {
         ("RK4 h = 0.1, gains / 100", Integrator::Rk4, 0.1, 100.0),
         ("RK4 h = 1e-3, gains / 30", Integrator::Rk4, 1e-3, 30.0),
     ] {
-        let s = pendulum(h);
-        let gains = s.gains.iter().map(|k| k / divisor).collect();
-        let settings = Settings::new(s.eps, s.mu, gains)
-            .alpha(AlphaChoice::Exact)
-            .integrator(integrator)
-            .step(h)
-            .t_end(5.0);
+        let settings = weak_pendulum(integrator, h, divisor);
         let (_, trace) = traced(&Pendulum::default(), settings.clone());
         let t = trace.times();
         let updates = trace.update_times();
@@ -303,13 +308,7 @@ fn a_fixed_step_too_long_for_the_layer_is_shortened_to_keep_it() {
         ),
         ("RK4 h = 1e-4", Integrator::Rk4, 1e-4, 1.0, false),
     ] {
-        let s = pendulum(h);
-        let gains = s.gains.iter().map(|k| k / divisor).collect();
-        let settings = Settings::new(s.eps, s.mu, gains)
-            .alpha(AlphaChoice::Exact)
-            .integrator(integrator)
-            .step(h)
-            .t_end(5.0);
+        let settings = weak_pendulum(integrator, h, divisor);
         let summary = assert_bound(label, &Pendulum::default(), settings, 50);
         eprintln!(
             "{label}: {} steps, {} rejected, {} cut",

@@ -170,10 +170,19 @@ impl<M: Model> Simulator<M> {
 
     /// `z` on its exact ramp at the current time (avoids accumulating rounding).
     fn ramp_z(&mut self) {
-        let dt = self.t - self.tb;
-        for ((z, zb), v) in self.z.iter_mut().zip(&self.zb).zip(&self.v) {
-            *z = zb + v * dt;
-        }
+        on_ramp(&mut self.z, &self.zb, &self.v, self.t - self.tb);
+    }
+
+    /// The error in `s` of the trial step that ends at `t1` with the solution `rk.y1`,
+    /// against the embedded solution in `xs` ([`layer_error`]), both with `z` on its
+    /// ramp at `t1` (in `z_trial`, as the accepted point will have it). Leaves `s` at
+    /// the solution in `s_trial`: the point's own `s` when the step is accepted.
+    fn trial_layer_error(&mut self, t1: f64) -> f64 {
+        let model = &self.model;
+        self.ctl.sliding(model, t1, &self.rk.y1, &self.z_trial);
+        self.s_trial.copy_from_slice(&self.ctl.s);
+        self.ctl.sliding(model, t1, &self.xs, &self.z_trial);
+        layer_error(&self.s_trial, &self.ctl.s, &self.set.eps)
     }
 
     /// Without located crossings (or under SPSM), a step's measure is its end.
@@ -245,11 +254,11 @@ impl<M: Model> Simulator<M> {
     /// Leaves `s` at the end in `s_trial` and `f` there in `rk.f1`; returns whether
     /// `s_trial` is the end's (not when the step is not finite).
     fn fixed_layer_error(&mut self, t0: f64, t_new: &mut f64, off_grid: &mut bool) -> bool {
-        // The error estimate is of order h^2 (Euler) or h^4 (RK4).
-        let order = if self.set.integrator == Integrator::Euler {
-            2.0
-        } else {
-            4.0
+        // `x_hat = x + h (f(x) - k_last) / d`; the estimate is of order h^2 (Euler) or
+        // h^4 (RK4).
+        let (order, last, d) = match self.set.integrator {
+            Integrator::Euler => (2.0, 0, 2.0),
+            _ => (4.0, 3, 6.0),
         };
         let user_step = self.set.step;
         for attempt in 0..=MAX_LAYER_RETRIES {
@@ -257,23 +266,20 @@ impl<M: Model> Simulator<M> {
             if self.rk.y1.iter().any(|y| !y.is_finite()) {
                 return false;
             }
-            let dt = *t_new - self.tb;
-            for ((z, zb), v) in self.z_trial.iter_mut().zip(&self.zb).zip(&self.v) {
-                *z = zb + v * dt;
-            }
-            let (model, rk) = (&self.model, &mut self.rk);
-            model.rhs(*t_new, &rk.y1, &self.z_trial, &mut rk.f1);
+            on_ramp(&mut self.z_trial, &self.zb, &self.v, *t_new - self.tb);
+            let rk = &mut self.rk;
+            self.model.rhs(*t_new, &rk.y1, &self.z_trial, &mut rk.f1);
             rk.f1_known = true;
             self.stats.rhs_evals += 1;
-            let last = if order == 2.0 { 0 } else { 3 };
-            let c = if order == 2.0 { 0.5 * h } else { h / 6.0 };
-            for i in 0..self.xs.len() {
-                self.xs[i] = rk.y1[i] + c * (rk.f1[i] - rk.k[last][i]);
+            for ((xh, y), (f1, k)) in self
+                .xs
+                .iter_mut()
+                .zip(&rk.y1)
+                .zip(rk.f1.iter().zip(&rk.k[last]))
+            {
+                *xh = y + h / d * (f1 - k);
             }
-            self.ctl.sliding(model, *t_new, &rk.y1, &self.z_trial);
-            self.s_trial.copy_from_slice(&self.ctl.s);
-            self.ctl.sliding(model, *t_new, &self.xs, &self.z_trial);
-            let err = layer_error(&self.s_trial, &self.ctl.s, &self.set.eps);
+            let err = self.trial_layer_error(*t_new);
             let factor = |err: f64| 0.9 * err.max(1e-12).powf(-1.0 / order);
             let resolvable = h > 16.0 * f64::EPSILON * t0.abs().max(1.0);
             if err <= 1.0 || attempt == MAX_LAYER_RETRIES || !resolvable {
@@ -332,19 +338,12 @@ impl<M: Model> Simulator<M> {
             // step itself, and one step usually spans a control interval.
             h_max = h_max.min(AIM_PAST_CROSSING * self.predicted_crossing());
         }
-        let (model, z0, v) = (&self.model, &self.z0, &self.v);
-        let zs = &mut self.zs;
-        let mut rhs = |dt: f64, y: &[f64], dy: &mut [f64]| {
-            for i in 0..zs.len() {
-                zs[i] = z0[i] + dt * v[i];
-            }
-            model.rhs(t0 + dt, y, zs, dy);
-        };
         let mut h = match self.run.h_next {
             Some(h) => h,
             None => {
                 self.stats.rhs_evals += 1;
                 let (ys, fs) = (&mut self.xs, &mut self.f_cur);
+                let mut rhs = ramp_rhs(&self.model, t0, &self.z0, &self.v, &mut self.zs);
                 rk::initial_step(pair, &self.x0, &self.rk.k[0], tol, h_max, ys, fs, &mut rhs)
             }
         };
@@ -365,7 +364,7 @@ impl<M: Model> Simulator<M> {
                     Some((i, value)) => SimError::NonFinite {
                         kind: Quantity::State,
                         index: i,
-                        name: model.state_name(i).to_string(),
+                        name: self.model.state_name(i).to_string(),
                         value,
                         t: t0,
                     },
@@ -375,7 +374,13 @@ impl<M: Model> Simulator<M> {
             // The trial's end as the accepted point will have it (`ramp_z`), so that
             // `s` there, evaluated for the test below, is the point's own.
             let t1 = if h >= remaining { end } else { t0 + h };
-            let mut err = self.rk.embedded(pair, &self.x0, h, tol, &mut rhs);
+            let mut err = self.rk.embedded(
+                pair,
+                &self.x0,
+                h,
+                tol,
+                &mut ramp_rhs(&self.model, t0, &self.z0, &self.v, &mut self.zs),
+            );
             self.stats.rhs_evals += pair.stages() as u64 - 1;
             if let Some(i) = self.rk.y1.iter().position(|y| !y.is_finite()) {
                 nonfinite += 1;
@@ -384,7 +389,7 @@ impl<M: Model> Simulator<M> {
                     break Err(SimError::NonFinite {
                         kind: Quantity::State,
                         index: i,
-                        name: model.state_name(i).to_string(),
+                        name: self.model.state_name(i).to_string(),
                         value: self.rk.y1[i],
                         t: t0 + h,
                     });
@@ -395,17 +400,11 @@ impl<M: Model> Simulator<M> {
                     // makes in each `s_i` (which weighs the states by `mu` and the
                     // model's derivatives: on the pendulum with long steps, ten times
                     // the state's).
-                    let (x_hat, z1) = (&mut self.xs, &mut self.z_trial);
-                    for ((xh, y), e) in x_hat.iter_mut().zip(&self.rk.y1).zip(&self.rk.err) {
+                    for ((xh, y), e) in self.xs.iter_mut().zip(&self.rk.y1).zip(&self.rk.err) {
                         *xh = y - e;
                     }
-                    for ((z, zb), v) in z1.iter_mut().zip(&self.zb).zip(v) {
-                        *z = zb + v * (t1 - self.tb);
-                    }
-                    self.ctl.sliding(model, t1, &self.rk.y1, z1);
-                    self.s_trial.copy_from_slice(&self.ctl.s);
-                    self.ctl.sliding(model, t1, x_hat, z1);
-                    err = err.max(layer_error(&self.s_trial, &self.ctl.s, &self.set.eps));
+                    on_ramp(&mut self.z_trial, &self.zb, &self.v, t1 - self.tb);
+                    err = err.max(self.trial_layer_error(t1));
                 }
                 if err <= 1.0 {
                     break Ok(err);
@@ -670,10 +669,7 @@ impl<M: Model> Simulator<M> {
         }
         let th = ((tau - t0) / self.rk.step_length()).clamp(0.0, 1.0);
         self.rk.dense(th, &mut self.xs);
-        let dt = tau - self.tb;
-        for ((z, zb), v) in self.zs.iter_mut().zip(&self.zb).zip(&self.v) {
-            *z = zb + v * dt;
-        }
+        on_ramp(&mut self.zs, &self.zb, &self.v, tau - self.tb);
         self.ctl.sliding(&self.model, tau, &self.xs, &self.zs);
         self.ctl.s[i]
     }
@@ -744,6 +740,30 @@ impl<M: Model> Simulator<M> {
                 self.stats.updates += 3;
             }
         }
+    }
+}
+
+/// `z = z_b + v dt`: the held ramp of `z`, `dt` after the last update.
+fn on_ramp(z: &mut [f64], zb: &[f64], v: &[f64], dt: f64) {
+    for ((z, zb), v) in z.iter_mut().zip(zb).zip(v) {
+        *z = zb + v * dt;
+    }
+}
+
+/// `f` along a step from `t0` as the embedded pairs call it, with the time `dt` into
+/// the step and `z` on its ramp `z0 + dt v` (evaluated into `zs`).
+fn ramp_rhs<'a, M: Model>(
+    model: &'a M,
+    t0: f64,
+    z0: &'a [f64],
+    v: &'a [f64],
+    zs: &'a mut [f64],
+) -> impl FnMut(f64, &[f64], &mut [f64]) + 'a {
+    move |dt, y, dy| {
+        for ((z, z0), v) in zs.iter_mut().zip(z0).zip(v) {
+            *z = z0 + dt * v;
+        }
+        model.rhs(t0 + dt, y, zs, dy);
     }
 }
 
