@@ -128,8 +128,11 @@ fn sweeps() -> Vec<Vec<MethodSpec>> {
                 integrator: Integrator::DormandPrince,
             })
             .to_vec(),
-        // The frame-tied design without a pilot, at two gains.
+        // The frame-tied design without a pilot, at three floors of the gains.
         [
+            (1e-2, 4.0),
+            (1e-3, 4.0),
+            (1e-4, 4.0),
             (1e-2, 8.0),
             (1e-3, 8.0),
             (1e-4, 8.0),
@@ -188,7 +191,7 @@ fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path) -> String {
         },
         MethodSpec::DbsmcRelaxed {
             eps: 1e-2,
-            gain: 8.0,
+            gain: 4.0,
         },
         MethodSpec::DbsmcRelaxed {
             eps: 1e-2,

@@ -3,9 +3,11 @@
 //! once left their `s`-layer (before the runtime's located crossings were fixed): with
 //! fixed gains at the runtime's default Dormand-Prince tolerance (`TOLERANCE_PER_EPS =
 //! 0.01` of the smallest layer), at a tolerance 100 times tighter, and with steps of at
-//! most 1/4 and 1/16 of the design's longest (`mu / 4`); and with the gains following
-//! the drift of `s'` (`Settings::follow_drift`) at safety 1 (the benchmark's design) and
-//! 2. Which keep the layer, and at what cost per frame?
+//! most 1/4 and 1/16 of the design's longest (`mu / 4`); with the gains following the
+//! drift of `s'` (`Settings::follow_drift`) up to the gain that sweeps the layer, at
+//! safety 1 and 2; and with them following it only as far as grazing returns `mu / 8`
+//! apart need (`Settings::graze`, the benchmark's design). Which keep the layer, and at
+//! what cost per frame?
 //!
 //! ```text
 //! cargo run --release -p dae-bench --example relaxed_design
@@ -29,8 +31,12 @@ enum Control {
     State(f64),
     /// Fixed gains, steps of at most this fraction of the design's longest.
     Shorter(f64),
-    /// Gains following the drift of `s'` with this safety factor.
+    /// Gains following the drift of `s'` with this safety factor, up to the gain that
+    /// sweeps the layer.
     Follow(f64),
+    /// The benchmark's design: gains following the drift only as far as grazing
+    /// returns `RELAXED_GRAZE_PER_MU * mu` apart need.
+    Graze,
 }
 
 impl Control {
@@ -39,18 +45,22 @@ impl Control {
             Control::Fixed => "fixed gains".into(),
             Control::State(f) => format!("fixed gains, tolerance {f:e}"),
             Control::Shorter(f) => format!("fixed gains, max step x {f}"),
-            Control::Follow(f) => format!("gains follow the drift, safety {f}"),
+            Control::Follow(f) => format!("gains sweep the layer against the drift, safety {f}"),
+            Control::Graze => "gains graze the layer against the drift (design)".into(),
         }
     }
 }
 
 fn run(scene: &ParticleScene, eps: f64, gain: f64, control: Control) -> String {
     let r = run_relaxed_with(scene, eps, gain, BUDGET, |settings| {
+        let design = settings.clone();
         let settings = Settings {
             follow_drift: None,
+            graze: None,
             ..settings
         };
         match control {
+            Control::Graze => design,
             Control::Fixed => settings,
             Control::State(f) => {
                 let smallest = settings.eps.iter().copied().fold(f64::INFINITY, f64::min);
@@ -115,6 +125,7 @@ fn main() {
             Control::Shorter(0.0625),
             Control::Follow(RELAXED_DRIFT_SAFETY),
             Control::Follow(2.0 * RELAXED_DRIFT_SAFETY),
+            Control::Graze,
         ] {
             println!("{}", run(scene, *eps, *gain, control));
         }

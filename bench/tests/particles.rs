@@ -5,9 +5,9 @@ use std::time::Duration;
 
 use dae_bench::{
     Chain5, IndexOneParticles, MethodSpec, ParticleRecord, ParticleScene, RELAXED_DRIFT_SAFETY,
-    RELAXED_MU_PER_FRAME, RELAXED_STEP_PER_MU, Xpbd, c1, c4, drive_scene, generated_chain,
-    generated_grid, generated_strands, particle_pilot, relaxed_settings, run_particle_method,
-    run_relaxed_with,
+    RELAXED_GRAZE_PER_MU, RELAXED_MU_PER_FRAME, RELAXED_STEP_PER_MU, Xpbd, c1, c4, drive_scene,
+    generated_chain, generated_grid, generated_strands, particle_pilot, relaxed_settings,
+    run_particle_method, run_relaxed_with,
 };
 use dae_particles::{
     Backend, FRAME, GrabPath, GridPins, Kinematics, Motion, ParticleDae, ParticleModel, Pin, Scene,
@@ -245,6 +245,7 @@ fn the_relaxed_design_holds_a_heavy_end_chain_without_a_pilot() {
     assert_eq!(st.alpha, dae_runtime::AlphaChoice::Exact);
     assert_eq!(st.max_step, RELAXED_STEP_PER_MU * mu);
     assert_eq!(st.follow_drift, Some(RELAXED_DRIFT_SAFETY));
+    assert_eq!(st.graze, Some(RELAXED_GRAZE_PER_MU * mu));
 
     let relaxed = run_particle_method(
         &scene,
@@ -292,6 +293,40 @@ fn fixed_and_followed_gains_keep_the_layer_on_the_heavy_end_chain() {
     }
 }
 
+/// The frame-tied design's gains graze their layers (raised over the floor `4 eps / mu`
+/// only as far as returns `mu / 8` apart need) instead of sweeping them (raised to `2
+/// sqrt(eps D)`): on the heavy-end 10-link chain at eps = 1e-3 both keep the layer and
+/// the strain, and grazing makes a fraction of the updates (over the whole 5 s: 23
+/// against 143 per frame, measured in one run).
+#[test]
+fn grazing_gains_keep_the_layer_with_fewer_updates_than_sweeping_ones() {
+    let mut scene = c1(10, 1e4).unwrap();
+    scene.duration = 1.0;
+    let eps = 1e-3;
+    let run = |graze: bool| {
+        run_relaxed_with(&scene, eps, 4.0, Duration::from_secs(120), |s| {
+            assert!(s.graze.is_some());
+            if graze {
+                s
+            } else {
+                Settings { graze: None, ..s }
+            }
+        })
+    };
+    let (grazing, sweeping) = (run(true), run(false));
+    for (what, r) in [("grazing", &grazing), ("sweeping", &sweeping)] {
+        assert!(r.complete(), "{what}: {}", r.status);
+        assert_eq!(r.counters.layer_lost_at, None, "{what}");
+        assert!(r.worst_strain <= 1.05 * eps, "{what}: {}", r.worst_strain);
+    }
+    assert!(
+        3 * grazing.counters.updates < sweeping.counters.updates,
+        "updates: grazing {}, sweeping {}",
+        grazing.counters.updates,
+        sweeping.counters.updates
+    );
+}
+
 /// A gain below the drift's `2 sqrt(eps D)` grazes the layer (`s` turns back inside the
 /// side it left and returns to the same level), which located crossings keep: fixed
 /// gains on the light 10-link chain at eps = 1e-4 hold the layer and the strain for the
@@ -327,6 +362,7 @@ fn fixed_gains_with_short_steps_keep_the_layer_on_the_heavy_end_chain() {
         let h = s.max_step / 16.0;
         Settings {
             follow_drift: None,
+            graze: None,
             ..s
         }
         .max_step(h)
@@ -345,6 +381,7 @@ fn relaxed_run(scene: &ParticleScene, eps: f64, gain: f64, follow: bool) -> Part
         } else {
             Settings {
                 follow_drift: None,
+                graze: None,
                 ..s
             }
         }

@@ -1,4 +1,5 @@
-//! Gains that follow the drift of `s'` ([`Settings::follow_drift`]): the gain the
+//! Gains that follow the drift of `s'` ([`Settings::follow_drift`], with and without
+//! [`Settings::graze`]): the gain the
 //! simulator ends with against the rule evaluated on the recorded run with the model's
 //! closed-form `s'`, and the bound with the followed gains by an independent fine
 //! integration. (That a fixed gain too small for the drift loses a layer the followed
@@ -28,9 +29,26 @@ fn s_rate(t: f64, x: f64, z: f64, v: f64) -> f64 {
 
 #[test]
 fn the_followed_gain_is_the_rule_applied_to_the_drift_of_the_recorded_run() {
+    followed_gain_against_the_rule(None);
+}
+
+#[test]
+fn the_grazing_gain_is_the_rule_applied_to_the_drift_of_the_recorded_run() {
+    followed_gain_against_the_rule(Some(0.05));
+}
+
+/// The gains in use, read piece by piece, against `max(k, safety * min(2 sqrt(eps D),
+/// D T / 2))` (`T = min_return`, infinite without [`Settings::graze`]) with `D` the
+/// rule's memory of the drifts measured on the recorded run.
+fn followed_gain_against_the_rule(min_return: Option<f64>) {
     let (gain, safety) = (0.01, 1.5);
+    let mut settings = settings(gain).follow_drift(safety);
+    if let Some(t) = min_return {
+        settings = settings.graze(t);
+    }
+    let ret = min_return.unwrap_or(f64::INFINITY);
     let mut trace = Trace::new();
-    let mut sim = Simulator::new(Tracking::default(), settings(gain).follow_drift(safety)).unwrap();
+    let mut sim = Simulator::new(Tracking::default(), settings).unwrap();
     // Driven in pieces to read the gains in use after each.
     sim.start(&mut trace).unwrap();
     let mut seen = Vec::new();
@@ -54,6 +72,7 @@ fn the_followed_gain_is_the_rule_applied_to_the_drift_of_the_recorded_run() {
     assert!(updates.len() > 20, "{} updates", updates.len());
     let mut expected = vec![(updates[0], gain)];
     let (mut drift, mut k_prev) = (0.0f64, at(updates[0]));
+    let mut grazing = 0;
     for &u in &updates[1..] {
         let k = at(u);
         if k + 1 == t.len() {
@@ -62,13 +81,20 @@ fn the_followed_gain_is_the_rule_applied_to_the_drift_of_the_recorded_run() {
         let measured =
             (rate(k, v_before(k)) - rate(k_prev, v_after(k_prev))).abs() / (t[k] - t[k_prev]);
         drift = measured.max(0.5 * drift);
-        expected.push((u, gain.max(safety * 2.0 * (EPS * drift).sqrt())));
+        let (sweep, graze) = (2.0 * (EPS * drift).sqrt(), 0.5 * drift * ret);
+        if graze < sweep && safety * graze > gain {
+            grazing += 1;
+        }
+        expected.push((u, gain.max(safety * sweep.min(graze))));
         k_prev = k;
     }
     assert!(
         expected.iter().filter(|(_, k)| *k > gain).count() > 10,
         "the drift never asked for more than the configured gain"
     );
+    if min_return.is_some() {
+        assert!(grazing > 10, "{grazing} updates set a grazing gain");
+    }
     let mut compared = 0;
     for (time, k) in seen {
         let Some(&(u, want)) = expected.iter().rev().find(|(u, _)| *u <= time) else {
@@ -88,23 +114,36 @@ fn the_followed_gain_is_the_rule_applied_to_the_drift_of_the_recorded_run() {
 
 #[test]
 fn the_followed_gain_keeps_the_bound_by_an_independent_fine_integration() {
-    // A configured gain far below the rule's: the gain is raised at the updates, and
-    // the motion between them, integrated independently, stays in the layer.
+    // A configured gain far below the rule's: the gain is raised at the updates, up to
+    // the sweeping gain or only to a grazing one, and the motion between them,
+    // integrated independently, stays in the layer.
     let gain = 0.001;
-    let mut trace = Trace::new();
-    let summary = Simulator::new(Tracking::default(), settings(gain).follow_drift(1.0))
-        .unwrap()
-        .run(&mut trace)
-        .unwrap();
-    assert!(summary.bound_loss.is_none(), "{:?}", summary.bound_loss);
-    assert!(summary.gains[0] > 10.0 * gain, "gain {}", summary.gains[0]);
-    let from = summary.reaching_time.expect("reached");
-    let max = summary.max_abs_s.as_ref().unwrap()[0];
-    let fine = independent_max_s(&Tracking::default(), &[MU], &trace, from, 16)[0];
-    assert!(
-        max <= 1.01 * EPS && fine <= 1.01 * EPS,
-        "max |s| {max}, fine {fine}"
-    );
+    for graze in [None, Some(0.05)] {
+        let mut settings = settings(gain).follow_drift(1.0);
+        settings.graze = graze;
+        let mut trace = Trace::new();
+        let summary = Simulator::new(Tracking::default(), settings)
+            .unwrap()
+            .run(&mut trace)
+            .unwrap();
+        assert!(
+            summary.bound_loss.is_none(),
+            "{graze:?}: {:?}",
+            summary.bound_loss
+        );
+        assert!(
+            summary.gains[0] > 10.0 * gain,
+            "{graze:?}: gain {}",
+            summary.gains[0]
+        );
+        let from = summary.reaching_time.expect("reached");
+        let max = summary.max_abs_s.as_ref().unwrap()[0];
+        let fine = independent_max_s(&Tracking::default(), &[MU], &trace, from, 16)[0];
+        assert!(
+            max <= 1.01 * EPS && fine <= 1.01 * EPS,
+            "{graze:?}: max |s| {max}, fine {fine}"
+        );
+    }
 }
 
 #[test]
@@ -129,4 +168,25 @@ fn a_safety_factor_that_is_not_positive_and_finite_or_a_run_without_rates_is_ref
     refused("spsm", spsm, "located crossings");
     let step_end = settings(0.2).crossing(Crossing::StepEnd).follow_drift(1.0);
     refused("step end", step_end, "located crossings");
+}
+
+#[test]
+fn a_grazing_return_that_is_not_positive_and_finite_or_without_followed_gains_is_refused() {
+    let refused =
+        |label: &str, s: Settings, what: &str| match Simulator::new(Tracking::default(), s) {
+            Err(SimError::Settings { field, reason }) => {
+                assert_eq!(field, "graze", "{label}");
+                assert!(reason.contains(what), "{label}: {reason}");
+            }
+            Err(e) => panic!("{label}: {e}"),
+            Ok(_) => panic!("{label}: accepted"),
+        };
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        refused(
+            &bad.to_string(),
+            settings(0.2).follow_drift(1.0).graze(bad),
+            "finite and > 0",
+        );
+    }
+    refused("alone", settings(0.2).graze(0.01), "follow_drift");
 }

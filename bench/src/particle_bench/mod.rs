@@ -15,7 +15,7 @@ pub use report::{
 };
 pub use run::{
     FrameObserver, MethodSpec, PILOT_SAFETY, ParticleRecord, RELAXED_DRIFT_SAFETY,
-    RELAXED_MU_PER_FRAME, RELAXED_STEP_PER_MU, dbsmc_settings, drive_scene, index_one,
-    particle_pilot, relaxed_settings, run_particle_method, run_relaxed_with,
+    RELAXED_GRAZE_PER_MU, RELAXED_MU_PER_FRAME, RELAXED_STEP_PER_MU, dbsmc_settings, drive_scene,
+    index_one, particle_pilot, relaxed_settings, run_particle_method, run_relaxed_with,
 };
 pub use scenes::{Grab, ParticleScene, SceneShape, c1, c2, c3, c4};

@@ -6,18 +6,36 @@
 //! (`2 eps_i`) before `s_i'` turns when `k_i^2 >= 4 eps_i D_i`; a smaller gain lets `s_i`
 //! turn back a depth `k_i^2 / (2 D_i)` inside the side it started from, grazing it, and
 //! the next update comes from the same side after `2 k_i / D_i`.
+//!
+//! For one variable alone, the update rate is least at the sweeping gain: below it the
+//! returns come every `2 k / D`, above it the crossings every `2 eps / k` or so. With
+//! many variables the update that one of them asks for resets all, and a raised gain
+//! makes every other variable's next crossing sooner too; on chains with heavy ends
+//! the sweeping gains made 5-8x more updates than the floor gains left grazing
+//! (docs/particles.md). [`Settings::graze`](crate::Settings::graze) therefore raises a
+//! gain only as far as its grazing returns need to stay a given time apart.
 
 /// How much of the drift estimate is kept from one update to the next: a drift that
 /// fell is forgotten over a few updates, one that rose counts at once.
 pub(crate) const DRIFT_MEMORY: f64 = 0.5;
 
+/// How a gain follows the drift: `safety` on the gain asked for, and the shortest time
+/// between grazing returns (`INFINITY`: always the sweeping gain).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Follow {
+    pub(crate) safety: f64,
+    pub(crate) min_return: f64,
+}
+
 /// The drift estimate after an interval whose measured drift of `s_i'` was `measured`
 /// (`prev`: the estimate before it), and the gain it asks for: at least `configured`,
-/// and `safety * 2 sqrt(eps D)`. A non-finite measurement keeps the estimate.
+/// and `safety` times the smaller of the sweeping gain `2 sqrt(eps D)` and the gain
+/// `D T / 2` whose grazing returns come `T = min_return` apart. A non-finite
+/// measurement keeps the estimate.
 pub(crate) fn follow(
     configured: f64,
     eps: f64,
-    safety: f64,
+    how: Follow,
     prev: f64,
     measured: f64,
 ) -> (f64, f64) {
@@ -26,31 +44,73 @@ pub(crate) fn follow(
     } else {
         prev
     };
-    (drift, configured.max(safety * 2.0 * (eps * drift).sqrt()))
+    let sweep = 2.0 * (eps * drift).sqrt();
+    let graze = 0.5 * drift * how.min_return;
+    (drift, configured.max(how.safety * sweep.min(graze)))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    const SWEEP: Follow = Follow {
+        safety: 1.0,
+        min_return: f64::INFINITY,
+    };
+
     #[test]
     fn the_gain_sweeps_the_layer_against_the_drift_and_never_falls_below_the_configured() {
         // k = 2 sqrt(eps D): the sweep k t - D t^2 / 2 at the turn t = k / D is 2 eps.
-        let (d, k) = follow(0.1, 1e-3, 1.0, 0.0, 400.0);
+        let (d, k) = follow(0.1, 1e-3, SWEEP, 0.0, 400.0);
         assert_eq!(d, 400.0);
         assert!((k - 2.0 * (1e-3f64 * 400.0).sqrt()).abs() < 1e-15);
         let turn = k / d;
         assert!((k * turn - 0.5 * d * turn * turn - 2e-3).abs() < 1e-15);
-        assert_eq!(follow(0.1, 1e-3, 1.0, 0.0, 1.0).1, 0.1);
-        assert_eq!(follow(0.1, 1e-3, 3.0, 0.0, 400.0).1, 3.0 * k);
+        assert_eq!(follow(0.1, 1e-3, SWEEP, 0.0, 1.0).1, 0.1);
+        assert_eq!(
+            follow(
+                0.1,
+                1e-3,
+                Follow {
+                    safety: 3.0,
+                    ..SWEEP
+                },
+                0.0,
+                400.0
+            )
+            .1,
+            3.0 * k
+        );
     }
 
     #[test]
     fn a_falling_drift_is_forgotten_by_halves_and_a_rising_one_counts_at_once() {
-        assert_eq!(follow(0.0, 1.0, 1.0, 400.0, 10.0).0, 200.0);
-        assert_eq!(follow(0.0, 1.0, 1.0, 400.0, 300.0).0, 300.0);
-        assert_eq!(follow(0.0, 1.0, 1.0, 400.0, 900.0).0, 900.0);
-        assert_eq!(follow(0.0, 1.0, 1.0, 400.0, f64::NAN).0, 400.0);
-        assert_eq!(follow(0.0, 1.0, 1.0, 400.0, f64::INFINITY).0, 400.0);
+        assert_eq!(follow(0.0, 1.0, SWEEP, 400.0, 10.0).0, 200.0);
+        assert_eq!(follow(0.0, 1.0, SWEEP, 400.0, 300.0).0, 300.0);
+        assert_eq!(follow(0.0, 1.0, SWEEP, 400.0, 900.0).0, 900.0);
+        assert_eq!(follow(0.0, 1.0, SWEEP, 400.0, f64::NAN).0, 400.0);
+        assert_eq!(follow(0.0, 1.0, SWEEP, 400.0, f64::INFINITY).0, 400.0);
+    }
+
+    #[test]
+    fn a_grazing_gain_is_raised_only_until_its_returns_are_min_return_apart() {
+        // Drift 400, eps 1e-3: sweeping gain 2 sqrt(0.4) = 1.26; returns 1e-3 apart
+        // need D T / 2 = 0.2, and with s' = -k + D t the return comes at 2 k / D = T.
+        let how = Follow {
+            safety: 1.0,
+            min_return: 1e-3,
+        };
+        let (d, k) = follow(0.05, 1e-3, how, 0.0, 400.0);
+        assert!((k - 0.2).abs() < 1e-15);
+        assert!((2.0 * k / d - 1e-3).abs() < 1e-15);
+        // Never above the sweeping gain (a longer return would need a crossing), never
+        // below the configured one.
+        let long = Follow {
+            min_return: 1.0,
+            ..how
+        };
+        let sweep = 2.0 * (1e-3f64 * 400.0).sqrt();
+        assert!((follow(0.05, 1e-3, long, 0.0, 400.0).1 - sweep).abs() < 1e-15);
+        assert_eq!(follow(0.5, 1e-3, how, 0.0, 400.0).1, 0.5);
     }
 }

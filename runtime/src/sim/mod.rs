@@ -497,6 +497,10 @@ impl<M: Model> Simulator<M> {
         let Some(safety) = self.set.follow_drift else {
             return;
         };
+        let how = drift::Follow {
+            safety,
+            min_return: self.set.graze.unwrap_or(f64::INFINITY),
+        };
         if self.stats.updates == 0 || t <= self.tb {
             return;
         }
@@ -506,7 +510,7 @@ impl<M: Model> Simulator<M> {
             let (d, k) = drift::follow(
                 self.set.gains[i],
                 self.set.eps[i],
-                safety,
+                how,
                 self.drift[i],
                 measured,
             );
