@@ -222,7 +222,8 @@ fn dbsmc_keeps_its_bound_on_a_tiny_chain_through_the_harness() {
 }
 
 /// The relaxed design is what `relaxed_settings` says (one `mu` a quarter of a frame,
-/// gains from `k_i = gain eps_i / mu` up, following the drift, exact alpha,
+/// gains from `k_i = gain eps_i / mu` up, following the drift as far as grazing returns
+/// `mu / 8` apart need, exact alpha,
 /// Dormand-Prince with steps of at most `mu / 4`), and on a chain whose end is 10^4
 /// times heavier than its particles it holds its layer and the strain for a second
 /// without a pilot. (It is not cheaper there than a design from a pilot of that same
@@ -269,7 +270,8 @@ fn the_relaxed_design_holds_a_heavy_end_chain_without_a_pilot() {
 }
 
 /// The heavy-ended 10-link chain (end mass 1e4) at eps = 1e-2, the frame-tied design
-/// with its gains fixed at the floor `8 eps / mu` and with them following the drift:
+/// with its gains fixed at the floor `8 eps / mu` and with them following the drift (as
+/// far as grazing needs, the design):
 /// both keep the layer and the strain over the whole 5 s. The fixed gains graze the
 /// layer, with located returns that come every few microseconds while the end whips;
 /// they left it (0.330 s, 12 eps, and the strain with it) while a step was taken as

@@ -301,13 +301,19 @@
 //! evaluation), `k_i = max(k_i configured, safety * 2 sqrt(eps_i D_i))`, the gain
 //! whose sweep crosses the layer before the drift turns `s_i'`. A smaller gain grazes
 //! the layer instead (`s_i` turns back inside and returns to the level it left, where
-//! the located crossing updates again), which also keeps it: on the five particle runs
-//! of `cargo run --release -p dae-bench --example relaxed_design` fixed gains kept the
-//! layer in all 20 step controls, followed gains in all 10; the followed gains cost
-//! 1.2-1.6x more where fixed ones graze rarely (a cloth: 177 against 92 updates per
-//! frame) and 2.2x less where they graze often (a light 100-link chain: 1,530 against
-//! 3,300). It predicts from the past intervals: a drift that grows faster than that
-//! still leaves the layer, and the monitor reports it ([`Summary::bound_loss`]).
+//! the located crossing updates again), which also keeps it. [`Settings::graze`] makes
+//! that the rule: a gain is raised only as far as `safety * D_i T / 2`, whose grazing
+//! returns come `T` apart, and never above the sweeping gain. The sweeping gain gives one
+//! variable alone its fewest updates, but every update resets all of them, and a raised
+//! gain makes all of their next crossings sooner. On the five particle runs of `cargo
+//! run --release -p dae-bench --example relaxed_design` every variant kept the layer
+//! (fixed gains under four step controls, sweeping gains at safety 1 and 2, grazing
+//! gains with `T = mu / 8`); the grazing gains made the fewest updates on the four
+//! chains (on a heavy-end 10-link chain 76 per frame against 137 sweeping and 72
+//! fixed; on a light 100-link chain 1,415 against 1,530 sweeping and 3,300 fixed), and
+//! fixed gains the fewest on a cloth (92 against 149 grazing and 177 sweeping). It
+//! predicts from the past intervals: a drift that grows faster than that still leaves
+//! the layer, and the monitor reports it ([`Summary::bound_loss`]).
 //!
 //! **`z` and `z_eq` with an approximate inverse.** `z` is still the held ramp: it
 //! oscillates around the algebraic solution `z*` with an amplitude set by the gains, so
