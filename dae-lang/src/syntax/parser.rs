@@ -47,6 +47,7 @@ pub enum Rule {
     r#field,
     r#call,
     r#name,
+    r#form_word,
     r#number,
     r#integer,
     r#ident,
@@ -133,6 +134,7 @@ impl Rule {
             Rule::r#field,
             Rule::r#call,
             Rule::r#name,
+            Rule::r#form_word,
             Rule::r#number,
             Rule::r#integer,
             Rule::r#ident,
@@ -1501,7 +1503,10 @@ impl ::pest::Parser<Rule> for DaeParser {
                             |state| {
                                 state
                                     .sequence(|state| {
-                                        self::r#ident(state)
+                                        state
+                                            .lookahead(false, |state| { self::r#form_word(state) })
+                                            .and_then(|state| { super::hidden::skip(state) })
+                                            .and_then(|state| { self::r#ident(state) })
                                             .and_then(|state| { super::hidden::skip(state) })
                                             .and_then(|state| { self::r#lparen(state) })
                                             .and_then(|state| { super::hidden::skip(state) })
@@ -1559,7 +1564,29 @@ impl ::pest::Parser<Rule> for DaeParser {
                 ) -> ::pest::ParseResult<
                     ::std::boxed::Box<::pest::ParserState<'_, Rule>>,
                 > {
-                    state.rule(Rule::r#name, |state| { self::r#ident(state) })
+                    state
+                        .rule(
+                            Rule::r#name,
+                            |state| {
+                                state
+                                    .sequence(|state| {
+                                        state
+                                            .lookahead(false, |state| { self::r#form_word(state) })
+                                            .and_then(|state| { super::hidden::skip(state) })
+                                            .and_then(|state| { self::r#ident(state) })
+                                    })
+                            },
+                        )
+                }
+                #[inline]
+                #[allow(non_snake_case, unused_variables)]
+                pub fn r#form_word(
+                    state: ::std::boxed::Box<::pest::ParserState<'_, Rule>>,
+                ) -> ::pest::ParseResult<
+                    ::std::boxed::Box<::pest::ParserState<'_, Rule>>,
+                > {
+                    let state = state.check_stack_limit()?;
+                    self::r#kw_if(state).or_else(|state| { self::r#kw_not(state) })
                 }
                 #[inline]
                 #[allow(non_snake_case, unused_variables)]
@@ -2645,6 +2672,7 @@ impl ::pest::Parser<Rule> for DaeParser {
                     Rule::r#field => rules::r#field(state),
                     Rule::r#call => rules::r#call(state),
                     Rule::r#name => rules::r#name(state),
+                    Rule::r#form_word => rules::r#form_word(state),
                     Rule::r#number => rules::r#number(state),
                     Rule::r#integer => rules::r#integer(state),
                     Rule::r#ident => rules::r#ident(state),
