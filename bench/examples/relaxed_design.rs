@@ -6,8 +6,9 @@
 //! most 1/4 and 1/16 of the design's longest (`mu / 4`); with the gains following the
 //! drift of `s'` (`Settings::follow_drift`) up to the gain that sweeps the layer, at
 //! safety 1 and 2; and with them following it only as far as grazing returns `mu / 8`
-//! apart need (`Settings::graze`, the benchmark's design). Which keep the layer, and at
-//! what cost per frame?
+//! apart need (`Settings::graze`, the benchmark's design), with `v` held or ramping
+//! against the drift between updates (`Settings::ramp_against_drift`). Which keep the
+//! layer, and at what cost per frame?
 //!
 //! ```text
 //! cargo run --release -p dae-bench --example relaxed_design
@@ -37,6 +38,8 @@ enum Control {
     /// The benchmark's design: gains following the drift only as far as grazing
     /// returns `RELAXED_GRAZE_PER_MU * mu` apart need.
     Graze,
+    /// The benchmark's design with `v` ramping against the drift between updates.
+    GrazeRamp,
 }
 
 impl Control {
@@ -47,6 +50,7 @@ impl Control {
             Control::Shorter(f) => format!("fixed gains, max step x {f}"),
             Control::Follow(f) => format!("gains sweep the layer against the drift, safety {f}"),
             Control::Graze => "gains graze the layer against the drift (design)".into(),
+            Control::GrazeRamp => "design, v ramps against the drift".into(),
         }
     }
 }
@@ -61,6 +65,7 @@ fn run(scene: &ParticleScene, eps: f64, gain: f64, control: Control) -> String {
         };
         match control {
             Control::Graze => design,
+            Control::GrazeRamp => design.ramp_against_drift(),
             Control::Fixed => settings,
             Control::State(f) => {
                 let smallest = settings.eps.iter().copied().fold(f64::INFINITY, f64::min);
@@ -126,6 +131,7 @@ fn main() {
             Control::Follow(RELAXED_DRIFT_SAFETY),
             Control::Follow(2.0 * RELAXED_DRIFT_SAFETY),
             Control::Graze,
+            Control::GrazeRamp,
         ] {
             println!("{}", run(scene, *eps, *gain, control));
         }

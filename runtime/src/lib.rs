@@ -315,6 +315,12 @@
 //! predicts from the past intervals: a drift that grows faster than that still leaves
 //! the layer, and the monitor reports it ([`Summary::bound_loss`]).
 //!
+//! [`Settings::ramp_against_drift`] goes one step beyond the method's zero-order hold:
+//! from each update `v` ramps at the rate that cancels the drift of `s'` found there (a
+//! finite difference along the flow), `z` is quadratic between updates, and intervals end
+//! on the change of the drift instead (4.4x fewer updates on a light 100-link chain, 1.6x
+//! more on a heavy-end one whose drift turns within an interval; `relaxed_design`).
+//!
 //! **`z` and `z_eq` with an approximate inverse.** `z` is still the held ramp: it
 //! oscillates around the algebraic solution `z*` with an amplitude set by the gains, so
 //! raised gains widen it (`z*` itself is always computed with an exact solver). `z_eq = z - J_hat^{-1} s` is one quasi-Newton step towards the

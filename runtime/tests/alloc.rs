@@ -59,8 +59,9 @@ fn allocations_of_run(
         settings = settings.raise_gains(0.1);
     }
     if matches!(crossing, Crossing::Located { .. }) && policy != Policy::Spsm {
-        // Every run that can follow the drift does (its buffers are the simulator's).
-        settings = settings.follow_drift(1.0);
+        // Every run that can follow the drift, graze and ramp does (their buffers are
+        // the simulator's).
+        settings = settings.follow_drift(1.0).graze(0.01).ramp_against_drift();
     }
     let mut sim = Simulator::new(&p, settings).unwrap();
     let before = ALLOCATIONS.load(Ordering::Relaxed);

@@ -40,6 +40,7 @@ impl<M: Model> Simulator<M> {
             .carry_omega(&self.model, t, &self.omega_before, &mut self.z)?;
         self.zb.copy_from_slice(&self.z);
         self.tb = t;
+        self.va.fill(0.0);
         self.run.update_requested = true;
         Ok(out)
     }

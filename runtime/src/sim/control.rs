@@ -473,6 +473,11 @@ impl Controller {
         if check.count { failures } else { 0 }
     }
 
+    /// `x = J_s^{-1} b` with the factorisation of the last update.
+    pub(crate) fn solve_factored(&mut self, b: &[f64], x: &mut [f64]) {
+        self.solver.solve_from(b, x);
+    }
+
     /// `v = J_hat^{-1}(-alpha_hat - K sw(s))`, warm-started from the previous `v`.
     fn solve_law(&mut self, switch: Switch, v: &mut [f64]) {
         for i in 0..self.s.len() {

@@ -87,6 +87,11 @@ pub struct Simulator<M: Model> {
     zb: Vec<f64>,
     tb: f64,
     v: Vec<f64>,
+    /// The rate of `v` between updates (a ramp against the drift): `v(t) = v + va (t -
+    /// t_b)`; zero for the zero-order hold.
+    va: Vec<f64>,
+    v_now: Vec<f64>,
+    fx: Vec<f64>,
     /// The start of the current step, dense-output and stage scratch.
     x0: Vec<f64>,
     z0: Vec<f64>,
@@ -196,6 +201,9 @@ impl<M: Model> Simulator<M> {
             zb: vm(),
             tb: settings.t_start,
             v: vm(),
+            va: vm(),
+            v_now: vm(),
+            fx: vn(),
             x0: vn(),
             z0: vm(),
             xs: vn(),
@@ -430,7 +438,7 @@ impl<M: Model> Simulator<M> {
             self.f_cur_valid = false;
             self.eval_point(self.t);
             if self.located() {
-                self.ctl.s_rate(&self.v, &mut self.ds);
+                self.rate_at(self.t);
             }
             self.check_finite()?;
         }
@@ -516,6 +524,48 @@ impl<M: Model> Simulator<M> {
             );
             self.drift[i] = d;
             self.ctl.gains[i] = k;
+        }
+    }
+
+    /// `v` at `t` on its ramp (`v` itself to the last bit without one), into `v_now`.
+    fn v_at(&mut self, t: f64) {
+        let dt = t - self.tb;
+        for ((n, v), a) in self.v_now.iter_mut().zip(&self.v).zip(&self.va) {
+            *n = v + a * dt;
+        }
+    }
+
+    /// `s'` at `t` with `v` on its ramp, into `ds`.
+    fn rate_at(&mut self, t: f64) {
+        self.v_at(t);
+        self.ctl.s_rate(&self.v_now, &mut self.ds);
+    }
+
+    /// The rate of `v` that cancels the drift of `s'` at the update: `s''` by a finite
+    /// difference along the flow, `va = -J_s^{-1} s''`.
+    fn ramp_against_drift(&mut self, t: f64) {
+        let delta = 1e-6 * self.set.mu.iter().copied().fold(f64::INFINITY, f64::min);
+        self.model.rhs(t, &self.x, &self.z, &mut self.fx);
+        for ((xs, x), f) in self.xs.iter_mut().zip(&self.x).zip(&self.fx) {
+            *xs = x + delta * f;
+        }
+        for ((zs, z), v) in self.zs.iter_mut().zip(&self.z).zip(&self.v) {
+            *zs = z + delta * v;
+        }
+        let t1 = t + delta;
+        self.ctl.sliding(&self.model, t1, &self.xs, &self.zs);
+        self.ctl.eval_jacobian(&self.model, t1, &self.xs, &self.zs);
+        self.ctl.eval_beta(&self.model, t1, &self.xs, &self.zs);
+        self.ctl.s_rate(&self.v, &mut self.v_now);
+        for (n, d) in self.v_now.iter_mut().zip(&self.ds) {
+            *n = -(*n - d) / delta;
+        }
+        self.ctl.solve_factored(&self.v_now, &mut self.va);
+        self.ctl.sliding(&self.model, t, &self.x, &self.z);
+        self.ctl.eval_jacobian(&self.model, t, &self.x, &self.z);
+        self.ctl.eval_beta(&self.model, t, &self.x, &self.z);
+        if self.va.iter().any(|a| !a.is_finite()) {
+            self.va.fill(0.0);
         }
     }
 
@@ -677,9 +727,13 @@ impl<M: Model> Simulator<M> {
         if let Some((i, &v)) = self.v.iter().enumerate().find(|(_, v)| !v.is_finite()) {
             return Err(self.non_finite(Quantity::Control, i, v));
         }
+        self.va.fill(0.0);
         if located {
             // The beta of the law may have been re-evaluated only when not ready.
             self.ctl.s_rate(&self.v, &mut self.ds);
+            if self.set.ramp {
+                self.ramp_against_drift(t);
+            }
             if self.set.follow_drift.is_some() {
                 self.ds_b.copy_from_slice(&self.ds);
             }

@@ -124,7 +124,7 @@ impl<M: Model> Simulator<M> {
                 self.eval_point(t_new);
             }
             if self.located() {
-                self.ctl.s_rate(&self.v, &mut self.ds);
+                self.rate_at(self.t);
                 self.locate(t0);
                 if self.rk.f1_known {
                     // The Hermite output needed f at the end: the next first stage.
@@ -170,7 +170,7 @@ impl<M: Model> Simulator<M> {
 
     /// `z` on its exact ramp at the current time (avoids accumulating rounding).
     fn ramp_z(&mut self) {
-        on_ramp(&mut self.z, &self.zb, &self.v, self.t - self.tb);
+        on_ramp(&mut self.z, &self.zb, &self.v, &self.va, self.t - self.tb);
     }
 
     /// The error in `s` of the trial step that ends at `t1` with the solution `rk.y1`,
@@ -213,7 +213,8 @@ impl<M: Model> Simulator<M> {
     /// `rk.k[0] = f(t, x0, z0)` given and `z` on the ramp `z0 + c h v` in the stages.
     fn fixed_step(&mut self, h: f64) {
         let t = self.t;
-        let (x, z, v) = (&self.x0, &self.z0, &self.v);
+        self.v_at(t);
+        let (x, z, v, va) = (&self.x0, &self.z0, &self.v_now, &self.va);
         let model = &self.model;
         let rk = &mut self.rk;
         match self.set.integrator {
@@ -225,12 +226,12 @@ impl<M: Model> Simulator<M> {
             _ => {
                 let (xs, zs) = (&mut self.xs, &mut self.zs);
                 set_axpy(xs, x, 0.5 * h, &rk.k[0]);
-                set_axpy(zs, z, 0.5 * h, v);
+                ramp_from(zs, z, v, va, 0.5 * h);
                 model.rhs(t + 0.5 * h, xs, zs, &mut rk.k[1]);
                 set_axpy(xs, x, 0.5 * h, &rk.k[1]);
                 model.rhs(t + 0.5 * h, xs, zs, &mut rk.k[2]);
                 set_axpy(xs, x, h, &rk.k[2]);
-                set_axpy(zs, z, h, v);
+                ramp_from(zs, z, v, va, h);
                 model.rhs(t + h, xs, zs, &mut rk.k[3]);
                 let c = h / 6.0;
                 let k = &rk.k;
@@ -266,7 +267,13 @@ impl<M: Model> Simulator<M> {
             if self.rk.y1.iter().any(|y| !y.is_finite()) {
                 return false;
             }
-            on_ramp(&mut self.z_trial, &self.zb, &self.v, *t_new - self.tb);
+            on_ramp(
+                &mut self.z_trial,
+                &self.zb,
+                &self.v,
+                &self.va,
+                *t_new - self.tb,
+            );
             let rk = &mut self.rk;
             self.model.rhs(*t_new, &rk.y1, &self.z_trial, &mut rk.f1);
             rk.f1_known = true;
@@ -326,6 +333,7 @@ impl<M: Model> Simulator<M> {
         let tol = (tol.rtol, tol.atol);
         let t0 = self.t;
         self.first_stage();
+        self.v_at(t0);
         let mut end = target;
         if let Policy::Fixed(p) = self.set.policy {
             end = end.min(self.tb + p);
@@ -343,7 +351,14 @@ impl<M: Model> Simulator<M> {
             None => {
                 self.stats.rhs_evals += 1;
                 let (ys, fs) = (&mut self.xs, &mut self.f_cur);
-                let mut rhs = ramp_rhs(&self.model, t0, &self.z0, &self.v, &mut self.zs);
+                let mut rhs = ramp_rhs(
+                    &self.model,
+                    t0,
+                    &self.z0,
+                    &self.v_now,
+                    &self.va,
+                    &mut self.zs,
+                );
                 rk::initial_step(pair, &self.x0, &self.rk.k[0], tol, h_max, ys, fs, &mut rhs)
             }
         };
@@ -379,7 +394,14 @@ impl<M: Model> Simulator<M> {
                 &self.x0,
                 h,
                 tol,
-                &mut ramp_rhs(&self.model, t0, &self.z0, &self.v, &mut self.zs),
+                &mut ramp_rhs(
+                    &self.model,
+                    t0,
+                    &self.z0,
+                    &self.v_now,
+                    &self.va,
+                    &mut self.zs,
+                ),
             );
             self.stats.rhs_evals += pair.stages() as u64 - 1;
             if let Some(i) = self.rk.y1.iter().position(|y| !y.is_finite()) {
@@ -403,7 +425,7 @@ impl<M: Model> Simulator<M> {
                     for ((xh, y), e) in self.xs.iter_mut().zip(&self.rk.y1).zip(&self.rk.err) {
                         *xh = y - e;
                     }
-                    on_ramp(&mut self.z_trial, &self.zb, &self.v, t1 - self.tb);
+                    on_ramp(&mut self.z_trial, &self.zb, &self.v, &self.va, t1 - self.tb);
                     err = err.max(self.trial_layer_error(t1));
                 }
                 if err <= 1.0 {
@@ -444,7 +466,7 @@ impl<M: Model> Simulator<M> {
         self.f_cur.copy_from_slice(&self.rk.k[pair.stages() - 1]);
         self.f_cur_valid = true;
         if self.located() {
-            self.ctl.s_rate(&self.v, &mut self.ds);
+            self.rate_at(self.t);
             self.locate(t0);
         } else {
             self.measure_ends(self.t - t0);
@@ -669,7 +691,7 @@ impl<M: Model> Simulator<M> {
         }
         let th = ((tau - t0) / self.rk.step_length()).clamp(0.0, 1.0);
         self.rk.dense(th, &mut self.xs);
-        on_ramp(&mut self.zs, &self.zb, &self.v, tau - self.tb);
+        on_ramp(&mut self.zs, &self.zb, &self.v, &self.va, tau - self.tb);
         self.ctl.sliding(&self.model, tau, &self.xs, &self.zs);
         self.ctl.s[i]
     }
@@ -692,7 +714,7 @@ impl<M: Model> Simulator<M> {
         self.t = t_cut;
         self.ramp_z();
         self.eval_point(t_cut);
-        self.ctl.s_rate(&self.v, &mut self.ds);
+        self.rate_at(t_cut);
     }
 
     /// One SPSM step: `(x, z)` as an ODE with `v` recomputed at every stage. `self.v`
@@ -743,27 +765,33 @@ impl<M: Model> Simulator<M> {
     }
 }
 
-/// `z = z_b + v dt`: the held ramp of `z`, `dt` after the last update.
-fn on_ramp(z: &mut [f64], zb: &[f64], v: &[f64], dt: f64) {
-    for ((z, zb), v) in z.iter_mut().zip(zb).zip(v) {
-        *z = zb + v * dt;
-    }
+/// `z = z_b + dt (v + va dt / 2)`: the ramp of `z`, `dt` after the last update.
+fn on_ramp(z: &mut [f64], zb: &[f64], v: &[f64], va: &[f64], dt: f64) {
+    ramp_from(z, zb, v, va, dt);
 }
 
 /// `f` along a step from `t0` as the embedded pairs call it, with the time `dt` into
-/// the step and `z` on its ramp `z0 + dt v` (evaluated into `zs`).
+/// the step and `z` on its ramp `z0 + dt (v0 + va dt / 2)` from the step's start (`v0`:
+/// `v` at `t0`; evaluated into `zs`).
 fn ramp_rhs<'a, M: Model>(
     model: &'a M,
     t0: f64,
     z0: &'a [f64],
-    v: &'a [f64],
+    v0: &'a [f64],
+    va: &'a [f64],
     zs: &'a mut [f64],
 ) -> impl FnMut(f64, &[f64], &mut [f64]) + 'a {
     move |dt, y, dy| {
-        for ((z, z0), v) in zs.iter_mut().zip(z0).zip(v) {
-            *z = z0 + dt * v;
-        }
+        ramp_from(zs, z0, v0, va, dt);
         model.rhs(t0 + dt, y, zs, dy);
+    }
+}
+
+/// `z = z0 + dt (v0 + va dt / 2)`: the ramp of `z`, `dt` after a point where it was
+/// `z0` and `v` was `v0` (with `va = 0`, `z0 + dt v0` to the last bit).
+fn ramp_from(z: &mut [f64], z0: &[f64], v0: &[f64], va: &[f64], dt: f64) {
+    for (((z, z0), v), a) in z.iter_mut().zip(z0).zip(v0).zip(va) {
+        *z = z0 + dt * (v + 0.5 * a * dt);
     }
 }
 
