@@ -142,6 +142,10 @@ fn sweeps() -> Vec<Vec<MethodSpec>> {
         ]
         .map(|(eps, gain)| MethodSpec::DbsmcRelaxed { eps, gain })
         .to_vec(),
+        // The same design with `v` ramped against the drift between updates.
+        [1e-2, 1e-3, 1e-4]
+            .map(|eps| MethodSpec::DbsmcRamped { eps, gain: 4.0 })
+            .to_vec(),
         // The scene's generated family model (chain.dae, c2_hair.dae, c3_cloth.dae).
         [1e-2, 1e-3, 1e-4]
             .map(|eps| MethodSpec::DbsmcGenerated {
@@ -194,6 +198,14 @@ fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path) -> String {
             gain: 4.0,
         },
         MethodSpec::DbsmcRelaxed {
+            eps: 1e-2,
+            gain: 32.0,
+        },
+        MethodSpec::DbsmcRamped {
+            eps: 1e-2,
+            gain: 4.0,
+        },
+        MethodSpec::DbsmcRamped {
             eps: 1e-2,
             gain: 32.0,
         },
@@ -309,7 +321,13 @@ fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path) -> String {
             lines.push(dae_bench::Line { label, points });
             records.extend(runs);
         }
-        for method in ["xpbd-substeps", "index1-rk4", "dbsmc-dp", "dbsmc-relaxed"] {
+        for method in [
+            "xpbd-substeps",
+            "index1-rk4",
+            "dbsmc-dp",
+            "dbsmc-relaxed",
+            "dbsmc-ramp",
+        ] {
             let best: Vec<Option<&ParticleRecord>> = scenes
                 .iter()
                 .map(|sc| cheapest(records, &sc.title(), method, 1e-2))
@@ -544,6 +562,7 @@ fn main() {
         "dbsmc-dp",
         "dbsmc-generated",
         "dbsmc-relaxed",
+        "dbsmc-ramp",
         "index1-rk4",
         "xpbd-substeps",
         "xpbd-iterations",

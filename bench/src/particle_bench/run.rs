@@ -43,6 +43,14 @@ pub enum MethodSpec {
         /// The gain in units of `eps_i / mu` (4 is the drift-free part of T 4.4).
         gain: f64,
     },
+    /// The frame-tied design of [`relaxed_settings`] with `v` ramping between updates
+    /// against the drift of `s'` ([`Settings::ramp_against_drift`]).
+    DbsmcRamped {
+        /// Relative layer (strain bound).
+        eps: f64,
+        /// The gain in units of `eps_i / mu`.
+        gain: f64,
+    },
     /// XPBD small steps: `k` substeps of one iteration per frame.
     XpbdSubsteps(u32),
     /// XPBD: one step of `n` iterations per frame.
@@ -74,6 +82,7 @@ impl MethodSpec {
                 _ => "dbsmc-generated".into(),
             },
             MethodSpec::DbsmcRelaxed { .. } => "dbsmc-relaxed".into(),
+            MethodSpec::DbsmcRamped { .. } => "dbsmc-ramp".into(),
             MethodSpec::XpbdSubsteps(_) => "xpbd-substeps".into(),
             MethodSpec::XpbdIterations(_) => "xpbd-iterations".into(),
             MethodSpec::IndexOne(_) => "index1-rk4".into(),
@@ -85,7 +94,9 @@ impl MethodSpec {
             MethodSpec::Dbsmc { eps, .. } | MethodSpec::DbsmcGenerated { eps, .. } => {
                 format!("eps={eps:e}")
             }
-            MethodSpec::DbsmcRelaxed { eps, gain } => format!("eps={eps:e} c={gain}"),
+            MethodSpec::DbsmcRelaxed { eps, gain } | MethodSpec::DbsmcRamped { eps, gain } => {
+                format!("eps={eps:e} c={gain}")
+            }
             MethodSpec::XpbdSubsteps(k) => format!("k={k}"),
             MethodSpec::XpbdIterations(n) => format!("n={n}"),
             MethodSpec::IndexOne(s) => format!("steps/frame={s}"),
@@ -502,6 +513,18 @@ pub fn run_particle_method(
             observe,
         }
         .with(ParticleModel::new(&scene.system).map_err(|e| e.to_string())),
+        MethodSpec::DbsmcRamped { eps, gain } => RunDbsmc {
+            scene,
+            spec,
+            design: Design::Ramped(gain),
+            eps,
+            solver: SolverChoice::Auto,
+            integrator: Integrator::DormandPrince,
+            budget,
+            reference,
+            observe,
+        }
+        .with(ParticleModel::new(&scene.system).map_err(|e| e.to_string())),
     }
 }
 
@@ -511,6 +534,8 @@ enum Design<'a> {
     Pilot(&'a PilotBounds),
     /// [`relaxed_settings`] with this gain.
     Relaxed(f64),
+    /// [`relaxed_settings`] with this gain and `v` ramped against the drift.
+    Ramped(f64),
 }
 
 /// A DBSMC run of a scene, whichever particle model it is given.
@@ -555,6 +580,10 @@ impl RunDbsmc<'_, '_> {
             }
             // No guaranteed period: the design assumes its drift (see relaxed_settings).
             Design::Relaxed(gain) => Ok((relaxed_settings(&model, self.eps, gain), None)),
+            Design::Ramped(gain) => Ok((
+                relaxed_settings(&model, self.eps, gain).ramp_against_drift(),
+                None,
+            )),
         };
         let (settings, t_min) = match designed {
             Ok(d) => d,
@@ -595,7 +624,8 @@ fn blank(scene: &ParticleScene, spec: &MethodSpec) -> ParticleRecord {
         eps: match spec {
             MethodSpec::Dbsmc { eps, .. }
             | MethodSpec::DbsmcGenerated { eps, .. }
-            | MethodSpec::DbsmcRelaxed { eps, .. } => Some(*eps),
+            | MethodSpec::DbsmcRelaxed { eps, .. }
+            | MethodSpec::DbsmcRamped { eps, .. } => Some(*eps),
             _ => None,
         },
         worst_strain: f64::NAN,

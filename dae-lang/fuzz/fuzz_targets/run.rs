@@ -1,9 +1,9 @@
 //! Fuzz target: whatever passes the checks is analysed and simulated, briefly, on the
 //! interpreter, and nothing panics: parsing, checking and rendering diagnostics, the
 //! index analysis and the tapes, the interpreter and the simulator (its settings, first
-//! control update, and 50 ms of DBSMC: RK4 steps of 1 ms, Dormand-Prince, or
-//! Dormand-Prince with gains that follow the drift and graze, chosen by the input's
-//! length).
+//! control update, and 50 ms of DBSMC: RK4 steps of 1 ms, Dormand-Prince,
+//! Dormand-Prince with gains that follow the drift and graze, or RK4 with those gains
+//! and `v` ramped against the drift, chosen by the input's length).
 #![no_main]
 
 use dae_runtime::{Integrator, Model, NoTrace, Settings, Simulator};
@@ -34,13 +34,14 @@ fuzz_target!(|data: &[u8]| {
             .step(1e-3)
             .t_end(0.05)
             .max_steps(20_000);
-        let settings = match data.len() % 3 {
+        let settings = match data.len() % 4 {
             0 => settings,
             1 => settings.integrator(Integrator::DormandPrince),
-            _ => settings
+            2 => settings
                 .integrator(Integrator::DormandPrince)
                 .follow_drift(1.0)
                 .graze(1e-3),
+            _ => settings.follow_drift(1.0).graze(1e-3).ramp_against_drift(),
         };
         if let Ok(mut sim) = Simulator::new(&model, settings) {
             // A run may fail (a value leaves its domain, the reaching phase does not
