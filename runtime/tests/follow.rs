@@ -7,19 +7,11 @@
 
 mod common;
 
-use common::{Tracking, independent_max_s};
-use dae_runtime::{AlphaChoice, Crossing, Policy, Settings, SimError, Simulator, Trace};
-
-const EPS: f64 = 1e-3;
-const MU: f64 = 0.05;
-
-/// Tracking (`x' = z - x`, `0 = x - sin t`) with exact `alpha`, every step recorded.
-fn settings(gain: f64) -> Settings {
-    Settings::new(vec![EPS], vec![MU], vec![gain])
-        .alpha(AlphaChoice::Exact)
-        .step(0.01)
-        .t_end(3.0)
-}
+use common::{
+    TRACKING_EPS as EPS, TRACKING_MU as MU, Tracking, assert_refused, independent_max_s,
+    tracking_settings as settings,
+};
+use dae_runtime::{Crossing, Policy, Simulator, Trace};
 
 /// `s' = mu (v - (z - x) + sin t) + (z - x - cos t)` of the tracking model, from its
 /// equations (not from the simulator).
@@ -148,15 +140,7 @@ fn the_followed_gain_keeps_the_bound_by_an_independent_fine_integration() {
 
 #[test]
 fn a_safety_factor_that_is_not_positive_and_finite_or_a_run_without_rates_is_refused() {
-    let refused =
-        |label: &str, s: Settings, what: &str| match Simulator::new(Tracking::default(), s) {
-            Err(SimError::Settings { field, reason }) => {
-                assert_eq!(field, "follow_drift", "{label}");
-                assert!(reason.contains(what), "{label}: {reason}");
-            }
-            Err(e) => panic!("{label}: {e}"),
-            Ok(_) => panic!("{label}: accepted"),
-        };
+    let refused = |label: &str, s, what: &str| assert_refused(label, s, "follow_drift", what);
     for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
         refused(
             &bad.to_string(),
@@ -172,15 +156,7 @@ fn a_safety_factor_that_is_not_positive_and_finite_or_a_run_without_rates_is_ref
 
 #[test]
 fn a_grazing_return_that_is_not_positive_and_finite_or_without_followed_gains_is_refused() {
-    let refused =
-        |label: &str, s: Settings, what: &str| match Simulator::new(Tracking::default(), s) {
-            Err(SimError::Settings { field, reason }) => {
-                assert_eq!(field, "graze", "{label}");
-                assert!(reason.contains(what), "{label}: {reason}");
-            }
-            Err(e) => panic!("{label}: {e}"),
-            Ok(_) => panic!("{label}: accepted"),
-        };
+    let refused = |label: &str, s, what: &str| assert_refused(label, s, "graze", what);
     for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
         refused(
             &bad.to_string(),

@@ -5,21 +5,10 @@
 
 mod common;
 
-use common::Tracking;
-use dae_runtime::{
-    AlphaChoice, Crossing, Integrator, Policy, Settings, SimError, Simulator, Trace,
+use common::{
+    TRACKING_EPS as EPS, TRACKING_MU as MU, Tracking, assert_refused, tracking_settings as settings,
 };
-
-const EPS: f64 = 1e-3;
-const MU: f64 = 0.05;
-
-/// Tracking (`x' = z - x`, `0 = x - sin t`) with exact `alpha`, every step recorded.
-fn settings(gain: f64) -> Settings {
-    Settings::new(vec![EPS], vec![MU], vec![gain])
-        .alpha(AlphaChoice::Exact)
-        .step(0.01)
-        .t_end(3.0)
-}
+use dae_runtime::{Crossing, Integrator, Policy, Settings, Simulator, Trace};
 
 /// `s''` of the tracking model with `v` held, from its equations: `s' = mu (v - (z - x)
 /// + sin t) + (z - x - cos t)` along `x' = z - x`, `z' = v`.
@@ -155,13 +144,6 @@ fn a_ramp_without_rates_at_the_step_ends_is_refused() {
                 .ramp_against_drift(),
         ),
     ] {
-        match Simulator::new(Tracking::default(), s) {
-            Err(SimError::Settings { field, reason }) => {
-                assert_eq!(field, "ramp", "{label}");
-                assert!(reason.contains("located crossings"), "{label}: {reason}");
-            }
-            Err(e) => panic!("{label}: {e}"),
-            Ok(_) => panic!("{label}: accepted"),
-        }
+        assert_refused(label, s, "ramp", "located crossings");
     }
 }

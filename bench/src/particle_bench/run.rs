@@ -501,30 +501,23 @@ pub fn run_particle_method(
             }
             .with(ParticleModel::new(&scene.system).map_err(|e| e.to_string()))
         }
-        MethodSpec::DbsmcRelaxed { eps, gain } => RunDbsmc {
-            scene,
-            spec,
-            design: Design::Relaxed(gain),
-            eps,
-            solver: SolverChoice::Auto,
-            integrator: Integrator::DormandPrince,
-            budget,
-            reference,
-            observe,
+        MethodSpec::DbsmcRelaxed { eps, gain } | MethodSpec::DbsmcRamped { eps, gain } => {
+            RunDbsmc {
+                scene,
+                spec,
+                design: Design::Relaxed {
+                    gain,
+                    ramp: matches!(spec, MethodSpec::DbsmcRamped { .. }),
+                },
+                eps,
+                solver: SolverChoice::Auto,
+                integrator: Integrator::DormandPrince,
+                budget,
+                reference,
+                observe,
+            }
+            .with(ParticleModel::new(&scene.system).map_err(|e| e.to_string()))
         }
-        .with(ParticleModel::new(&scene.system).map_err(|e| e.to_string())),
-        MethodSpec::DbsmcRamped { eps, gain } => RunDbsmc {
-            scene,
-            spec,
-            design: Design::Ramped(gain),
-            eps,
-            solver: SolverChoice::Auto,
-            integrator: Integrator::DormandPrince,
-            budget,
-            reference,
-            observe,
-        }
-        .with(ParticleModel::new(&scene.system).map_err(|e| e.to_string())),
     }
 }
 
@@ -532,10 +525,8 @@ pub fn run_particle_method(
 enum Design<'a> {
     /// [`dbsmc_settings`] from these pilot bounds.
     Pilot(&'a PilotBounds),
-    /// [`relaxed_settings`] with this gain.
-    Relaxed(f64),
-    /// [`relaxed_settings`] with this gain and `v` ramped against the drift.
-    Ramped(f64),
+    /// [`relaxed_settings`] with this gain, `v` ramped against the drift or held.
+    Relaxed { gain: f64, ramp: bool },
 }
 
 /// A DBSMC run of a scene, whichever particle model it is given.
@@ -579,11 +570,10 @@ impl RunDbsmc<'_, '_> {
                 })
             }
             // No guaranteed period: the design assumes its drift (see relaxed_settings).
-            Design::Relaxed(gain) => Ok((relaxed_settings(&model, self.eps, gain), None)),
-            Design::Ramped(gain) => Ok((
-                relaxed_settings(&model, self.eps, gain).ramp_against_drift(),
-                None,
-            )),
+            Design::Relaxed { gain, ramp } => {
+                let settings = relaxed_settings(&model, self.eps, gain);
+                Ok((Settings { ramp, ..settings }, None))
+            }
         };
         let (settings, t_min) = match designed {
             Ok(d) => d,

@@ -91,10 +91,42 @@ pub(crate) struct Controller {
     pivot_max: f64,
     pub(crate) min_pivot_ratio: Option<(f64, f64)>,
     robust: Robustness,
+    /// Evaluations at a point other than the current one (see [`Self::s_rate_at`]).
+    elsewhere: Elsewhere,
     pub(crate) sliding_evals: u64,
     pub(crate) jacobian_evals: u64,
     pub(crate) beta_evals: u64,
     pub(crate) gain_raises: u64,
+}
+
+/// `w`, `s`, `alpha_hat`, `J_Omega` and `beta` at a point other than the current one,
+/// kept apart so that the current point's stay valid.
+struct Elsewhere {
+    w: Vec<f64>,
+    s: Vec<f64>,
+    ah: Vec<f64>,
+    jvals: Vec<f64>,
+    beta: Vec<f64>,
+}
+
+/// `s' = alpha_hat + mu^(r-1) (J_Omega v + beta)` from evaluated `alpha_hat`, `J_Omega`
+/// (values on `pattern`) and `beta`, into `out`.
+fn rate(
+    pattern: &[(usize, usize)],
+    jvals: &[f64],
+    beta: &[f64],
+    ah: &[f64],
+    mu_pow: &[f64],
+    v: &[f64],
+    out: &mut [f64],
+) {
+    out.copy_from_slice(beta);
+    for (&(i, j), a) in pattern.iter().zip(jvals) {
+        out[i] += a * v[j];
+    }
+    for ((o, d), ah) in out.iter_mut().zip(mu_pow).zip(ah) {
+        *o = ah + d * *o;
+    }
 }
 
 fn sgn(v: f64) -> f64 {
@@ -156,6 +188,13 @@ impl Controller {
             });
         }
         let vm = || vec![0.0; m];
+        let elsewhere = Elsewhere {
+            w: vec![0.0; offs[m]],
+            s: vm(),
+            ah: vm(),
+            jvals: vec![0.0; pattern.len()],
+            beta: vm(),
+        };
         Ok(Self {
             w: vec![0.0; offs[m]],
             offs,
@@ -184,6 +223,7 @@ impl Controller {
             pivot_max: 0.0,
             min_pivot_ratio: None,
             robust: Robustness::new(structure),
+            elsewhere,
             sliding_evals: 0,
             jacobian_evals: 0,
             beta_evals: 0,
@@ -273,13 +313,46 @@ impl Controller {
     /// `s' = alpha_hat + mu^(r-1) (J_Omega v + beta)` from the last `sliding`,
     /// `J_Omega` and `beta` evaluations, into `out`.
     pub(crate) fn s_rate(&self, v: &[f64], out: &mut [f64]) {
-        out.copy_from_slice(&self.beta);
-        for (&(i, j), a) in self.pattern.iter().zip(&self.jvals) {
-            out[i] += a * v[j];
-        }
-        for ((o, d), ah) in out.iter_mut().zip(&self.mu_pow).zip(&self.ah) {
-            *o = ah + d * *o;
-        }
+        rate(
+            &self.pattern,
+            &self.jvals,
+            &self.beta,
+            &self.ah,
+            &self.mu_pow,
+            v,
+            out,
+        );
+    }
+
+    /// `s'` at another point `(t, x, z)` with the rate `v`, into `out`: `sliding`,
+    /// `J_Omega` and `beta` evaluated there into buffers of their own, so that the
+    /// current point's `s`, `J_Omega` and `beta` stay as they are.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn s_rate_at<M: Model + ?Sized>(
+        &mut self,
+        model: &M,
+        t: f64,
+        x: &[f64],
+        z: &[f64],
+        v: &[f64],
+        out: &mut [f64],
+    ) {
+        let e = &mut self.elsewhere;
+        model.sliding(t, x, z, &self.mu, &mut e.w, &mut e.s, &mut e.ah);
+        model.jacobian(t, x, z, &mut e.jvals);
+        model.beta(t, x, z, &mut e.beta);
+        self.sliding_evals += 1;
+        self.jacobian_evals += 1;
+        self.beta_evals += 1;
+        rate(
+            &self.pattern,
+            &e.jvals,
+            &e.beta,
+            &e.ah,
+            &self.mu_pow,
+            v,
+            out,
+        );
     }
 
     /// `z* = z - J_Omega^{-1} Omega(t, x, z)` with `Omega_i = w_i^(r_i - 1)` from the

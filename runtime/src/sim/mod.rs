@@ -542,28 +542,30 @@ impl<M: Model> Simulator<M> {
     }
 
     /// The rate of `v` that cancels the drift of `s'` at the update: `s''` by a finite
-    /// difference along the flow, `va = -J_s^{-1} s''`.
+    /// difference along the flow (`s'` one short step on, evaluated apart from the
+    /// point's own `s`, `J_Omega` and `beta`), `va = -J_s^{-1} s''`.
     fn ramp_against_drift(&mut self, t: f64) {
         let delta = 1e-6 * self.set.mu.iter().copied().fold(f64::INFINITY, f64::min);
         self.model.rhs(t, &self.x, &self.z, &mut self.fx);
+        self.stats.rhs_evals += 1;
         for ((xs, x), f) in self.xs.iter_mut().zip(&self.x).zip(&self.fx) {
             *xs = x + delta * f;
         }
         for ((zs, z), v) in self.zs.iter_mut().zip(&self.z).zip(&self.v) {
             *zs = z + delta * v;
         }
-        let t1 = t + delta;
-        self.ctl.sliding(&self.model, t1, &self.xs, &self.zs);
-        self.ctl.eval_jacobian(&self.model, t1, &self.xs, &self.zs);
-        self.ctl.eval_beta(&self.model, t1, &self.xs, &self.zs);
-        self.ctl.s_rate(&self.v, &mut self.v_now);
+        self.ctl.s_rate_at(
+            &self.model,
+            t + delta,
+            &self.xs,
+            &self.zs,
+            &self.v,
+            &mut self.v_now,
+        );
         for (n, d) in self.v_now.iter_mut().zip(&self.ds) {
             *n = -(*n - d) / delta;
         }
         self.ctl.solve_factored(&self.v_now, &mut self.va);
-        self.ctl.sliding(&self.model, t, &self.x, &self.z);
-        self.ctl.eval_jacobian(&self.model, t, &self.x, &self.z);
-        self.ctl.eval_beta(&self.model, t, &self.x, &self.z);
         if self.va.iter().any(|a| !a.is_finite()) {
             self.va.fill(0.0);
         }

@@ -170,7 +170,7 @@ impl<M: Model> Simulator<M> {
 
     /// `z` on its exact ramp at the current time (avoids accumulating rounding).
     fn ramp_z(&mut self) {
-        on_ramp(&mut self.z, &self.zb, &self.v, &self.va, self.t - self.tb);
+        ramp_from(&mut self.z, &self.zb, &self.v, &self.va, self.t - self.tb);
     }
 
     /// The error in `s` of the trial step that ends at `t1` with the solution `rk.y1`,
@@ -267,7 +267,7 @@ impl<M: Model> Simulator<M> {
             if self.rk.y1.iter().any(|y| !y.is_finite()) {
                 return false;
             }
-            on_ramp(
+            ramp_from(
                 &mut self.z_trial,
                 &self.zb,
                 &self.v,
@@ -425,7 +425,7 @@ impl<M: Model> Simulator<M> {
                     for ((xh, y), e) in self.xs.iter_mut().zip(&self.rk.y1).zip(&self.rk.err) {
                         *xh = y - e;
                     }
-                    on_ramp(&mut self.z_trial, &self.zb, &self.v, &self.va, t1 - self.tb);
+                    ramp_from(&mut self.z_trial, &self.zb, &self.v, &self.va, t1 - self.tb);
                     err = err.max(self.trial_layer_error(t1));
                 }
                 if err <= 1.0 {
@@ -691,7 +691,7 @@ impl<M: Model> Simulator<M> {
         }
         let th = ((tau - t0) / self.rk.step_length()).clamp(0.0, 1.0);
         self.rk.dense(th, &mut self.xs);
-        on_ramp(&mut self.zs, &self.zb, &self.v, &self.va, tau - self.tb);
+        ramp_from(&mut self.zs, &self.zb, &self.v, &self.va, tau - self.tb);
         self.ctl.sliding(&self.model, tau, &self.xs, &self.zs);
         self.ctl.s[i]
     }
@@ -765,11 +765,6 @@ impl<M: Model> Simulator<M> {
     }
 }
 
-/// `z = z_b + dt (v + va dt / 2)`: the ramp of `z`, `dt` after the last update.
-fn on_ramp(z: &mut [f64], zb: &[f64], v: &[f64], va: &[f64], dt: f64) {
-    ramp_from(z, zb, v, va, dt);
-}
-
 /// `f` along a step from `t0` as the embedded pairs call it, with the time `dt` into
 /// the step and `z` on its ramp `z0 + dt (v0 + va dt / 2)` from the step's start (`v0`:
 /// `v` at `t0`; evaluated into `zs`).
@@ -788,7 +783,8 @@ fn ramp_rhs<'a, M: Model>(
 }
 
 /// `z = z0 + dt (v0 + va dt / 2)`: the ramp of `z`, `dt` after a point where it was
-/// `z0` and `v` was `v0` (with `va = 0`, `z0 + dt v0` to the last bit).
+/// `z0` and `v` was `v0` (from the last update: `z_b`, `v`; with `va = 0`, `z0 + dt
+/// v0` to the last bit).
 fn ramp_from(z: &mut [f64], z0: &[f64], v0: &[f64], va: &[f64], dt: f64) {
     for (((z, z0), v), a) in z.iter_mut().zip(z0).zip(v0).zip(va) {
         *z = z0 + dt * (v + 0.5 * a * dt);

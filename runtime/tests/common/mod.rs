@@ -3,7 +3,33 @@
 
 pub mod pendulum;
 
-use dae_runtime::Model;
+use dae_runtime::{AlphaChoice, Model, Settings, SimError, Simulator};
+
+/// Layer and `mu` of [`tracking_settings`].
+pub const TRACKING_EPS: f64 = 1e-3;
+pub const TRACKING_MU: f64 = 0.05;
+
+/// [`Tracking`] with exact `alpha`, steps of 0.01 s over 3 s, layer [`TRACKING_EPS`],
+/// `mu` [`TRACKING_MU`] and this gain.
+pub fn tracking_settings(gain: f64) -> Settings {
+    Settings::new(vec![TRACKING_EPS], vec![TRACKING_MU], vec![gain])
+        .alpha(AlphaChoice::Exact)
+        .step(0.01)
+        .t_end(3.0)
+}
+
+/// `Simulator::new` refuses `settings` for [`Tracking`] with a settings error that names
+/// `field` and whose reason contains `what` (`label` says which case failed).
+pub fn assert_refused(label: &str, settings: Settings, field: &str, what: &str) {
+    match Simulator::new(Tracking::default(), settings) {
+        Err(SimError::Settings { field: f, reason }) => {
+            assert_eq!(f, field, "{label}");
+            assert!(reason.contains(what), "{label}: {reason}");
+        }
+        Err(e) => panic!("{label}: {e}"),
+        Ok(_) => panic!("{label}: accepted"),
+    }
+}
 
 /// Index 2: `x' = z - x, 0 = x - sin t`; exact `x = sin t`, `z = sin t + cos t`.
 ///
