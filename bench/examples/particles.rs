@@ -3,7 +3,7 @@
 //! `docs/results/particles.csv`, charts, tables and pictures beside it.
 //!
 //! ```text
-//! cargo run --release -p dae-bench --example particles [-- --large] [--budget SECS] [--only TEXT] [DIR]
+//! cargo run --release -p dae-bench --example particles [-- --large] [--budget SECS] [--only TEXT] [--method TEXT] [DIR]
 //! ```
 //!
 //! `--large` adds C1 at N = 1,000 (end-mass ratios 1e2, 1e4) and 10,000, C2 1,000 x 32,
@@ -12,7 +12,11 @@
 //! and is recorded as `budget` with the frames it ran (its cost per frame is measured,
 //! its worst strain covers those frames only; runs on the small C4, W = 8, get at least
 //! 30 s so that they reach the grab and the release). `--only`
-//! keeps the scenes whose title contains TEXT. DIR defaults to `docs/results`.
+//! keeps the scenes whose title contains TEXT (`size` selects the size sweep),
+//! `--method` the settings whose method and knob (`dbsmc-ramp eps=1e-3 c=4`,
+//! `xpbd-substeps k=1024`) contain TEXT (a run filtered so draws no pictures). DIR defaults
+//! to `docs/results`, or to `target/particles-filtered` for a filtered run, so that
+//! reproducing one figure does not overwrite the committed full results.
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -33,7 +37,21 @@ struct Options {
     large: bool,
     budget: Duration,
     only: Option<String>,
+    method: Option<String>,
     dir: PathBuf,
+}
+
+impl Options {
+    /// Whether `spec` is among the settings `--method` keeps.
+    fn keeps(&self, spec: &MethodSpec) -> bool {
+        self.method
+            .as_ref()
+            .is_none_or(|t| format!("{} {}", spec.method(), spec.knob()).contains(t.as_str()))
+    }
+
+    fn filtered(&self) -> bool {
+        self.only.is_some() || self.method.is_some()
+    }
 }
 
 fn options() -> Result<Options, String> {
@@ -41,8 +59,10 @@ fn options() -> Result<Options, String> {
         large: false,
         budget: Duration::from_secs(6),
         only: None,
+        method: None,
         dir: Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/results"),
     };
+    let mut dir = None;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         match a.as_str() {
@@ -55,10 +75,18 @@ fn options() -> Result<Options, String> {
                 o.budget = Duration::from_secs_f64(s);
             }
             "--only" => o.only = Some(args.next().ok_or("--only needs a text")?),
-            d if !d.starts_with('-') => o.dir = PathBuf::from(d),
+            "--method" => o.method = Some(args.next().ok_or("--method needs a text")?),
+            d if !d.starts_with('-') => dir = Some(PathBuf::from(d)),
             other => return Err(format!("unknown option {other}")),
         }
     }
+    o.dir = match dir {
+        Some(d) => d,
+        None if o.filtered() => {
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/particles-filtered")
+        }
+        None => o.dir,
+    };
     Ok(o)
 }
 
@@ -168,7 +196,7 @@ const SWEEP_BUDGET: Duration = Duration::from_secs(120);
 /// its scene, as rows of the CSV (variant `... first 0.2 s`); the exponent of the mean
 /// cost per frame fitted over the sizes, and the counts that explain it. Returns the
 /// tables' section and draws `cost_vs_size.svg`.
-fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path) -> String {
+fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Options) -> String {
     let e = |x: dae_particles::SystemError| x.to_string();
     let families: [(&str, Vec<Result<ParticleScene, String>>); 2] = [
         (
@@ -243,7 +271,7 @@ fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path) -> String {
         // Runs go in size order and, once one is skipped, so are all larger sizes: the
         // columns line up with the scenes.
         let sizes: Vec<String> = scenes.iter().map(|sc| sc.size().to_string()).collect();
-        for spec in &specs {
+        for spec in specs.iter().filter(|spec| o.keeps(spec)) {
             let mut runs = Vec::new();
             let mut not_run = 0;
             for (sc, b) in scenes.iter().zip(&bounds) {
@@ -447,7 +475,14 @@ fn main() {
         // Pilot bounds for the DBSMC design: the index-1 method, finer until it runs.
         let mut bounds = None;
         let mut pilot_note = String::from("no pilot ran");
-        for spf in [64, 256, 1024] {
+        let pilot_needed = sweeps().iter().flatten().any(|spec| {
+            o.keeps(spec)
+                && matches!(
+                    spec,
+                    MethodSpec::Dbsmc { .. } | MethodSpec::DbsmcGenerated { .. }
+                )
+        });
+        for spf in [64, 256, 1024].into_iter().filter(|_| pilot_needed) {
             match particle_pilot(scene, spf, o.budget * 3) {
                 Ok((b, r)) => {
                     pilot_note = format!(
@@ -470,7 +505,7 @@ fn main() {
             o.budget
         };
         for sweep in sweeps() {
-            for spec in sweep {
+            for spec in sweep.into_iter().filter(|spec| o.keeps(spec)) {
                 let mut r = run_particle_method(
                     scene,
                     &spec,
@@ -514,6 +549,8 @@ fn main() {
                 kept.then(|| (r.eps.unwrap_or(1e-2), r.ms_mean, spec))
             })
             .max_by(|a, b| a.0.total_cmp(&b.0).then(b.1.total_cmp(&a.1)));
+        // The pictures' runs are chosen among all methods: none for a run filtered by
+        // method.
         let mut shots: Vec<(MethodSpec, f64)> = Vec::new();
         if let Some((eps, _, spec)) = dbsmc {
             shots.push((spec, eps));
@@ -526,6 +563,9 @@ fn main() {
             shots.push((MethodSpec::IndexOne(spf), 1e-2));
         }
         shots.push((MethodSpec::XpbdSubsteps(16), 1e-2));
+        if o.method.is_some() {
+            shots.clear();
+        }
         for (spec, scale) in shots {
             let mut capture: Capture = Vec::new();
             let mut obs = |f: u64, p: &[[f64; 3]]| {
@@ -590,7 +630,7 @@ fn main() {
         }
     }
     if o.only.as_ref().is_none_or(|t| "size".contains(t.as_str())) {
-        md += &size_sweep(&mut records, &pictures);
+        md += &size_sweep(&mut records, &pictures, &o);
     }
     // After the size sweep: its runs are rows of the CSV too.
     let csv = o.dir.join("particles.csv");

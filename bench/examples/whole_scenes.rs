@@ -5,14 +5,17 @@
 //! (issue 13's first target), and at what cost per frame.
 //!
 //! ```text
-//! cargo run --release -p dae-bench --example whole_scenes [-- EPS C BUDGET [TEXT]]
+//! cargo run --release -p dae-bench --example whole_scenes [-- [--ramp] EPS C BUDGET [TEXT]]
 //! ```
 //!
+//! `--ramp` runs the design with `v` ramped against the drift between updates
+//! (`dbsmc-ramp`, `Settings::ramp_against_drift`) instead of held.
 //! `EPS` (default 1e-2), `C` (the floor gain `c eps / mu`, default 8) and `BUDGET`, the
 //! wall-clock seconds one scene may take (default 120; the harness stops a run that
 //! has spent it, or a tenth of it while its projected total is over it, and the table
 //! says how many frames it ran). A scene that stops at the budget counts as not shown.
-//! `TEXT` keeps the scenes whose title contains it.
+//! `TEXT` keeps the scenes whose title contains it. The column "links asking" counts
+//! the links whose own `s_i` asked for at least one update (`Summary::triggered_updates`).
 
 use std::time::Duration;
 
@@ -39,12 +42,14 @@ fn scenes() -> Result<Vec<ParticleScene>, String> {
 }
 
 fn main() {
+    let ramp = std::env::args().any(|a| a == "--ramp");
+    let args: Vec<String> = std::env::args().filter(|a| a != "--ramp").collect();
     let arg = |i: usize, default: f64| -> f64 {
-        match std::env::args().nth(i) {
+        match args.get(i) {
             None => default,
             Some(a) => a.parse().unwrap_or_else(|_| {
                 eprintln!(
-                    "whole_scenes: `{a}` is not a number (usage: whole_scenes [EPS C BUDGET [TEXT]])"
+                    "whole_scenes: `{a}` is not a number (usage: whole_scenes [--ramp] [EPS C BUDGET [TEXT]])"
                 );
                 std::process::exit(2);
             }),
@@ -52,17 +57,21 @@ fn main() {
     };
     let (eps, gain) = (arg(1, 1e-2), arg(2, 8.0));
     let budget = Duration::from_secs_f64(arg(3, 120.0));
-    let only = std::env::args().nth(4);
+    let only = args.get(4);
     let mut scenes = scenes().unwrap_or_else(|e| {
         eprintln!("whole_scenes: {e}");
         std::process::exit(1);
     });
     scenes.retain(|s| only.as_ref().is_none_or(|t| s.title().contains(t.as_str())));
-    let spec = MethodSpec::DbsmcRelaxed { eps, gain };
+    let spec = if ramp {
+        MethodSpec::DbsmcRamped { eps, gain }
+    } else {
+        MethodSpec::DbsmcRelaxed { eps, gain }
+    };
     println!(
-        "| scene | links | worst strain / eps | s-layer left (max \\|s\\|/eps) | ms / frame mean (max) | updates / frame | frames | status |"
+        "| scene | links | worst strain / eps | s-layer left (max \\|s\\|/eps) | ms / frame mean (max) | updates / frame | links asking | frames | status |"
     );
-    println!("|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|");
     let (mut lost, mut short) = (0, 0);
     for scene in &scenes {
         let r = run_particle_method(scene, &spec, None, budget, None, None);
@@ -76,13 +85,14 @@ fn main() {
             short += 1;
         }
         println!(
-            "| {} | {} | {:.3} | {layer} | {:.3} ({:.3}) | {:.0} | {}/{} | {} |",
+            "| {} | {} | {:.3} | {layer} | {:.3} ({:.3}) | {:.0} | {} | {}/{} | {} |",
             scene.title(),
             scene.size(),
             r.worst_strain / eps,
             r.ms_mean,
             r.ms_max,
             r.counters.updates as f64 / r.frames.max(1) as f64,
+            r.counters.links_asking,
             r.frames,
             r.frames_total,
             r.status

@@ -125,9 +125,57 @@ pub(crate) fn values_text(v: &[f64]) -> String {
     }
 }
 
+/// Most constraints named in the line saying which asked for the updates.
+pub(crate) const TRIGGER_NAMES_MAX: usize = 5;
+
+/// The line of the text summary saying which constraints asked for the monitored
+/// updates (`Summary::triggered_updates`): how many of them did, and the ones that
+/// asked most, with their counts (a selection, `O(m)`). `None` when none did.
+pub(crate) fn triggered_text(counts: &[u64], names: &[String]) -> Option<String> {
+    let mut asked: Vec<usize> = (0..counts.len()).filter(|&i| counts[i] > 0).collect();
+    if asked.is_empty() {
+        return None;
+    }
+    let of = asked.len();
+    let by_count = |a: &usize, b: &usize| counts[*b].cmp(&counts[*a]).then(a.cmp(b));
+    if asked.len() > TRIGGER_NAMES_MAX {
+        asked.select_nth_unstable_by(TRIGGER_NAMES_MAX - 1, by_count);
+        asked.truncate(TRIGGER_NAMES_MAX);
+    }
+    asked.sort_unstable_by(by_count);
+    let most: Vec<String> = asked
+        .iter()
+        .map(|&i| format!("{} ({})", names[i], counts[i]))
+        .collect();
+    let most = if of > asked.len() {
+        format!("most by {}", most.join(", "))
+    } else {
+        format!("by {}", most.join(", "))
+    };
+    Some(format!(
+        "  updates asked for by {of} of {} constraints, {most}",
+        counts.len()
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_trigger_line_names_the_constraints_that_asked_most() {
+        let names: Vec<String> = (0..8).map(|i| format!("c{i}")).collect();
+        assert_eq!(triggered_text(&[0; 8], &names), None);
+        let counts = [0, 3, 0, 9, 1, 9, 2, 4];
+        assert_eq!(
+            triggered_text(&counts, &names).unwrap(),
+            "  updates asked for by 6 of 8 constraints, most by c3 (9), c5 (9), c7 (4), c1 (3), c6 (2)"
+        );
+        assert_eq!(
+            triggered_text(&[0, 2, 0, 5], &names[..4]).unwrap(),
+            "  updates asked for by 2 of 4 constraints, by c3 (5), c1 (2)"
+        );
+    }
     use dae_runtime::family::{FamilyInstance, Interpreter, Spec};
 
     #[test]

@@ -7,7 +7,7 @@
 //! ([`Outcome`]).
 
 use crate::Reported;
-use crate::bounded::{listed_constraints, values_text};
+use crate::bounded::{listed_constraints, triggered_text, values_text};
 use crate::pilot::{PilotArgs, design_json, per_constraint};
 use dae_runtime::{
     AlphaChoice, Crossing, CsvSink, Decimate, Integrator, Model, NEAR_SINGULAR, Policy, Quantity,
@@ -138,6 +138,19 @@ pub(crate) struct Args {
     /// `jacobi`, `gauss-seidel:K` (K sweeps), `cg:K` (K iterations), `ilu0`.
     #[arg(long, default_value = "auto", value_parser = parse_solver)]
     solver: SolverChoice,
+    /// Let the gains follow the drift of s' measured between updates, with this safety
+    /// factor (at least the given gains, up to the gain that sweeps the layer against
+    /// the drift; Settings::follow_drift).
+    #[arg(long, value_name = "SAFETY")]
+    follow_drift: Option<f64>,
+    /// With --follow-drift: raise a gain only as far as its grazing returns need to stay
+    /// this many seconds apart (Settings::graze).
+    #[arg(long, value_name = "MIN_RETURN")]
+    graze: Option<f64>,
+    /// Let v ramp between updates at the rate that cancels the drift of s' found at each
+    /// update, instead of holding it (Settings::ramp_against_drift).
+    #[arg(long)]
+    ramp: bool,
 }
 
 fn parse_solver(text: &str) -> Result<SolverChoice, String> {
@@ -277,6 +290,9 @@ fn flag(field: &str) -> &str {
         "crossing" => "--crossing",
         "integrator" => "--integrator",
         "solver" => "--solver",
+        "follow_drift" => "--follow-drift",
+        "graze" => "--graze",
+        "ramp" => "--ramp",
         other => other,
     }
 }
@@ -295,10 +311,16 @@ fn check_args(args: &Args, integration: &Integration, m: usize) -> Result<(), Re
         ("--max-step", args.max_step),
         ("--reaching-limit", args.reaching_limit),
         ("--pilot", args.pilot),
+        ("--follow-drift", args.follow_drift),
+        ("--graze", args.graze),
     ] {
         if let Some(v) = v {
             check_number(flag, v, false)?;
         }
+    }
+    if args.graze.is_some() && args.follow_drift.is_none() {
+        eprintln!("error: --graze limits the gains that follow the drift: give --follow-drift too");
+        return Err(Reported);
     }
     if integration.fixed && (args.tol.is_some() || args.max_step.is_some()) {
         eprintln!(
@@ -448,6 +470,16 @@ pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
             })
         }
     };
+    // After the design: its pilots run with the gains they design.
+    if let Some(safety) = args.follow_drift {
+        settings = settings.follow_drift(safety);
+    }
+    if let Some(t) = args.graze {
+        settings = settings.graze(t);
+    }
+    if args.ramp {
+        settings = settings.ramp_against_drift();
+    }
     let summary = simulate(args, model, settings.clone(), design.as_ref())?;
     let outcome = if !summary.bound_held() && summary.reaching_time.is_none() {
         Outcome::NotReached
@@ -749,6 +781,7 @@ impl Report<'_> {
             "f_evals": s.f_evals,
             "f_evals_per_update": s.f_evals as f64 / s.updates.max(1) as f64,
             "reaching_updates": s.reaching_updates,
+            "triggered_updates": s.triggered_updates,
             "reach_time": s.reaching_time,
             "stats_from": s.stats_from,
             "period_min": s.min_period,
@@ -851,6 +884,9 @@ impl Report<'_> {
             opt(s.min_period),
             opt(s.mean_period)
         );
+        if let Some(line) = triggered_text(&s.triggered_updates, &s.constraints) {
+            println!("{line}");
+        }
         let listed = listed_constraints(s.max_abs_s.as_ref().unwrap_or(&s.seen_max_abs_s), &st.eps);
         if listed.len() < m {
             println!(

@@ -317,3 +317,72 @@ fn gains_for_given_mu_come_from_the_pilot() {
         );
     }
 }
+
+/// `--follow-drift`, `--graze` and `--ramp` reach the runtime's settings, the summary says
+/// which constraints asked for the updates, and `--graze` alone is refused by name.
+#[test]
+fn drift_following_gains_and_the_ramp_from_the_command_line() {
+    let gains = thesis_gains();
+    let base = [
+        "run",
+        &pendulum(),
+        "--t-end",
+        "4",
+        "--eps",
+        "0.2",
+        "--mu",
+        "0.076,0.066",
+        "--gain",
+        &gains,
+        "--settle",
+        "1",
+    ];
+    let with = |extra: &[&str]| {
+        let mut a: Vec<&str> = base.to_vec();
+        a.extend_from_slice(extra);
+        daec(&a)
+    };
+    let held = json(&with(&["--json"]));
+    let ramped = json(&with(&[
+        "--follow-drift",
+        "1",
+        "--graze",
+        "0.005",
+        "--ramp",
+        "--json",
+    ]));
+    for v in [&held, &ramped] {
+        assert!(v["bound_loss"].is_null(), "{v}");
+        let asked: Vec<u64> = v["triggered_updates"]
+            .as_array()
+            .expect("triggered_updates")
+            .iter()
+            .map(|c| c.as_u64().unwrap())
+            .collect();
+        let updates = v["updates"].as_u64().unwrap();
+        assert_eq!(asked.len(), 2, "{v}");
+        assert!(asked.iter().all(|&c| c > 0), "{v}");
+        // One update asked for by both rows at once counts twice; every update after
+        // reaching is asked for by some row (before it, the start's is not).
+        let total: u64 = asked.iter().sum();
+        let reaching = v["reaching_updates"].as_u64().unwrap();
+        assert!(total + reaching >= updates && total <= 2 * updates, "{v}");
+    }
+    assert_ne!(
+        held["updates"], ramped["updates"],
+        "the settings changed nothing"
+    );
+    let text = with(&["--follow-drift", "1", "--ramp"]);
+    let out = String::from_utf8_lossy(&text.stdout);
+    assert!(
+        out.contains("updates asked for by 2 of 2 constraints, by link"),
+        "{out}"
+    );
+    let refused = with(&["--graze", "0.005"]);
+    assert_ne!(refused.status.code(), Some(0));
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        err.contains("--graze") && err.contains("--follow-drift"),
+        "{err}"
+    );
+}

@@ -16,6 +16,9 @@ pub struct Counters {
     pub iterations: u64,
     /// DBSMC control updates (0 for the others).
     pub updates: u64,
+    /// DBSMC: the links whose own `s_i` asked for at least one update (a few dozen of
+    /// thousands on the cloth; 0 for the others).
+    pub links_asking: u64,
     /// DBSMC: when a sliding variable first left its layer `|s_i| <= eps_i` after
     /// reaching (the method's own bound, on `s`, not on the strain), if it did.
     pub layer_lost_at: Option<f64>,

@@ -327,6 +327,12 @@ impl<M: ParticleDae> Backend for Dbsmc<M> {
             factorisations: model.jacobian_calls.get(),
             iterations: 0,
             updates: self.sink.updates,
+            links_asking: self
+                .sim
+                .triggered_updates()
+                .iter()
+                .filter(|&&c| c > 0)
+                .count() as u64,
             layer_lost_at: self.layer_lost_at,
             // How far, read once from the simulator's record of the whole run.
             layer_worst_ratio: self

@@ -107,6 +107,14 @@ pub struct Summary {
     pub updates: u64,
     /// Number of updates during the reaching phase.
     pub reaching_updates: u64,
+    /// Per constraint, the updates of the monitoring policy that its own `s_i` asked
+    /// for (on its layer boundary moving outward, or in the reaching phase arrived at
+    /// its surface). An update several rows asked for at once counts for each of them;
+    /// updates of a fixed period, of the progress guard and after a model change count
+    /// for none. Says which constraints set the cost of a run: on the cloth of the
+    /// particle benchmark a few dozen links out of thousands ask for every update.
+    #[serde(default)]
+    pub triggered_updates: Vec<u64>,
     /// Time at which all `|s_i| <= eps_i` first held (checked after each step), if ever.
     pub reaching_time: Option<f64>,
     /// Start of the statistics window, if it was entered.

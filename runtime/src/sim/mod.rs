@@ -10,6 +10,7 @@ mod rk;
 mod robust;
 mod stats;
 mod step;
+mod trigger;
 
 use std::time::Instant;
 
@@ -301,6 +302,12 @@ impl<M: Model> Simulator<M> {
             .record(&self.layout.constraints, near_singular)
     }
 
+    /// Per constraint, the monitored updates its `s_i` asked for so far (what
+    /// [`Summary::triggered_updates`] will say), for a run driven in pieces.
+    pub fn triggered_updates(&self) -> &[u64] {
+        &self.stats.triggered
+    }
+
     /// Force a control update at the current time before the next step (after the
     /// caller changed the model).
     pub fn request_update(&mut self) {
@@ -472,11 +479,8 @@ impl<M: Model> Simulator<M> {
                 }
             }
             Policy::Monitor => {
-                if self.located() {
-                    std::mem::take(&mut self.run.force_update) || self.located_trigger()
-                } else {
-                    self.monitor_trigger()
-                }
+                let forced = self.located() && std::mem::take(&mut self.run.force_update);
+                forced || self.monitor_due()
             }
         };
         if due {
@@ -600,45 +604,6 @@ impl<M: Model> Simulator<M> {
         } else {
             self.run.j_current = false;
         }
-    }
-
-    /// The monitored update condition with the thesis's step-end rule.
-    fn monitor_trigger(&self) -> bool {
-        let s = &self.ctl.s;
-        let steady = self.steady();
-        let eps = if steady { &self.set.eps } else { &self.eps_k };
-        // s_i' is estimated by the finite difference over the step (s - s_prev) / h: it
-        // is free (s is evaluated after every step anyway), exact in sign for the motion
-        // over the step including the neglected beta part, and needs no extra model call.
-        let outward =
-            (0..s.len()).any(|i| s[i].abs() >= eps[i] && s[i] * (s[i] - self.s_prev[i]) > 0.0);
-        if outward || steady {
-            return outward;
-        }
-        (0..s.len()).any(|i| self.outside_k[i] && s[i] * self.sgn_k[i] <= 0.0)
-    }
-
-    /// The monitored update condition at the end of a step with located crossings: on
-    /// (within the crossing tolerance) or beyond a layer boundary and moving outward
-    /// by the exact rate `s'`, or (contracting layers) arrived at the surface.
-    fn located_trigger(&self) -> bool {
-        let (s, ds) = (&self.ctl.s, &self.ds);
-        let tol = self.crossing_tol();
-        let steady = self.steady();
-        let eps = if steady { &self.set.eps } else { &self.eps_k };
-        let outward =
-            (0..s.len()).any(|i| s[i].abs() >= eps[i] * (1.0 - tol) && s[i] * ds[i] > 0.0);
-        if outward || steady {
-            return outward;
-        }
-        (0..s.len()).any(|i| self.outside_k[i] && s[i] * self.sgn_k[i] <= tol * self.set.eps[i])
-    }
-
-    /// The steady rule (the design layers) applies: after reaching, or with attracting
-    /// surfaces from the start.
-    fn steady(&self) -> bool {
-        self.stats.reaching_time.is_some()
-            || self.set.reaching == crate::Reaching::AttractingSurfaces
     }
 
     /// Record the reaching time, enter the statistics window, enforce the reaching limit,
@@ -859,6 +824,7 @@ impl<M: Model> Simulator<M> {
             unlocated_steps: st.unlocated,
             updates: st.updates,
             reaching_updates: st.reaching_updates,
+            triggered_updates: st.triggered.clone(),
             reaching_time: st.reaching_time,
             stats_from: st.stats_from,
             min_period: (st.periods > 0).then_some(st.min_period),

@@ -31,6 +31,8 @@ pub(crate) struct Stats {
     /// Steps the progress guard took whole, without locating crossings in them.
     pub(crate) unlocated: u64,
     pub(crate) updates: u64,
+    /// Per constraint, the monitored updates its own `s_i` asked for.
+    pub(crate) triggered: Vec<u64>,
     pub(crate) reaching_updates: u64,
     pub(crate) steps_since_update: u64,
     pub(crate) reaching_time: Option<f64>,
@@ -52,6 +54,7 @@ pub(crate) struct Stats {
 impl Stats {
     pub(crate) fn new(m: usize) -> Self {
         Stats {
+            triggered: vec![0; m],
             max_s: vec![0.0; m],
             max_w: vec![0.0; m],
             seen_s: vec![0.0; m],
