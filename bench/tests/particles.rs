@@ -5,7 +5,7 @@ use std::time::Duration;
 
 use dae_bench::{
     Chain5, IndexOneParticles, MethodSpec, ParticleRecord, ParticleScene, RELAXED_DRIFT_SAFETY,
-    RELAXED_GRAZE_PER_MU, RELAXED_MU_PER_FRAME, RELAXED_STEP_PER_MU, Xpbd, c1, c4, drive_scene,
+    RELAXED_GRAZE_PER_MU, RELAXED_MU_PER_FRAME, RELAXED_STEP_PER_MU, Xpbd, c1, c3, c4, drive_scene,
     generated_chain, generated_grid, generated_strands, particle_pilot, relaxed_settings,
     run_particle_method, run_relaxed_with,
 };
@@ -354,6 +354,33 @@ fn a_ramp_against_the_drift_keeps_the_layer_with_fewer_updates_on_a_light_chain(
         "updates: ramped {}, held {}",
         ramped.counters.updates,
         held.counters.updates
+    );
+}
+
+/// The counters of a DBSMC run: one factorisation per control update (no pin changes
+/// here), and on the cloth only a few of the links ask for the updates (the links that
+/// hang from the nearly taut far edge; docs/particles.md).
+#[test]
+fn on_the_cloth_a_few_links_ask_for_every_update_and_each_update_factors_once() {
+    let mut scene = c3(16, GridPins::Corners, false).unwrap();
+    scene.duration = 0.2;
+    let r = run_relaxed_with(&scene, 1e-2, 4.0, Duration::from_secs(120), |s| {
+        s.ramp_against_drift()
+    });
+    assert!(r.complete(), "{}", r.status);
+    assert_eq!(r.counters.layer_lost_at, None);
+    let c = r.counters;
+    assert!(c.updates > 12, "{} updates", c.updates);
+    assert_eq!(c.factorisations, c.updates);
+    let links = scene.size() as u64;
+    eprintln!(
+        "{} of {links} links asked for the {} updates",
+        c.links_asking, c.updates
+    );
+    assert!(
+        c.links_asking > 0 && 10 * c.links_asking < links,
+        "{} of {links} links asked",
+        c.links_asking
     );
 }
 

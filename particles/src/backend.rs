@@ -9,7 +9,8 @@ pub struct Counters {
     pub steps: u64,
     /// Evaluations of the forces `f` (DBSMC and index-1: right-hand sides; XPBD: 0).
     pub f_evals: u64,
-    /// Factorisations of a matrix of the links (`J_s` or `J_Omega`).
+    /// Numeric factorisations of a matrix of the links (`J_s` or `J_Omega`): DBSMC one
+    /// per full control update, the index-1 method one per stage.
     pub factorisations: u64,
     /// Iterations: XPBD constraint sweeps (one per iteration of each substep), or the
     /// iterations of an iterative `J_s` solver.

@@ -22,7 +22,6 @@ use crate::scene::FRAME;
 struct Counted<M> {
     model: M,
     rhs_calls: Cell<u64>,
-    jacobian_calls: Cell<u64>,
 }
 
 impl<M: ParticleDae> Model for Counted<M> {
@@ -85,7 +84,6 @@ impl<M: ParticleDae> Model for Counted<M> {
         self.model.jacobian_pattern()
     }
     fn jacobian(&self, t: f64, x: &[f64], z: &[f64], values: &mut [f64]) {
-        self.jacobian_calls.set(self.jacobian_calls.get() + 1);
         self.model.jacobian(t, x, z, values)
     }
     fn beta(&self, t: f64, x: &[f64], z: &[f64], beta: &mut [f64]) {
@@ -185,7 +183,6 @@ impl<M: ParticleDae> Dbsmc<M> {
         let counted = Counted {
             model,
             rhs_calls: Cell::new(0),
-            jacobian_calls: Cell::new(0),
         };
         let mut sim = Simulator::new(counted, settings).map_err(|e| fail(0.0, e.to_string()))?;
         let mut sink = Counting::default();
@@ -324,7 +321,7 @@ impl<M: ParticleDae> Backend for Dbsmc<M> {
         Counters {
             steps: self.sink.steps.get(),
             f_evals: model.rhs_calls.get(),
-            factorisations: model.jacobian_calls.get(),
+            factorisations: self.sim.solver_stats().factorisations,
             iterations: 0,
             updates: self.sink.updates,
             links_asking: self

@@ -8,7 +8,7 @@ use std::io::{self, Write};
 use super::run::ParticleRecord;
 
 /// The CSV's columns, in order (the first eight are the ones issue 13 asks for).
-pub const CSV_COLUMNS: [&str; 24] = [
+pub const CSV_COLUMNS: [&str; 25] = [
     "scene",
     "size",
     "method",
@@ -33,6 +33,7 @@ pub const CSV_COLUMNS: [&str; 24] = [
     "dbsmc_t_min",
     "s_layer_lost_at",
     "s_layer_worst_ratio",
+    "links_asking",
 ];
 
 fn num(v: f64) -> String {
@@ -88,6 +89,11 @@ pub fn write_particles_csv<W: Write>(records: &[ParticleRecord], mut out: W) -> 
             opt(r.t_min),
             opt(r.counters.layer_lost_at),
             opt(r.counters.layer_worst_ratio),
+            if r.method.starts_with("dbsmc") {
+                r.counters.links_asking.to_string()
+            } else {
+                String::new()
+            },
         ];
         let line: Vec<String> = fields.iter().map(|f| quote(f)).collect();
         writeln!(out, "{}", line.join(","))?;

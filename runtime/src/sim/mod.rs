@@ -308,6 +308,12 @@ impl<M: Model> Simulator<M> {
         &self.stats.triggered
     }
 
+    /// The counters of the `J_s` solver so far (what [`Summary::solver`] will say), for a
+    /// run driven in pieces.
+    pub fn solver_stats(&self) -> crate::SolverStats {
+        self.ctl.solver.stats()
+    }
+
     /// Force a control update at the current time before the next step (after the
     /// caller changed the model).
     pub fn request_update(&mut self) {
