@@ -525,6 +525,11 @@ fn main() {
                 records.push(r);
             }
         }
+        // The pictures' runs are chosen among all methods: none for a run filtered by
+        // method.
+        if o.method.is_some() {
+            continue;
+        }
         // Pictures: the DBSMC run (hand-written model, RK4, Dormand-Prince or the
         // frame-tied design) at the loosest eps that ran through holding its strain and
         // its s-layer, the cheapest of those; else the cheapest complete index-1 run; and
@@ -549,8 +554,6 @@ fn main() {
                 kept.then(|| (r.eps.unwrap_or(1e-2), r.ms_mean, spec))
             })
             .max_by(|a, b| a.0.total_cmp(&b.0).then(b.1.total_cmp(&a.1)));
-        // The pictures' runs are chosen among all methods: none for a run filtered by
-        // method.
         let mut shots: Vec<(MethodSpec, f64)> = Vec::new();
         if let Some((eps, _, spec)) = dbsmc {
             shots.push((spec, eps));
@@ -563,9 +566,6 @@ fn main() {
             shots.push((MethodSpec::IndexOne(spf), 1e-2));
         }
         shots.push((MethodSpec::XpbdSubsteps(16), 1e-2));
-        if o.method.is_some() {
-            shots.clear();
-        }
         for (spec, scale) in shots {
             let mut capture: Capture = Vec::new();
             let mut obs = |f: u64, p: &[[f64; 3]]| {

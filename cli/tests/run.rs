@@ -44,33 +44,45 @@ fn thesis_gains() -> String {
     format!("{},{}", 0.076f64.powi(2) * 1.3e3, 0.066f64.powi(2) * 2.3e3)
 }
 
+/// `daec run` on the thesis scene (eps 0.2, the thesis's mu and relaxed gains) to
+/// `t_end`, with `extra` arguments.
+fn thesis_scene(t_end: &str, extra: &[&str]) -> Output {
+    let (file, gains) = (pendulum(), thesis_gains());
+    let mut args = vec![
+        "run",
+        &file,
+        "--t-end",
+        t_end,
+        "--eps",
+        "0.2",
+        "--mu",
+        "0.076,0.066",
+        "--gain",
+        &gains,
+    ];
+    args.extend_from_slice(extra);
+    daec(&args)
+}
+
 /// The generated code (dae_file!) gives, for this scene with the thesis's rule (RK4 at
 /// 1e-4, crossings noticed at step ends): 166 updates, min period 0.0187, mean 0.0240,
 /// max|s| 0.2015/0.2022, max|w| 0.090/0.048. The interpreter must agree.
 #[test]
 fn monitored_thesis_scene_matches_the_generated_code() {
-    let gains = thesis_gains();
     // The thesis's rule overshoots the layer by 1.1 % (0.2022): a lost bound, exit 3.
     let v = json_with_status(
-        &daec(&[
-            "run",
-            &pendulum(),
-            "--t-end",
+        &thesis_scene(
             "4",
-            "--eps",
-            "0.2",
-            "--mu",
-            "0.076,0.066",
-            "--gain",
-            &gains,
-            "--step",
-            "1e-4",
-            "--crossing",
-            "step-end",
-            "--settle",
-            "1",
-            "--json",
-        ]),
+            &[
+                "--step",
+                "1e-4",
+                "--crossing",
+                "step-end",
+                "--settle",
+                "1",
+                "--json",
+            ],
+        ),
         3,
     );
     assert_eq!(v["updates"], 166, "{v}");
@@ -96,24 +108,10 @@ fn monitored_thesis_scene_matches_the_generated_code() {
 /// Fixed period 0.005 s: the generated code keeps max|s| at 0.0418 / 0.0593.
 #[test]
 fn fixed_rate_scene_stays_near_the_surfaces() {
-    let gains = thesis_gains();
-    let v = json(&daec(&[
-        "run",
-        &pendulum(),
-        "--t-end",
+    let v = json(&thesis_scene(
         "4",
-        "--eps",
-        "0.2",
-        "--mu",
-        "0.076,0.066",
-        "--gain",
-        &gains,
-        "--policy",
-        "fixed:0.005",
-        "--settle",
-        "1",
-        "--json",
-    ]));
+        &["--policy", "fixed:0.005", "--settle", "1", "--json"],
+    ));
     assert!((num(&v["max_abs_s"][0]) - 0.0418).abs() < 5e-4, "{v}");
     assert!((num(&v["max_abs_s"][1]) - 0.0593).abs() < 5e-4, "{v}");
     assert!((num(&v["period_min"]) - 0.005).abs() < 1e-9, "{v}");
@@ -124,25 +122,17 @@ fn csv_and_charts_are_written() {
     let dir = temp_dir();
     let csv = dir.join("trace.csv");
     let plots = dir.join("charts");
-    let gains = thesis_gains();
-    let o = daec(&[
-        "run",
-        &pendulum(),
-        "--t-end",
+    let o = thesis_scene(
         "0.5",
-        "--eps",
-        "0.2",
-        "--mu",
-        "0.076,0.066",
-        "--gain",
-        &gains,
-        "--step",
-        "1e-4",
-        "--csv",
-        csv.to_str().unwrap(),
-        "--plot",
-        plots.to_str().unwrap(),
-    ]);
+        &[
+            "--step",
+            "1e-4",
+            "--csv",
+            csv.to_str().unwrap(),
+            "--plot",
+            plots.to_str().unwrap(),
+        ],
+    );
     assert_eq!(
         o.status.code(),
         Some(0),
@@ -322,25 +312,10 @@ fn gains_for_given_mu_come_from_the_pilot() {
 /// which constraints asked for the updates, and `--graze` alone is refused by name.
 #[test]
 fn drift_following_gains_and_the_ramp_from_the_command_line() {
-    let gains = thesis_gains();
-    let base = [
-        "run",
-        &pendulum(),
-        "--t-end",
-        "4",
-        "--eps",
-        "0.2",
-        "--mu",
-        "0.076,0.066",
-        "--gain",
-        &gains,
-        "--settle",
-        "1",
-    ];
     let with = |extra: &[&str]| {
-        let mut a: Vec<&str> = base.to_vec();
+        let mut a = vec!["--settle", "1"];
         a.extend_from_slice(extra);
-        daec(&a)
+        thesis_scene("4", &a)
     };
     let held = json(&with(&["--json"]));
     let ramped = json(&with(&[

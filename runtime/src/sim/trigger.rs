@@ -12,15 +12,16 @@ impl<M: Model> Simulator<M> {
     pub(super) fn monitor_due(&mut self) -> bool {
         let located = self.located();
         let steady = self.steady();
+        let tol = self.crossing_tol();
         let m = self.ctl.s.len();
-        let outward = (0..m).any(|i| self.outward(i, located, steady));
-        let due = outward || (!steady && (0..m).any(|i| self.arrived(i)));
+        let outward = (0..m).any(|i| self.outward(i, located, steady, tol));
+        let due = outward || (!steady && (0..m).any(|i| self.arrived(i, tol)));
         if due {
             for i in 0..m {
                 let asked = if outward {
-                    self.outward(i, located, steady)
+                    self.outward(i, located, steady, tol)
                 } else {
-                    self.arrived(i)
+                    self.arrived(i, tol)
                 };
                 if asked {
                     self.stats.triggered[i] += 1;
@@ -35,7 +36,7 @@ impl<M: Model> Simulator<M> {
     /// over the step with the thesis's step-end rule, which is free (`s` is evaluated
     /// after every step anyway), exact in sign for the motion over the step including
     /// the neglected beta part, and needs no extra model call.
-    fn outward(&self, i: usize, located: bool, steady: bool) -> bool {
+    fn outward(&self, i: usize, located: bool, steady: bool, tol: f64) -> bool {
         let s = self.ctl.s[i];
         let eps = if steady {
             self.set.eps[i]
@@ -47,13 +48,13 @@ impl<M: Model> Simulator<M> {
         } else {
             s - self.s_prev[i]
         };
-        s.abs() >= eps * (1.0 - self.crossing_tol()) && s * rate > 0.0
+        s.abs() >= eps * (1.0 - tol) && s * rate > 0.0
     }
 
     /// Reaching phase with contracting layers: row `i` started the interval outside its
     /// layer and has arrived at its surface (within the crossing tolerance).
-    fn arrived(&self, i: usize) -> bool {
-        self.outside_k[i] && self.ctl.s[i] * self.sgn_k[i] <= self.crossing_tol() * self.set.eps[i]
+    fn arrived(&self, i: usize, tol: f64) -> bool {
+        self.outside_k[i] && self.ctl.s[i] * self.sgn_k[i] <= tol * self.set.eps[i]
     }
 
     /// The steady rule (the design layers) applies: after reaching, or with attracting
