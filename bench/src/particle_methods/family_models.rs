@@ -6,8 +6,8 @@
 //! * C2 hair: `bench/models/c2_hair.dae` (`S` strands of `N` links; the example
 //!   `hair.dae` puts its roots elsewhere and drives them through one head input);
 //! * C3 cloth and C4: `bench/models/c3_cloth.dae` (`W`, the far edge's pins `E`, rigid
-//!   diagonals `D`, the heavy corner `heavy`; the example `cloth.dae` has shear springs
-//!   and another initial sag).
+//!   diagonals `D`, the heavy corner `heavy`; the example `cloth.dae` has shear springs,
+//!   only the corner pins of (a) and another link order).
 //!
 //! Each is the same physics as the builder of `dae_particles` it stands for;
 //! [`FamilyParticles::new`] checks it against the system it is given, and
