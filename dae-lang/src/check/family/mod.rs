@@ -8,12 +8,14 @@
 //! construction at the default sizes when nothing is given at construction, which
 //! reports a set without elements, a map pointing outside its set, a particle in no link
 //! or a count mismatch while the model is checked. Expressions are resolved by
-//! `expr.rs` (types and vectors) and `access.rs` (element access, maps, sums).
+//! `expr.rs` (types and vectors), `name.rs` (names, variables, `let`s) and `access.rs`
+//! (element access, maps, sums).
 
 mod access;
 mod decl;
 mod expr;
 mod finish;
+mod name;
 
 use std::collections::{HashMap, HashSet};
 

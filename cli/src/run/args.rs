@@ -1,0 +1,188 @@
+//! The arguments of `daec run` checked before any work: the lists and the policy parsed,
+//! the numbers and the outputs checked, the integration chosen.
+
+use super::{Args, IntegratorArg, MAX_STEPS};
+use crate::Reported;
+use dae_runtime::{Integrator, Policy};
+use std::fs::File;
+use std::path::Path;
+
+/// `auto` or a comma-separated list of numbers.
+pub(super) fn auto_or_list(what: &str, text: &str) -> Result<Option<Vec<f64>>, Reported> {
+    if text.trim() == "auto" {
+        return Ok(None);
+    }
+    text.split(',')
+        .map(|v| v.trim().parse::<f64>())
+        .collect::<Result<Vec<_>, _>>()
+        .map(Some)
+        .map_err(|e| {
+            eprintln!(
+                "error: {what} `{text}`: expected `auto` or numbers separated by commas ({e})"
+            );
+            Reported
+        })
+}
+
+pub(super) fn parse_policy(text: &str) -> Result<Policy, Reported> {
+    match text {
+        "monitor" => Ok(Policy::Monitor),
+        "spsm" => Ok(Policy::Spsm),
+        _ => match text.strip_prefix("fixed:").map(str::parse::<f64>) {
+            Some(Ok(p)) if p > 0.0 && p.is_finite() => Ok(Policy::Fixed(p)),
+            Some(Ok(p)) => {
+                eprintln!("error: --policy fixed:{p}: the period must be finite and > 0");
+                Err(Reported)
+            }
+            _ => {
+                eprintln!("error: --policy `{text}`: expected `monitor`, `fixed:PERIOD` or `spsm`");
+                Err(Reported)
+            }
+        },
+    }
+}
+
+/// A user-given number that must be finite and positive (or non-negative).
+pub(super) fn check_number(flag: &str, value: f64, zero_ok: bool) -> Result<(), Reported> {
+    let ok = value.is_finite() && (value > 0.0 || (zero_ok && value == 0.0));
+    if ok {
+        return Ok(());
+    }
+    let need = if zero_ok { ">= 0" } else { "> 0" };
+    eprintln!("error: {flag} {value}: must be a finite number {need}");
+    Err(Reported)
+}
+
+/// The chosen integration: the integrator, its fixed step (if any) and whether each
+/// was given or chosen.
+pub(super) struct Integration {
+    pub(super) integrator: Integrator,
+    pub(super) step: f64,
+    pub(super) fixed: bool,
+    pub(super) chosen: bool,
+}
+
+pub(super) fn integration(args: &Args, policy: Policy) -> Integration {
+    let choice = match (args.integrator, args.step, policy) {
+        (Some(i), _, _) => i,
+        (None, Some(_), _) | (None, None, Policy::Spsm) => IntegratorArg::Rk4,
+        (None, None, _) => IntegratorArg::Dopri5,
+    };
+    let integrator = match choice {
+        IntegratorArg::Dopri5 => Integrator::DormandPrince,
+        IntegratorArg::Bs3 => Integrator::BogackiShampine,
+        IntegratorArg::Rk4 => Integrator::Rk4,
+        IntegratorArg::Euler => Integrator::Euler,
+    };
+    Integration {
+        integrator,
+        step: args.step.unwrap_or(1e-4),
+        fixed: !integrator.is_adaptive(),
+        chosen: args.integrator.is_none() && args.step.is_none(),
+    }
+}
+
+/// The settings' field names as the flags a user wrote.
+pub(super) fn flag(field: &str) -> &str {
+    match field {
+        "eps" => "--eps",
+        "mu" => "--mu",
+        "gains" => "--gain",
+        "step" => "--step",
+        "t_end" => "--t-end",
+        "settle" => "--settle",
+        "reaching_limit" => "--reaching-limit",
+        "policy" => "--policy",
+        "tolerance" => "--tol",
+        "max_step" => "--max-step",
+        "crossing" => "--crossing",
+        "integrator" => "--integrator",
+        "solver" => "--solver",
+        "follow_drift" => "--follow-drift",
+        "graze" => "--graze",
+        "ramp" => "--ramp",
+        other => other,
+    }
+}
+
+/// Check everything the user gave before any work: numbers, the outputs, and the
+/// amount of work of fixed steps.
+pub(super) fn check_args(args: &Args, integration: &Integration, m: usize) -> Result<(), Reported> {
+    check_number("--t-end", args.t_end, false)?;
+    for &e in &args.eps {
+        check_number("--eps", e, false)?;
+    }
+    check_number("--settle", args.settle, true)?;
+    for (flag, v) in [
+        ("--step", args.step),
+        ("--tol", args.tol),
+        ("--max-step", args.max_step),
+        ("--reaching-limit", args.reaching_limit),
+        ("--pilot", args.pilot),
+        ("--follow-drift", args.follow_drift),
+        ("--graze", args.graze),
+    ] {
+        if let Some(v) = v {
+            check_number(flag, v, false)?;
+        }
+    }
+    if args.graze.is_some() && args.follow_drift.is_none() {
+        eprintln!("error: --graze limits the gains that follow the drift: give --follow-drift too");
+        return Err(Reported);
+    }
+    if integration.fixed && (args.tol.is_some() || args.max_step.is_some()) {
+        eprintln!(
+            "error: --tol and --max-step are for the error-controlled steps (--integrator dopri5 or bs3), not a fixed --step"
+        );
+        return Err(Reported);
+    }
+    if !integration.fixed && args.step.is_some() {
+        eprintln!(
+            "error: --step is a fixed step; the error-controlled integrators take --tol and --max-step"
+        );
+        return Err(Reported);
+    }
+    if integration.fixed {
+        let steps = args.t_end / integration.step;
+        if steps > MAX_STEPS {
+            eprintln!(
+                "error: --t-end {} with --step {:e} is {steps:.3e} steps, more than the {MAX_STEPS:e} this command takes (some minutes of work)",
+                args.t_end, integration.step
+            );
+            eprintln!(
+                "  hint: leave out --step (the step is then chosen by error control), or give a larger one"
+            );
+            return Err(Reported);
+        }
+    }
+    if m > 0 && (args.mu.trim() == "auto" || args.gain.trim() == "auto") {
+        args.pilot_args.check_work(
+            args.pilot.unwrap_or(args.t_end),
+            integration.fixed.then_some(integration.step),
+            MAX_STEPS,
+        )?;
+    }
+    check_outputs(args.csv.as_deref(), args.plot.as_deref())
+}
+
+/// The output files and folders are created (and the folder written to) before the run,
+/// so that a run is never lost to an output that cannot be written.
+pub(super) fn check_outputs(csv: Option<&Path>, plot: Option<&Path>) -> Result<(), Reported> {
+    if let Some(dir) = plot {
+        let probe = dir.join(".daec-write-test");
+        let written = std::fs::create_dir_all(dir).and_then(|()| std::fs::write(&probe, b""));
+        let _ = std::fs::remove_file(&probe);
+        if let Err(e) = written {
+            eprintln!("error: --plot `{}` cannot be written: {e}", dir.display());
+            return Err(Reported);
+        }
+    }
+    if let Some(path) = csv {
+        // Created again (truncated) by the run; this only finds the error early.
+        if let Err(e) = File::create(path) {
+            eprintln!("error: cannot create `{}`: {e}", path.display());
+            return Err(Reported);
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,294 @@
+//! The summary of `daec run`, printed as text or as JSON.
+
+use super::args::Integration;
+use super::{Args, DesignInfo, Outcome};
+use crate::bounded::{listed_constraints, triggered_text, values_text};
+use dae_runtime::{Crossing, Integrator, Model, NEAR_SINGULAR, Settings, Summary};
+use serde_json::json;
+
+/// Everything the summary reports.
+pub(super) struct Report<'a> {
+    pub(super) args: &'a Args,
+    pub(super) model: &'a dyn Model,
+    pub(super) settings: &'a Settings,
+    pub(super) summary: &'a Summary,
+    pub(super) design: Option<&'a DesignInfo>,
+    pub(super) integration: &'a Integration,
+    pub(super) outcome: Outcome,
+}
+
+impl Report<'_> {
+    pub(super) fn print(&self) {
+        if let Some(line) = self.loud_line() {
+            // On stderr too, so that a script reading stdout (or a user reading only
+            // the end) cannot miss it.
+            eprintln!("error: {line}");
+        }
+        if self.args.json {
+            let mut v = self.json();
+            crate::bounded::summarise(&mut v, self.model);
+            println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
+        } else {
+            self.text();
+        }
+    }
+
+    /// The line that says the run did not keep its promise.
+    fn loud_line(&self) -> Option<String> {
+        let s = self.summary;
+        match self.outcome {
+            Outcome::Held => None,
+            Outcome::NotReached => Some(format!(
+                "the layers were not reached by t = {}: the reaching phase did not finish (exit status 4)",
+                s.t_end
+            )),
+            Outcome::BoundLost => {
+                let l = s.bound_loss.as_ref()?;
+                let mut line = format!(
+                    "BOUND LOST: `{}` left its layer at t = {:.6} after reaching; max |s|/eps = {:.4} (`{}`, at t = {:.6}); {} step(s), {:.4e} s outside",
+                    l.first_constraint,
+                    l.first_time,
+                    l.worst_ratio,
+                    l.worst_constraint,
+                    l.worst_time,
+                    l.steps_outside,
+                    l.time_outside
+                );
+                if let Some(ns) = &l.near_singular {
+                    line.push_str(&format!(
+                        "; J_s was nearly singular at t = {:.6} (pivot ratio {:.2e} < {NEAR_SINGULAR:e})",
+                        ns.t, ns.pivot_ratio
+                    ));
+                }
+                line.push_str(" (exit status 3)");
+                Some(line)
+            }
+        }
+    }
+
+    fn integrator_name(&self) -> String {
+        let st = self.settings;
+        match st.integrator {
+            Integrator::DormandPrince | Integrator::BogackiShampine => {
+                let tol = st.effective_tolerance();
+                let name = if st.integrator == Integrator::DormandPrince {
+                    "Dormand-Prince 5(4)"
+                } else {
+                    "Bogacki-Shampine 3(2)"
+                };
+                let how = if st.tolerance.is_some() {
+                    ""
+                } else if st.eps.is_empty() {
+                    " (the default without constraints)"
+                } else {
+                    " (0.01 x the smallest eps)"
+                };
+                format!("{name}, tolerance {:e}{how}", tol.rtol)
+            }
+            Integrator::Rk4 => format!("RK4, fixed step {:e}", st.step),
+            Integrator::Euler => format!("Euler, fixed step {:e}", st.step),
+        }
+    }
+
+    fn crossing_name(&self) -> String {
+        match self.settings.crossing {
+            Crossing::Located { tol } => format!("located in the step (to {tol:e} of eps)"),
+            Crossing::StepEnd => "at step ends (thesis rule)".into(),
+        }
+    }
+
+    fn json(&self) -> serde_json::Value {
+        let (s, st, model) = (self.summary, self.settings, self.model);
+        let tol = st.effective_tolerance();
+        let given = |text: &str| {
+            if text.trim() == "auto" {
+                "designed"
+            } else {
+                "given"
+            }
+        };
+        json!({
+            "model": s.model,
+            "constraints": s.constraints,
+            "status": match self.outcome {
+                Outcome::Held => "held",
+                Outcome::BoundLost => "bound lost",
+                Outcome::NotReached => "not reached",
+            },
+            "exit_status": self.outcome.code(),
+            "eps": st.eps,
+            "mu": st.mu,
+            "gain": st.gains,
+            "chosen": {
+                "mu": if model.n_constraints() == 0 { "none" } else { given(&self.args.mu) },
+                "gain": if model.n_constraints() == 0 { "none" } else { given(&self.args.gain) },
+                "integrator": if self.integration.chosen { "chosen" } else { "given" },
+            },
+            "integrator": {
+                "name": format!("{:?}", st.integrator),
+                "adaptive": st.integrator.is_adaptive(),
+                "step": (!st.integrator.is_adaptive()).then_some(st.step),
+                "rtol": st.integrator.is_adaptive().then_some(tol.rtol),
+                "atol": st.integrator.is_adaptive().then_some(tol.atol),
+                "max_step": st.max_step.is_finite().then_some(st.max_step),
+                "crossing": self.crossing_name(),
+            },
+            "design": self.design.map(|d| d.json.clone()),
+            "t_end": s.t_end,
+            "steps": s.steps,
+            "rejected_steps": s.rejected_steps,
+            "located_crossings": s.located_crossings,
+            "unlocated_steps": s.unlocated_steps,
+            "updates": s.updates,
+            "f_evals": s.f_evals,
+            "f_evals_per_update": s.f_evals as f64 / s.updates.max(1) as f64,
+            "reaching_updates": s.reaching_updates,
+            "triggered_updates": s.triggered_updates,
+            "reach_time": s.reaching_time,
+            "stats_from": s.stats_from,
+            "period_min": s.min_period,
+            "period_avg": s.mean_period,
+            "max_abs_s": s.max_abs_s,
+            "max_abs_w": s.max_abs_w,
+            "max_abs_s_seen": s.seen_max_abs_s,
+            "max_abs_w_seen": s.seen_max_abs_w,
+            "bound_loss": s.bound_loss,
+            "min_pivot_ratio": s.min_pivot_ratio.map(|(r, t)| json!({"ratio": r, "t": t})),
+            "robustness_violations": s.robustness_violations,
+            "solver": {
+                "name": s.solver.name,
+                "choice": s.solver.choice.to_string(),
+                "factorisations": s.solver.factorisations,
+                "solves": s.solver.solves,
+                "iterations": s.solver.iterations,
+                "robustness_failures": s.solver.robustness_failures,
+            },
+            "states": (0..model.n_states()).map(|i| model.state_name(i)).collect::<Vec<_>>(),
+            "x_final": s.x,
+            "z_final": s.z,
+            "z_eq_final": s.z_eq,
+            "z_star_final": s.z_star,
+            "s_final": s.s,
+            "w_final": s.w,
+            "wall_seconds": s.wall_time,
+        })
+    }
+
+    fn text(&self) {
+        let (s, st) = (self.summary, self.settings);
+        if let Some(line) = self.loud_line() {
+            println!("{line}");
+        }
+        let opt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.6}"));
+        println!(
+            "model {} to t = {}: {} steps ({} rejected, {} cut at a crossing), {} updates ({} while reaching), {} f evaluations ({:.1} per update)",
+            s.model,
+            s.t_end,
+            s.steps,
+            s.rejected_steps,
+            s.located_crossings,
+            s.updates,
+            s.reaching_updates,
+            s.f_evals,
+            s.f_evals as f64 / s.updates.max(1) as f64
+        );
+        if s.unlocated_steps > 0 {
+            println!(
+                "  {} steps taken whole by the progress guard (no progress in the steps before them): crossings were not located inside them",
+                s.unlocated_steps
+            );
+        }
+        let m = self.model.n_constraints();
+        if m == 0 {
+            println!("  no constraints: integrated as an ODE");
+        } else {
+            let how = |text: &str| {
+                if text.trim() == "auto" {
+                    "designed"
+                } else {
+                    "given"
+                }
+            };
+            println!(
+                "  mu = {} ({}), gains = {} ({}), eps = {}",
+                values_text(&st.mu),
+                how(&self.args.mu),
+                values_text(&st.gains),
+                how(&self.args.gain),
+                values_text(&st.eps)
+            );
+        }
+        println!(
+            "  integrator {} ({}), crossings {}",
+            self.integrator_name(),
+            if self.integration.chosen {
+                "chosen"
+            } else {
+                "given"
+            },
+            self.crossing_name()
+        );
+        if let Some(d) = self.design {
+            println!("  design T_min = {}", d.t_min);
+        }
+        let window = match (s.reaching_time, s.stats_from) {
+            _ if m == 0 => "none (no constraints)".to_string(),
+            (None, _) => "not reached".to_string(),
+            (Some(r), None) => format!(
+                "reached at {r:.6}; statistics window not entered (--settle {} reaches past the end)",
+                self.args.settle
+            ),
+            (Some(r), Some(f)) => format!("reached at {r:.6}, statistics from {f:.6}"),
+        };
+        println!("  layers {window}");
+        println!(
+            "  update period min {}, average {}",
+            opt(s.min_period),
+            opt(s.mean_period)
+        );
+        if let Some(line) = triggered_text(&s.triggered_updates, &s.constraints) {
+            println!("{line}");
+        }
+        let listed = listed_constraints(s.max_abs_s.as_ref().unwrap_or(&s.seen_max_abs_s), &st.eps);
+        if listed.len() < m {
+            println!(
+                "  {m} constraints; the {} with the largest max |s| / eps:",
+                listed.len()
+            );
+        }
+        for (i, c) in listed.iter().map(|&i| (i, &s.constraints[i])) {
+            match (&s.max_abs_s, &s.max_abs_w) {
+                (Some(ms), Some(mw)) => println!(
+                    "  {c}: max |s| = {:.6} ({:.4} eps), max |w| = {:.6}",
+                    ms[i],
+                    ms[i] / st.eps[i],
+                    mw[i]
+                ),
+                _ => println!(
+                    "  {c}: no statistics (window not entered); seen max |s| = {:.6}, max |w| = {:.6}; at the end s = {:.6}, w = {:.6}",
+                    s.seen_max_abs_s[i], s.seen_max_abs_w[i], s.s[i], s.w[i]
+                ),
+            }
+        }
+        if m == 0 {
+            println!("  final x = {}", values_text(&s.x));
+        } else {
+            println!(
+                "  final z = {}, z_eq = {}, z* = {}",
+                values_text(&s.z),
+                values_text(&s.z_eq),
+                values_text(&s.z_star)
+            );
+            println!(
+                "  solver {}: {} factorisations, {} solves, {} iterations, {} robustness failures",
+                s.solver.name,
+                s.solver.factorisations,
+                s.solver.solves,
+                s.solver.iterations,
+                s.robustness_violations
+                    .map_or("unchecked".to_string(), |v| v.to_string())
+            );
+        }
+        println!("  wall time {:.3} s", s.wall_time);
+    }
+}
