@@ -10,8 +10,8 @@ use dae_bench::{
     run_particle_method, run_relaxed_with,
 };
 use dae_particles::{
-    Backend, FRAME, GrabPath, GridPins, Kinematics, Motion, ParticleDae, ParticleModel, Pin, Scene,
-    System, chain, grid, strands,
+    Backend, Dbsmc, FRAME, GrabPath, GridPins, Kinematics, Motion, ParticleDae, ParticleModel, Pin,
+    Scene, System, chain, grid, strands,
 };
 use dae_runtime::{Integrator, Model, Settings, SolverChoice};
 
@@ -358,15 +358,32 @@ fn a_ramp_against_the_drift_keeps_the_layer_with_fewer_updates_on_a_light_chain(
 }
 
 /// The counters of a DBSMC run: one factorisation per control update (no pin changes
-/// here), and on the cloth only a few of the links ask for the updates (the links that
-/// hang from the nearly taut far edge; docs/particles.md).
+/// here), and on the cloth only a few of the links ask for the updates: the links at
+/// the nearly taut far edge between the pinned corners (docs/particles.md). The oracle
+/// of "which" is the geometry: the particles of the far row, `iy = W - 1`.
 #[test]
 fn on_the_cloth_a_few_links_ask_for_every_update_and_each_update_factors_once() {
-    let mut scene = c3(16, GridPins::Corners, false).unwrap();
+    let w = 16;
+    let mut scene = c3(w, GridPins::Corners, false).unwrap();
     scene.duration = 0.2;
-    let r = run_relaxed_with(&scene, 1e-2, 4.0, Duration::from_secs(120), |s| {
-        s.ramp_against_drift()
-    });
+    let model = ParticleModel::new(&scene.system).unwrap();
+    let ends = model.ends().to_vec();
+    let settings = relaxed_settings(&model, 1e-2, 4.0).ramp_against_drift();
+    let mut backend = Dbsmc::new(model, settings, "ramped")
+        .unwrap()
+        .keep_going_after_bound_loss();
+    let spec = MethodSpec::DbsmcRamped {
+        eps: 1e-2,
+        gain: 4.0,
+    };
+    let r = drive_scene(
+        &scene,
+        &spec,
+        &mut backend,
+        Duration::from_secs(120),
+        None,
+        None,
+    );
     assert!(r.complete(), "{}", r.status);
     assert_eq!(r.counters.layer_lost_at, None);
     let c = r.counters;
@@ -381,6 +398,25 @@ fn on_the_cloth_a_few_links_ask_for_every_update_and_each_update_factors_once() 
         c.links_asking > 0 && 10 * c.links_asking < links,
         "{} of {links} links asked",
         c.links_asking
+    );
+    // Per link: the counts agree with the counter, and the links with a particle in
+    // the far row asked for most of them.
+    let asked = backend.triggered_updates();
+    assert_eq!(asked.len(), ends.len());
+    let asking = asked.iter().filter(|&&n| n > 0).count() as u64;
+    assert_eq!(asking, c.links_asking);
+    let far = |p: usize| p / w == w - 1;
+    let at_edge: u64 = (0..ends.len())
+        .filter(|&l| far(ends[l].0) || far(ends[l].1))
+        .map(|l| asked[l])
+        .sum();
+    let all: u64 = asked.iter().sum();
+    // Every update but the one at the start was asked for by at least one link.
+    assert!(all + 1 >= c.updates, "{all} asks for {} updates", c.updates);
+    eprintln!("{at_edge} of the {all} asks came from links at the far edge");
+    assert!(
+        5 * at_edge >= 4 * all,
+        "{at_edge} of {all} asks from links at the far edge"
     );
 }
 

@@ -227,6 +227,14 @@ impl<M: ParticleDae> Dbsmc<M> {
     pub fn state(&self) -> &[f64] {
         self.sim.state()
     }
+
+    /// Per constraint (in the model's order of constraint links), the monitored
+    /// updates its own `s_i` asked for so far ([`Simulator::triggered_updates`]): which
+    /// links set the update rate, and so the cost. [`Counters::links_asking`] counts
+    /// the links with at least one.
+    pub fn triggered_updates(&self) -> &[u64] {
+        self.sim.triggered_updates()
+    }
 }
 
 impl<M: ParticleDae> Backend for Dbsmc<M> {
