@@ -32,6 +32,10 @@ impl Lcg {
             .wrapping_add(1442695040888963407);
         (self.0 >> 11) as f64 / (1u64 << 53) as f64
     }
+    /// Uniform in `[-1, 1)`: `2 uniform - 1`, the same draw.
+    pub fn signed(&mut self) -> f64 {
+        2.0 * self.uniform() - 1.0
+    }
     /// Uniform index in `0..n`.
     pub fn index(&mut self, n: usize) -> usize {
         ((self.uniform() * n as f64) as usize).min(n - 1)

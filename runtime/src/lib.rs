@@ -202,7 +202,7 @@
 //! factorisation at the change), restarts the ramp there and updates the control before
 //! the next step. On a 6 x 6 cloth at `eps = 1e-3` a release through `model_mut` reached a
 //! strain of 0.17 (170 layers); through `change_model` every frame stays within the bound
-//! (`bench/tests/particles.rs`).
+//! (`bench/tests/generated_particles.rs`).
 //!
 //! # When the bound is not kept
 //!
