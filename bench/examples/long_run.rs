@@ -8,8 +8,9 @@
 //! cargo run --release -p dae-bench --example long_run -- [T]   # T = 1000 by default
 //! ```
 //!
-//! It reproduces the open regression of docs/work-precision.md ("Stability"): at
-//! T = 100 the layer is lost at 83.7 s, at T = 1000 at 0.042 s; both held at 304f5a7.
+//! It found the regression of docs/work-precision.md ("Stability"): the layer was lost
+//! at 83.7 s at T = 100 (commit 65d2b22 on) and at 0.042 s at T = 1000 (8b98364 on).
+//! Fixed, it holds: 613,879 updates at T = 100, 6,110,790 at T = 1000 (2.4 s).
 
 use std::f64::consts::FRAC_PI_2;
 

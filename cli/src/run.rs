@@ -457,6 +457,12 @@ fn report_failure(model: &dyn Model, settings: &Settings, fixed_step: bool, e: &
         }
         SimError::ReachingTimeout { .. } => "increase the gains or the layers".into(),
         SimError::SolverFailed { .. } => "choose another --solver (dense always applies)".into(),
+        SimError::StepUnderflow {
+            near_singular: Some(_),
+            ..
+        } => {
+            "a configuration where J_Omega is singular lies within the layers: smaller --eps, or a model that keeps away from it (more slack in a taut line)".into()
+        }
         SimError::StepLimit { .. } | SimError::StepUnderflow { .. } => {
             "the step control could not go on: a larger --tol, or a fixed --step to see where the motion goes".into()
         }

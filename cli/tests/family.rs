@@ -154,7 +154,7 @@ fn run_sizes_a_family_model_with_set() {
     );
 }
 
-/// The cloth example starts on its links (its far edge on an arc 0.1 % longer than the
+/// The cloth example starts on its links (its far edge on an arc 2 % longer than the
 /// chord between the pinned corners, every rest length as it starts) and runs with the
 /// benchmark's frame-tied settings: `mu` a quarter frame, gains `4 eps / mu` following
 /// the drift, `v` ramped. With rest lengths of the flat grid and a sine sag (the model
@@ -162,6 +162,51 @@ fn run_sizes_a_family_model_with_set() {
 /// stopped at t = 4e-4 s with a step-size underflow.
 #[test]
 fn the_cloth_example_runs_with_the_frame_tied_settings() {
+    let (code, out, err) = run_cloth_w8(&[]);
+    assert_eq!(code, Some(0), "{err}");
+    let eps = 0.01 / 7.0;
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["status"], "held", "{v}");
+    assert!(v["bound_loss"].is_null(), "{v}");
+    let s = v["max_abs_s"].as_array().unwrap();
+    assert_eq!(s.len(), 2 * 8 * 7);
+    for (i, s) in s.iter().enumerate() {
+        let s = s.as_f64().unwrap();
+        assert!(
+            s <= 1.001 * eps,
+            "link[{i}]: max |s| = {s} > {eps} (1.001 x)"
+        );
+    }
+    // Monitored: every update but the one at the start was asked for by some link, and
+    // not every link asked (measured: 59 of the 112, 527 asks for 462 updates).
+    let asked = v["triggered_updates"].as_array().unwrap();
+    let asking = asked.iter().filter(|c| c.as_u64().unwrap() > 0).count();
+    let asks: u64 = asked.iter().map(|c| c.as_u64().unwrap()).sum();
+    let updates = v["updates"].as_u64().unwrap();
+    assert!(
+        asking >= 1 && asking < asked.len() && asks + 1 >= updates,
+        "{asking} of {} links asked, {asks} asks for {updates} updates",
+        asked.len()
+    );
+}
+
+/// With a slack smaller than the layers' strain (0.1 % against 1 %), the far edge can
+/// come straight within its layers, where `J_Omega` is singular: the control grows
+/// without bound and the step control stops. The failure says so, with where `J_s`
+/// came near singular, and the hint names the way out (measured: stopped at t = 0.028
+/// s, smallest pivot ratio 3.0e-7 at 0.0282 s).
+#[test]
+fn a_taut_edge_within_the_layers_is_reported_as_a_near_singular_j() {
+    let (code, _, err) = run_cloth_w8(&["--set", "slack=0.001"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("step size underflow"), "{err}");
+    assert!(err.contains("J_s came near singular at t = 0.02"), "{err}");
+    assert!(err.contains("smaller --eps"), "{err}");
+}
+
+/// `daec run` of the 8 x 8 cloth example for 0.5 s with the benchmark's frame-tied
+/// settings (and `extra` arguments), as JSON.
+fn run_cloth_w8(extra: &[&str]) -> (Option<i32>, String, String) {
     let model = example("cloth.dae");
     // W = 8: links of 1/7 m, eps = 1 % of a link.
     let eps = 0.01 / 7.0;
@@ -196,28 +241,7 @@ fn the_cloth_example_runs_with_the_frame_tied_settings() {
         &max_step,
         "--json",
     ];
-    let (code, out, err) = run(&args);
-    assert_eq!(code, Some(0), "{err}");
-    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-    assert_eq!(v["status"], "held", "{v}");
-    assert!(v["bound_loss"].is_null(), "{v}");
-    let s = v["max_abs_s"].as_array().unwrap();
-    assert_eq!(s.len(), 2 * 8 * 7);
-    for (i, s) in s.iter().enumerate() {
-        let s = s.as_f64().unwrap();
-        assert!(
-            s <= 1.001 * eps,
-            "link[{i}]: max |s| = {s} > {eps} (1.001 x)"
-        );
-    }
-    // The cloth hangs from the far corners: the updates are asked for by a few links.
-    let asked = v["triggered_updates"].as_array().unwrap();
-    let asking = asked.iter().filter(|c| c.as_u64().unwrap() > 0).count();
-    assert!(
-        asking >= 1 && asking < asked.len() / 2,
-        "{asking} of {} links asked",
-        asked.len()
-    );
+    run(&[&args[..], extra].concat())
 }
 
 #[test]

@@ -112,15 +112,21 @@ pub enum SimError {
         t: f64,
     },
     /// The error control of an embedded pair drove the step below what the time can
-    /// resolve.
+    /// resolve. When `J_s` had come near singular before (its smallest pivot below
+    /// [`NEAR_SINGULAR`](crate::NEAR_SINGULAR) of its earlier largest), that is the
+    /// likely cause and is said: the control `v = J_s^{-1}(...)` grows without bound
+    /// there, and no step is short enough to follow it.
     #[error(
-        "step size underflow at t = {t} (h = {h:e}): the error control cannot meet the tolerance (a stiff or non-smooth motion, or a tolerance below rounding)"
+        "step size underflow at t = {t} (h = {h:e}): {}",
+        underflow_cause(near_singular)
     )]
     StepUnderflow {
         /// Time of the failed step.
         t: f64,
         /// The step that was too small.
         h: f64,
+        /// Where `J_s` was nearest singular, if it came near singular in the run.
+        near_singular: Option<crate::NearSingular>,
     },
     /// [`Simulator::advance_to`](crate::Simulator::advance_to) was asked for a time
     /// before the current one, or called after the run was finished.
@@ -145,4 +151,15 @@ fn quoted(names: &[String]) -> String {
         .map(|n| format!("`{n}`"))
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+/// What a step-size underflow says about its cause.
+fn underflow_cause(near_singular: &Option<crate::NearSingular>) -> String {
+    match near_singular {
+        Some(ns) => format!(
+            "J_s came near singular at t = {} (smallest pivot {:.1e} of its earlier largest), and the control grows without bound there (the constraints nearly lose rank: for example a taut line of rigid links between fixed points)",
+            ns.t, ns.pivot_ratio
+        ),
+        None => "the error control cannot meet the tolerance (a stiff or non-smooth motion, or a tolerance below rounding)".into(),
+    }
 }

@@ -2,18 +2,13 @@
 //! `s` and `w` equal a fresh evaluation of `Model::sliding` at the sample's own `(t, x,
 //! z)`.
 //!
-//! **Known bug, open (ignored until fixed).** Since commit 65d2b22 an accepted
-//! error-controlled (or fixed, tested) step keeps the `s` its test of the error in `s`
-//! evaluated instead of evaluating it again; that test (`trial_layer_error`) evaluates
-//! the embedded solution last, so an accepted point carries the embedded solution's
-//! `w` and `alpha_hat`, not the solution's, and the crossings are located with them.
-//! The stability suite's double pendulum (uniform `mu = 0.05`, eps = 5e-4, 100 s)
-//! leaves its layer at 83.7 s (3.2 eps); it held before. Evaluating the embedded
-//! solution first makes these tests pass and that run hold again (bit for bit as
-//! before 65d2b22), but then `daec run` of the 8 x 8 cloth with the frame-tied
-//! settings (cli/tests/family.rs) stops with a step-size underflow at 0.028 s: the
-//! fix is not landed until that is understood (issue 13's closing note of
-//! 2026-11-26).
+//! An accepted error-controlled (or fixed, tested) step keeps the `s` that its test of
+//! the error in `s` evaluated, so that test must evaluate the solution last: from
+//! 65d2b22 to its fix it evaluated the embedded solution last, an accepted point
+//! carried the embedded solution's `w` and `alpha_hat`, and the crossings were located
+//! with them (the stability suite's 100 s double pendulum left its layer at 83.7 s).
+//! Both tests below failed then (RK4: `w_1` 1.3976924062437 recorded against
+//! 1.3976924062396).
 
 mod common;
 
@@ -57,14 +52,12 @@ fn check(integrator: Integrator) {
 }
 
 #[test]
-#[ignore = "known bug since 65d2b22: accepted points carry the embedded solution's w and alpha_hat (module docs)"]
 fn a_recorded_point_is_the_models_own_with_error_controlled_steps() {
     check(Integrator::DormandPrince);
     check(Integrator::BogackiShampine);
 }
 
 #[test]
-#[ignore = "known bug since 65d2b22: accepted points carry the embedded solution's w and alpha_hat (module docs)"]
 fn a_recorded_point_is_the_models_own_with_fixed_steps() {
     check(Integrator::Rk4);
     check(Integrator::Euler);

@@ -303,6 +303,15 @@ impl<M: Model> Simulator<M> {
             .record(&self.layout.constraints, near_singular)
     }
 
+    /// Where `J_s` was nearest singular, if its smallest pivot ratio fell below
+    /// [`NEAR_SINGULAR`] in the run so far.
+    pub(super) fn near_singular(&self) -> Option<crate::NearSingular> {
+        self.ctl
+            .min_pivot_ratio
+            .filter(|(r, _)| *r < NEAR_SINGULAR)
+            .map(|(pivot_ratio, t)| crate::NearSingular { pivot_ratio, t })
+    }
+
     /// Per constraint, the monitored updates its `s_i` asked for so far (what
     /// [`Summary::triggered_updates`] will say), for a run driven in pieces.
     pub fn triggered_updates(&self) -> &[u64] {

@@ -151,14 +151,17 @@ impl<M: Model> Simulator<M> {
 
     /// The error in `s` of the trial step that ends at `t1` with the solution `rk.y1`,
     /// against the embedded solution in `xs` ([`layer_error`]), both with `z` on its
-    /// ramp at `t1` (in `z_trial`, as the accepted point will have it). Leaves `s` at
-    /// the solution in `s_trial`: the point's own `s` when the step is accepted.
+    /// ramp at `t1` (in `z_trial`, as the accepted point will have it). The solution is
+    /// evaluated last, so that everything `sliding` leaves (`s`, `w`, `alpha_hat`) is
+    /// the point's own when the step is accepted; `s` is also kept in `s_trial`.
     fn trial_layer_error(&mut self, t1: f64) -> f64 {
         let model = &self.model;
-        self.ctl.sliding(model, t1, &self.rk.y1, &self.z_trial);
-        self.s_trial.copy_from_slice(&self.ctl.s);
         self.ctl.sliding(model, t1, &self.xs, &self.z_trial);
-        layer_error(&self.s_trial, &self.ctl.s, &self.set.eps)
+        self.s_trial.copy_from_slice(&self.ctl.s);
+        self.ctl.sliding(model, t1, &self.rk.y1, &self.z_trial);
+        let err = layer_error(&self.ctl.s, &self.s_trial, &self.set.eps);
+        self.s_trial.copy_from_slice(&self.ctl.s);
+        err
     }
 
     /// Without located crossings (or under SPSM), a step's measure is its end.
@@ -359,7 +362,11 @@ impl<M: Model> Simulator<M> {
                         value,
                         t: t0,
                     },
-                    None => SimError::StepUnderflow { t: t0, h },
+                    None => SimError::StepUnderflow {
+                        t: t0,
+                        h,
+                        near_singular: self.near_singular(),
+                    },
                 });
             }
             // The trial's end as the accepted point will have it (`ramp_z`), so that
@@ -466,10 +473,17 @@ impl<M: Model> Simulator<M> {
     }
 
     /// The step against which progress is judged: the fixed step, or for the embedded
-    /// pairs the largest step allowed (at most the run's span).
+    /// pairs the largest step allowed, at most the control's shortest time constant
+    /// `mu_i` (and the run's span). Not the span alone: on a 1000 s run a millionth of
+    /// it is 1 ms, the length of an ordinary step between updates, and the guard then
+    /// took steps whole (uncut) that the control needed cut, and the layer was lost.
     fn reference_step(&self) -> f64 {
         if self.set.integrator.is_adaptive() {
-            self.set.max_step.min(self.set.t_end - self.set.t_start)
+            let mu = self.set.mu.iter().copied().fold(f64::INFINITY, f64::min);
+            self.set
+                .max_step
+                .min(self.set.t_end - self.set.t_start)
+                .min(mu)
         } else {
             self.set.step
         }
