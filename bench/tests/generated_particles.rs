@@ -9,8 +9,8 @@ use dae_bench::{
     run_particle_method,
 };
 use dae_particles::{
-    FRAME, GrabPath, GridPins, Kinematics, Motion, ParticleDae, ParticleModel, Pin, System, chain,
-    grid, strands,
+    FAR_EDGE_SLACK, FRAME, GrabPath, GridPins, Kinematics, Motion, ParticleDae, ParticleModel, Pin,
+    System, chain, grid, grid_with_slack, strands,
 };
 use dae_runtime::{Integrator, Model, SolverChoice};
 
@@ -228,15 +228,16 @@ fn the_generated_scene_models_are_the_hand_written_ones_through_grabs_and_releas
         generated_strands(&sys, 3, 4).unwrap(),
         &mut r,
     );
-    for (w, pins, shear) in [
-        (5, GridPins::Corners, false),
-        (5, GridPins::Edge, false),
-        (5, GridPins::CornersHeavy, false),
+    for (w, pins, shear, slack) in [
+        (5, GridPins::Corners, false, FAR_EDGE_SLACK),
+        (5, GridPins::Edge, false, FAR_EDGE_SLACK),
+        (5, GridPins::CornersHeavy, false, FAR_EDGE_SLACK),
+        (5, GridPins::Corners, false, 0.02),
     ] {
-        let sys = grid(w, pins, shear).unwrap();
-        let fam = generated_grid(&sys, w, pins, shear).unwrap();
+        let sys = grid_with_slack(w, pins, shear, slack).unwrap();
+        let fam = generated_grid(&sys, w, pins, shear, slack).unwrap();
         check_scene(
-            &format!("C3 W={w} {pins:?} shear={shear}"),
+            &format!("C3 W={w} {pins:?} shear={shear} slack={slack}"),
             &sys,
             fam,
             &mut r,
@@ -263,11 +264,11 @@ impl Motion for Breaks {
 #[test]
 fn a_generated_model_of_another_scene_is_refused_and_a_broken_pin_is_loud() {
     let corners = grid(5, GridPins::Corners, false).unwrap();
-    let e = generated_grid(&corners, 5, GridPins::Edge, false).unwrap_err();
+    let e = generated_grid(&corners, 5, GridPins::Edge, false, FAR_EDGE_SLACK).unwrap_err();
     assert!(e.contains("particle") && e.contains("starts at"), "{e}");
-    let e = generated_grid(&corners, 5, GridPins::CornersHeavy, false).unwrap_err();
+    let e = generated_grid(&corners, 5, GridPins::CornersHeavy, false, FAR_EDGE_SLACK).unwrap_err();
     assert!(e.contains("particle 0 accelerates"), "{e}");
-    let e = generated_grid(&corners, 5, GridPins::Corners, true).unwrap_err();
+    let e = generated_grid(&corners, 5, GridPins::Corners, true, FAR_EDGE_SLACK).unwrap_err();
     assert!(e.contains("constraints"), "{e}");
     // The same numbers of particles and links, other links: the first one that differs.
     let mut swapped = grid(5, GridPins::Corners, false).unwrap().links().to_vec();
@@ -283,12 +284,15 @@ fn a_generated_model_of_another_scene_is_refused_and_a_broken_pin_is_loud() {
     .unwrap()
     .with_fixed(24)
     .unwrap();
-    let e = generated_grid(&other, 5, GridPins::Corners, false).unwrap_err();
+    let e = generated_grid(&other, 5, GridPins::Corners, false, FAR_EDGE_SLACK).unwrap_err();
     assert!(
         e.contains("constraint 0") && e.contains("is not link 0"),
         "{e}"
     );
-    let e = generated_grid(&corners, 4, GridPins::Corners, false).unwrap_err();
+    // Another slack: the far edge starts elsewhere.
+    let e = generated_grid(&corners, 5, GridPins::Corners, false, 0.02).unwrap_err();
+    assert!(e.contains("particle") && e.contains("starts at"), "{e}");
+    let e = generated_grid(&corners, 4, GridPins::Corners, false, FAR_EDGE_SLACK).unwrap_err();
     assert!(e.contains("states"), "{e}");
     let e = generated_strands(&strands(3, 4).unwrap(), 5, 2).unwrap_err();
     assert!(e.contains("starts at"), "{e}");

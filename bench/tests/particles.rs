@@ -467,3 +467,34 @@ fn relaxed_run(scene: &ParticleScene, eps: f64, gain: f64, follow: bool) -> Part
         }
     })
 }
+
+/// The wall budget holds inside a frame: the DBSMC backend stops at the deadline within
+/// its first frame (status `budget`, no frame counted, nothing called a failure), while
+/// XPBD, whose frames cost a bounded amount, finishes its first frame and stops after
+/// it. Found on C4 W=8 (the pilot-based design, RK4, eps = 1e-3): during the grab's move
+/// its updates came 0.1-1 ns apart from t = 1.442 s, and the run, whose budget was
+/// checked only between frames, had not finished its frame after 13 min.
+#[test]
+fn the_budget_stops_a_run_inside_a_frame() {
+    let scene = c1(10, 1.0).unwrap();
+    let (bounds, pilot) = dae_bench::particle_pilot(&scene, 64, Duration::from_secs(60)).unwrap();
+    assert!(pilot.complete(), "{}", pilot.status);
+    let spec = MethodSpec::Dbsmc {
+        eps: 1e-3,
+        solver: SolverChoice::Auto,
+        integrator: Integrator::Rk4,
+    };
+    let r = run_particle_method(&scene, &spec, Some(&bounds), Duration::ZERO, None, None);
+    assert_eq!(r.status, "budget");
+    assert_eq!(r.frames, 0);
+    let r = run_particle_method(
+        &scene,
+        &MethodSpec::XpbdSubsteps(4),
+        None,
+        Duration::ZERO,
+        None,
+        None,
+    );
+    assert_eq!(r.status, "budget");
+    assert_eq!(r.frames, 1);
+}

@@ -38,6 +38,10 @@ pub struct BackendError {
     pub t: f64,
     /// What happened.
     pub reason: String,
+    /// The backend stopped at the wall-clock deadline of
+    /// [`set_deadline`](Backend::set_deadline), not at a failure: the state is
+    /// consistent and the run can go on after a later deadline.
+    pub deadline: bool,
 }
 
 /// A simulation method that advances a particle system in time.
@@ -68,6 +72,13 @@ pub trait Backend {
     fn set_pin(&mut self, k: usize, pin: Option<Pin>) -> Result<(), BackendError>;
     /// Work done so far.
     fn counters(&self) -> Counters;
+    /// A wall-clock deadline for [`advance_to`](Backend::advance_to) (or none): a
+    /// backend that can stop inside a frame does so once it has passed, with an error
+    /// whose `deadline` is set. By default ignored: a backend whose frame costs a
+    /// bounded amount of work (XPBD, a fixed number of steps) cannot overrun by much.
+    fn set_deadline(&mut self, deadline: Option<std::time::Instant>) {
+        let _ = deadline;
+    }
 }
 
 /// A backend borrowed mutably is a backend: a caller can run a [`Scene`](crate::Scene)
@@ -99,5 +110,8 @@ impl<B: Backend + ?Sized> Backend for &mut B {
     }
     fn counters(&self) -> Counters {
         (**self).counters()
+    }
+    fn set_deadline(&mut self, deadline: Option<std::time::Instant>) {
+        (**self).set_deadline(deadline)
     }
 }

@@ -123,7 +123,21 @@ pub const FAR_EDGE_SLACK: f64 = 1e-3;
 /// sags on an arc [`FAR_EDGE_SLACK`] longer than the distance between them (the rest
 /// lengths are the initial distances, so the start is on the constraint manifold).
 pub fn grid(w: usize, pins: GridPins, shear: bool) -> Result<System, SystemError> {
+    grid_with_slack(w, pins, shear, FAR_EDGE_SLACK)
+}
+
+/// [`grid`] with the far edge's `slack` chosen (`0 < slack <= 0.5`; unused when the
+/// whole far edge is pinned). A bounded method holds each link only within its layer:
+/// links shortened by `slack` make the far edge straight, where `J_Omega` is singular,
+/// so a slack smaller than the layers' strain lets the edge come straight within them.
+pub fn grid_with_slack(
+    w: usize,
+    pins: GridPins,
+    shear: bool,
+    slack: f64,
+) -> Result<System, SystemError> {
     need("w", w as f64, w >= 2, ">= 2")?;
+    need("slack", slack, slack > 0.0 && slack <= 0.5, "in (0, 0.5]")?;
     let h = 1.0 / (w - 1) as f64;
     let mut positions = Vec::with_capacity(w * w);
     for iy in 0..w {
@@ -134,8 +148,8 @@ pub fn grid(w: usize, pins: GridPins, shear: bool) -> Result<System, SystemError
     if pins != GridPins::Edge {
         // Half-angle phi of the arc: phi / sin(phi) = 1 + slack, by Newton from the
         // small-angle value.
-        let target = 1.0 + FAR_EDGE_SLACK;
-        let mut phi = (6.0 * FAR_EDGE_SLACK).sqrt();
+        let target = 1.0 + slack;
+        let mut phi = (6.0 * slack).sqrt();
         for _ in 0..20 {
             let f = phi / phi.sin() - target;
             let df = (phi.sin() - phi * phi.cos()) / (phi.sin() * phi.sin());
@@ -267,6 +281,32 @@ mod tests {
             "{mid:?}"
         );
         assert_eq!(s.positions()[grid_index(w, w - 1, w - 1)], [1.0, 1.0, 0.0]);
+    }
+
+    #[test]
+    fn a_chosen_slack_gives_the_far_edge_its_length_and_sag() {
+        let w = 16;
+        let s = grid_with_slack(w, GridPins::Corners, false, 0.02).unwrap();
+        let edge: f64 = (0..w - 1)
+            .map(|ix| {
+                distance(
+                    s.positions()[grid_index(w, ix, w - 1)],
+                    s.positions()[grid_index(w, ix + 1, w - 1)],
+                )
+            })
+            .sum();
+        // 15 chords of an arc of half-angle 0.344 rad: 9e-5 shorter than the arc.
+        assert!((edge - 1.02).abs() < 2e-4, "{edge}");
+        // The arc's sag R (1 - cos phi) = 8.69 cm, by phi / sin(phi) = 1.02.
+        let mid = s.positions()[grid_index(w, w / 2, w - 1)];
+        assert!((mid[2] + 0.0869).abs() < 2e-3, "{mid:?}");
+        rest_lengths_hold(&s);
+        for bad in [0.0, -0.01, 0.6, f64::NAN] {
+            assert!(
+                grid_with_slack(w, GridPins::Corners, false, bad).is_err(),
+                "{bad}"
+            );
+        }
     }
 
     #[test]

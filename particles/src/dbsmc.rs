@@ -154,6 +154,7 @@ impl<M: ParticleDae> Dbsmc<M> {
             method: name.to_string(),
             t,
             reason,
+            deadline: false,
         };
         let per_frame = FRAME / settings.step;
         if !(per_frame.is_finite()
@@ -209,12 +210,17 @@ impl<M: ParticleDae> Dbsmc<M> {
     }
 
     fn failure(&mut self, t: f64, e: &SimError) -> BackendError {
+        let deadline = matches!(e, SimError::Deadline { .. });
         let e = BackendError {
             method: self.name.clone(),
             t,
             reason: e.to_string(),
+            deadline,
         };
-        self.failed = Some(e.clone());
+        // A deadline is not a failure: the simulator stopped at a consistent point.
+        if !deadline {
+            self.failed = Some(e.clone());
+        }
         e
     }
 
@@ -276,11 +282,15 @@ impl<M: ParticleDae> Backend for Dbsmc<M> {
                     loss.worst_constraint,
                     loss.worst_time
                 ),
+                deadline: false,
             };
             self.failed = Some(e.clone());
             return Err(e);
         }
         Ok(())
+    }
+    fn set_deadline(&mut self, deadline: Option<std::time::Instant>) {
+        self.sim.set_deadline(deadline);
     }
     fn positions(&self, out: &mut [[f64; 3]]) {
         for (k, p) in out.iter_mut().enumerate() {
@@ -310,6 +320,7 @@ impl<M: ParticleDae> Backend for Dbsmc<M> {
             method: self.name.clone(),
             t,
             reason,
+            deadline: false,
         };
         if k >= self.slots.len() {
             return Err(err(format!("particle {k} does not exist")));

@@ -85,7 +85,7 @@ mod system;
 pub use backend::{Backend, BackendError, Counters};
 pub use builders::{
     FAR_EDGE_SLACK, GridPins, HEAD_RADIUS, STRAND_LENGTH, STRAND_PARTICLE_MASS, chain, grid,
-    grid_index, strands,
+    grid_index, grid_with_slack, strands,
 };
 pub use dbsmc::Dbsmc;
 pub use model::{ModelError, ParticleDae, ParticleModel, check_pin_change};

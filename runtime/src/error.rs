@@ -128,6 +128,13 @@ pub enum SimError {
         /// Where `J_s` was nearest singular, if it came near singular in the run.
         near_singular: Option<crate::NearSingular>,
     },
+    /// The wall-clock deadline of [`Simulator::set_deadline`](crate::Simulator::set_deadline)
+    /// passed; the run stopped at `t`, a consistent point.
+    #[error("the wall-clock deadline passed at t = {t}")]
+    Deadline {
+        /// The time reached.
+        t: f64,
+    },
     /// [`Simulator::advance_to`](crate::Simulator::advance_to) was asked for a time
     /// before the current one, or called after the run was finished.
     #[error("cannot advance to t = {requested}: the run is at t = {now}{}", if *finished { " and finished (call start to run again)" } else { "" })]

@@ -191,3 +191,37 @@ fn a_model_without_constraints_is_integrated_as_an_ode() {
         assert_eq!(trace.layout().columns(), ["t", "x.x", "x.v"]);
     }
 }
+
+/// A passed wall-clock deadline stops `advance_to` after the step it is in, at a point
+/// that the run goes on from as if it had not stopped: with Dormand-Prince, the run
+/// stopped at every step ends where the whole run does, to the bit.
+#[test]
+fn a_passed_deadline_stops_a_piece_at_a_point_the_run_goes_on_from() {
+    let whole = Simulator::new(&Tracking::default(), settings())
+        .unwrap()
+        .run(&mut NoTrace)
+        .unwrap();
+    let mut sim = Simulator::new(Tracking::default(), settings()).unwrap();
+    sim.start(&mut NoTrace).unwrap();
+    sim.set_deadline(Some(std::time::Instant::now()));
+    let mut stops = 0;
+    loop {
+        match sim.advance_to(2.0, &mut NoTrace) {
+            Ok(()) => break,
+            Err(SimError::Deadline { t }) => {
+                assert_eq!(t, sim.time());
+                stops += 1;
+            }
+            Err(e) => panic!("{e}"),
+        }
+    }
+    let stopped = sim.finish(&mut NoTrace).unwrap();
+    assert_eq!(stops as u64, stopped.steps, "one stop after every step");
+    assert_eq!(stopped.x, whole.x);
+    assert_eq!(stopped.updates, whole.updates);
+    assert!(stopped.bound_held());
+    // Without a deadline nothing stops.
+    let mut sim = Simulator::new(Tracking::default(), settings()).unwrap();
+    sim.set_deadline(None);
+    sim.advance_to(2.0, &mut NoTrace).unwrap();
+}

@@ -18,4 +18,4 @@ pub use run::{
     RELAXED_GRAZE_PER_MU, RELAXED_MU_PER_FRAME, RELAXED_STEP_PER_MU, dbsmc_settings, drive_scene,
     index_one, particle_pilot, relaxed_settings, run_particle_method, run_relaxed_with,
 };
-pub use scenes::{Grab, ParticleScene, SceneShape, c1, c2, c3, c4};
+pub use scenes::{Grab, ParticleScene, SceneShape, c1, c2, c3, c3_with_slack, c4, c4_with_slack};

@@ -189,6 +189,9 @@ pub fn drive_scene<B: Backend>(
     }
     let (mut sum, mut max) = (0.0f64, 0.0f64);
     let clock = Instant::now();
+    // The budget holds inside a frame too: a DBSMC run whose updates crowd (near a
+    // singular J_s, or where the gains cannot hold a layer) can take hours for one.
+    sc.backend_mut().set_deadline(Some(clock + budget));
     let grab_frame = scene.grab.map(|g| (g.at / FRAME).round() as u64);
     let release_frame = scene.grab.map(|g| (g.release / FRAME).round() as u64);
     for f in 1..=frames_total {
@@ -211,6 +214,10 @@ pub fn drive_scene<B: Backend>(
                 sum += frame.wall;
                 max = max.max(frame.wall);
                 rec.frames = f;
+            }
+            Err(dae_particles::SceneError::Backend(e)) if e.deadline => {
+                rec.status = "budget".into();
+                break;
             }
             Err(e) => {
                 rec.status = format!("failed: {e}");
@@ -475,9 +482,12 @@ pub fn run_particle_method(
                 SceneShape::Strands { strands, links } => {
                     run.with(crate::generated_strands(sys, strands, links))
                 }
-                SceneShape::Grid { w, pins, shear } => {
-                    run.with(crate::generated_grid(sys, w, pins, shear))
-                }
+                SceneShape::Grid {
+                    w,
+                    pins,
+                    shear,
+                    slack,
+                } => run.with(crate::generated_grid(sys, w, pins, shear, slack)),
             }
         }
         MethodSpec::Dbsmc {

@@ -1,7 +1,9 @@
 //! The scenes of the particle benchmark (C1-C4): a system, a duration, an optional
 //! grab, and what can be measured on it.
 
-use dae_particles::{GridPins, System, SystemError, chain, grid, grid_index, strands};
+use dae_particles::{
+    FAR_EDGE_SLACK, GridPins, System, SystemError, chain, grid_index, grid_with_slack, strands,
+};
 
 /// A grab during a run (C4): at `at` the particle is grabbed where it is, moved by
 /// `offset` over `duration` on a smooth path, held, and released at `release`.
@@ -37,7 +39,7 @@ pub enum SceneShape {
         /// Links per strand.
         links: usize,
     },
-    /// [`grid`]`(w, pins, shear)`.
+    /// [`grid_with_slack`]`(w, pins, shear, slack)`.
     Grid {
         /// Particles per side.
         w: usize,
@@ -45,6 +47,8 @@ pub enum SceneShape {
         pins: GridPins,
         /// Rigid diagonals.
         shear: bool,
+        /// The far edge's slack (with two pinned corners).
+        slack: f64,
     },
 }
 
@@ -133,8 +137,20 @@ pub fn c2(s: usize, n: usize) -> Result<ParticleScene, SystemError> {
     })
 }
 
-/// C3: a `w x w` cloth pinned as `pins` says (with shear diagonals if `shear`), 5 s.
+/// C3: a `w x w` cloth pinned as `pins` says (with shear diagonals if `shear`), 5 s;
+/// with two pinned corners the far edge has [`FAR_EDGE_SLACK`].
 pub fn c3(w: usize, pins: GridPins, shear: bool) -> Result<ParticleScene, SystemError> {
+    c3_with_slack(w, pins, shear, FAR_EDGE_SLACK)
+}
+
+/// [`c3`] with the far edge's `slack` chosen ([`grid_with_slack`]); a slack other than
+/// [`FAR_EDGE_SLACK`] is named in the variant (`W=32 (a) slack=0.02`).
+pub fn c3_with_slack(
+    w: usize,
+    pins: GridPins,
+    shear: bool,
+    slack: f64,
+) -> Result<ParticleScene, SystemError> {
     let tag = match pins {
         GridPins::Corners => "a",
         GridPins::Edge => "b",
@@ -142,9 +158,18 @@ pub fn c3(w: usize, pins: GridPins, shear: bool) -> Result<ParticleScene, System
     };
     Ok(ParticleScene {
         id: "C3",
-        variant: format!("W={w} ({tag}){}", if shear { " shear" } else { "" }),
-        system: grid(w, pins, shear)?,
-        shape: SceneShape::Grid { w, pins, shear },
+        variant: format!(
+            "W={w} ({tag}){}{}",
+            if shear { " shear" } else { "" },
+            slack_tag(pins, slack)
+        ),
+        system: grid_with_slack(w, pins, shear, slack)?,
+        shape: SceneShape::Grid {
+            w,
+            pins,
+            shear,
+            slack,
+        },
         duration: 5.0,
         grab: None,
         conservative: true,
@@ -156,9 +181,14 @@ pub fn c3(w: usize, pins: GridPins, shear: bool) -> Result<ParticleScene, System
 /// C4: C3(a) at `w`, the middle particle of the near edge grabbed at 1 s, moved 0.3 m
 /// along `+x` and `+z` over 0.5 s, held, released at 2.5 s; 5 s.
 pub fn c4(w: usize) -> Result<ParticleScene, SystemError> {
-    let mut s = c3(w, GridPins::Corners, false)?;
+    c4_with_slack(w, FAR_EDGE_SLACK)
+}
+
+/// [`c4`] on the cloth of [`c3_with_slack`].
+pub fn c4_with_slack(w: usize, slack: f64) -> Result<ParticleScene, SystemError> {
+    let mut s = c3_with_slack(w, GridPins::Corners, false, slack)?;
     s.id = "C4";
-    s.variant = format!("W={w}");
+    s.variant = format!("W={w}{}", slack_tag(GridPins::Corners, slack));
     s.conservative = false;
     s.grab = Some(Grab {
         particle: grid_index(w, w / 2, 0),
@@ -169,4 +199,13 @@ pub fn c4(w: usize) -> Result<ParticleScene, SystemError> {
     });
     s.tracked = grid_index(w, w / 2, 0);
     Ok(s)
+}
+
+/// ` slack=S` in a variant whose far edge has a slack other than [`FAR_EDGE_SLACK`].
+fn slack_tag(pins: GridPins, slack: f64) -> String {
+    if pins == GridPins::Edge || slack == FAR_EDGE_SLACK {
+        String::new()
+    } else {
+        format!(" slack={slack}")
+    }
 }

@@ -76,13 +76,14 @@ pub fn generated_strands(
 }
 
 /// `c3_cloth.dae` at `w x w` particles held as `pins` says, with rigid diagonals if
-/// `shear`, as the particle model of `system` (`dae_particles::grid(w, pins, shear)`,
-/// scenes C3 and C4).
+/// `shear` and the far edge's `slack`, as the particle model of `system`
+/// (`dae_particles::grid_with_slack(w, pins, shear, slack)`, scenes C3 and C4).
 pub fn generated_grid(
     system: &System,
     w: usize,
     pins: GridPins,
     shear: bool,
+    slack: f64,
 ) -> Result<FamilyParticles<ClothKernels>, String> {
     let edge = usize::from(pins == GridPins::Edge);
     let heavy = if pins == GridPins::CornersHeavy {
@@ -92,7 +93,7 @@ pub fn generated_grid(
     };
     let spec = Spec {
         sizes: sizes(&[("W", w), ("E", edge), ("D", usize::from(shear))]),
-        params: vec![("heavy".into(), heavy)],
+        params: vec![("heavy".into(), heavy), ("slack".into(), slack)],
         ..Spec::default()
     };
     let model = ClothKernels::new(&spec).map_err(|e| e.to_string())?;

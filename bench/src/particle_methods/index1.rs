@@ -134,6 +134,7 @@ impl<M: ParticleDae> IndexOneParticles<M> {
             method: self.name(),
             t,
             reason,
+            deadline: false,
         }
     }
 

@@ -150,6 +150,7 @@ impl Backend for Xpbd {
                 method: self.name(),
                 t,
                 reason: format!("particle {k} has a non-finite position"),
+                deadline: false,
             });
         }
         Ok(())
@@ -180,6 +181,7 @@ impl Backend for Xpbd {
                 method: self.name(),
                 t: self.t,
                 reason: format!("particle {k} does not exist"),
+                deadline: false,
             });
         }
         self.inv_mass[k] = if pin.is_some() {

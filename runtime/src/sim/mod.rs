@@ -79,6 +79,8 @@ use crate::{AlphaChoice, Crossing, Model, Policy, Settings, SimError, Summary};
 pub struct Simulator<M: Model> {
     model: M,
     set: Settings,
+    /// Wall-clock time after which a piece stops ([`Simulator::set_deadline`]).
+    deadline: Option<Instant>,
     layout: Layout,
     ctl: Controller,
     rk: Rk,
@@ -248,6 +250,7 @@ impl<M: Model> Simulator<M> {
                 short_steps: 0,
             },
             set: settings,
+            deadline: None,
         })
     }
 
@@ -322,6 +325,16 @@ impl<M: Model> Simulator<M> {
     /// run driven in pieces.
     pub fn solver_stats(&self) -> crate::SolverStats {
         self.ctl.solver.stats()
+    }
+
+    /// A wall-clock `deadline` (or none): once it has passed, [`advance_to`](Self::advance_to)
+    /// (and [`run`](Self::run)) stops after the step it is in with
+    /// [`SimError::Deadline`], at a consistent point that can be read, finished, or run
+    /// on from (after a later deadline). For a caller with a budget: a run whose control
+    /// updates crowd (near a singular `J_s`, or where the gains cannot hold a layer) can
+    /// take hours for one frame, and only the simulator sees its steps.
+    pub fn set_deadline(&mut self, deadline: Option<Instant>) {
+        self.deadline = deadline;
     }
 
     /// Force a control update at the current time before the next step (after the
@@ -422,6 +435,9 @@ impl<M: Model> Simulator<M> {
         while self.t < target {
             self.step(target)?;
             self.after_step(sink)?;
+            if self.deadline.is_some_and(|d| Instant::now() >= d) {
+                return Err(SimError::Deadline { t: self.t });
+            }
         }
         Ok(())
     }
