@@ -6,7 +6,8 @@
 //! * **A system** ([`System`]): particles (positions, velocities, masses), rigid links
 //!   with rest lengths, pins ([`Pin`]: fixed, or moving on a [`Motion`] that gives the
 //!   position and its first three derivatives), gravity. Built by [`chain`] (scene C1),
-//!   [`strands`] (C2), [`grid`] (C3, C4) or from an edge list ([`System::from_edges`],
+//!   [`strands`] (C2), [`grid`] (C3, C4; [`grid_with_slack`] for another slack of the
+//!   far edge between pinned corners) or from an edge list ([`System::from_edges`],
 //!   [`parse_edge_list`]); every constructor checks its input and says what is wrong.
 //! * **A backend** ([`Backend`]): a simulation method that owns the state and advances
 //!   it. [`Dbsmc`] is this project's method: the `dae-runtime` simulator driving a
