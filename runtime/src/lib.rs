@@ -144,8 +144,10 @@
 //! that produces a non-finite state is retried shorter (a large step can leave the
 //! model's domain where a smaller one does not) and reported ([`SimError::NonFinite`])
 //! when it keeps failing; a step that falls below what the time can resolve is
-//! [`SimError::StepUnderflow`], and [`Settings::max_steps`] bounds the work
-//! ([`SimError::StepLimit`]).
+//! [`SimError::StepUnderflow`] (which says where `J_s` came near singular, if it
+//! did), [`Settings::max_steps`] bounds the work
+//! ([`SimError::StepLimit`]), and [`Simulator::set_deadline`] the wall-clock time
+//! ([`SimError::Deadline`], at a point the run goes on from).
 //!
 //! # Which algebraic output to trust: `z`, `z_eq`, `z*`
 //!
