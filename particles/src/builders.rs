@@ -261,18 +261,23 @@ mod tests {
         rest_lengths_hold(&s);
     }
 
-    #[test]
-    fn the_far_edge_between_pinned_corners_has_its_slack() {
-        let w = 16;
-        let s = grid(w, GridPins::Corners, false).unwrap();
-        let edge: f64 = (0..w - 1)
+    /// The length of the far edge (`iy = w - 1`) of a `w x w` grid, link by link.
+    fn far_edge_length(s: &System, w: usize) -> f64 {
+        (0..w - 1)
             .map(|ix| {
                 distance(
                     s.positions()[grid_index(w, ix, w - 1)],
                     s.positions()[grid_index(w, ix + 1, w - 1)],
                 )
             })
-            .sum();
+            .sum()
+    }
+
+    #[test]
+    fn the_far_edge_between_pinned_corners_has_its_slack() {
+        let w = 16;
+        let s = grid(w, GridPins::Corners, false).unwrap();
+        let edge = far_edge_length(&s, w);
         // The chords of the arc are a little shorter than the arc itself.
         assert!((edge - 1.0 - FAR_EDGE_SLACK).abs() < 1e-5, "{edge}");
         let mid = s.positions()[grid_index(w, w / 2, w - 1)];
@@ -287,14 +292,7 @@ mod tests {
     fn a_chosen_slack_gives_the_far_edge_its_length_and_sag() {
         let w = 16;
         let s = grid_with_slack(w, GridPins::Corners, false, 0.02).unwrap();
-        let edge: f64 = (0..w - 1)
-            .map(|ix| {
-                distance(
-                    s.positions()[grid_index(w, ix, w - 1)],
-                    s.positions()[grid_index(w, ix + 1, w - 1)],
-                )
-            })
-            .sum();
+        let edge = far_edge_length(&s, w);
         // 15 chords of an arc of half-angle 0.344 rad: 9e-5 shorter than the arc.
         assert!((edge - 1.02).abs() < 2e-4, "{edge}");
         // The arc's sag R (1 - cos phi) = 8.69 cm, by phi / sin(phi) = 1.02.

@@ -98,8 +98,8 @@ pub struct Summary {
     pub located_crossings: u64,
     /// Steps taken whole, without locating the crossings inside them, by the progress
     /// guard (after two steps in a row shorter than a millionth of the reference step,
-    /// the fixed step or at most the smallest `mu_i`: a variable resting on its watch level with its rate lost in rounding). Their
-    /// excursions are still measured on the cubic of each `s_i` and reported as a
+    /// the fixed step or at most the smallest `mu_i`: a variable resting on its watch
+    /// level with its rate lost in rounding). Their excursions are still measured on the cubic of each `s_i` and reported as a
     /// bound loss when they leave the layer; a non-zero count says where the located
     /// crossings gave way.
     pub unlocated_steps: u64,

@@ -116,9 +116,10 @@ pub struct Simulator<M: Model> {
     ds_b: Vec<f64>,
     drift: Vec<f64>,
     s_prev: Vec<f64>,
-    /// `z` and `s` at the end of an embedded pair's trial step (its error in `s`).
+    /// `z` at the end of a trial step, and `s` at its embedded solution (for the
+    /// step's error in `s`).
     z_trial: Vec<f64>,
-    s_trial: Vec<f64>,
+    s_embedded: Vec<f64>,
     z_eq: Vec<f64>,
     z_star: Vec<f64>,
     wres: Vec<f64>,
@@ -222,7 +223,7 @@ impl<M: Model> Simulator<M> {
             drift: vm(),
             s_prev: vm(),
             z_trial: vm(),
-            s_trial: vm(),
+            s_embedded: vm(),
             z_eq: vm(),
             z_star: vm(),
             wres: vm(),
@@ -300,10 +301,9 @@ impl<M: Model> Simulator<M> {
     /// say), for a run driven in pieces that must notice it before `finish`. `None`
     /// (without allocating) while every layer held.
     pub fn bound_loss(&self) -> Option<BoundLoss> {
-        let near_singular = self.ctl.min_pivot_ratio.filter(|(r, _)| *r < NEAR_SINGULAR);
         self.stats
             .loss
-            .record(&self.layout.constraints, near_singular)
+            .record(&self.layout.constraints, self.near_singular())
     }
 
     /// Where `J_s` was nearest singular, if its smallest pivot ratio fell below

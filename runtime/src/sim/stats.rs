@@ -119,7 +119,7 @@ impl Loss {
     pub(crate) fn record(
         &self,
         names: &[String],
-        near_singular: Option<(f64, f64)>,
+        near_singular: Option<crate::summary::NearSingular>,
     ) -> Option<BoundLoss> {
         let (first_time, first) = self.first?;
         let (worst_ratio, worst_time, worst) = self.worst?;
@@ -137,10 +137,7 @@ impl Loss {
                 .collect(),
             steps_outside: self.steps,
             time_outside: self.time,
-            near_singular: near_singular.map(|(ratio, t)| crate::summary::NearSingular {
-                pivot_ratio: ratio,
-                t,
-            }),
+            near_singular,
         })
     }
 }

@@ -94,7 +94,6 @@ impl<M: Model> Simulator<M> {
             self.t = t_new;
             self.ramp_z();
             if s_known {
-                self.ctl.s.copy_from_slice(&self.s_trial);
                 self.eval_point_but_s(t_new);
             } else {
                 self.eval_point(t_new);
@@ -153,15 +152,13 @@ impl<M: Model> Simulator<M> {
     /// against the embedded solution in `xs` ([`layer_error`]), both with `z` on its
     /// ramp at `t1` (in `z_trial`, as the accepted point will have it). The solution is
     /// evaluated last, so that everything `sliding` leaves (`s`, `w`, `alpha_hat`) is
-    /// the point's own when the step is accepted; `s` is also kept in `s_trial`.
+    /// the point's own when the step is accepted.
     fn trial_layer_error(&mut self, t1: f64) -> f64 {
         let model = &self.model;
         self.ctl.sliding(model, t1, &self.xs, &self.z_trial);
-        self.s_trial.copy_from_slice(&self.ctl.s);
+        self.s_embedded.copy_from_slice(&self.ctl.s);
         self.ctl.sliding(model, t1, &self.rk.y1, &self.z_trial);
-        let err = layer_error(&self.ctl.s, &self.s_trial, &self.set.eps);
-        self.s_trial.copy_from_slice(&self.ctl.s);
-        err
+        layer_error(&self.ctl.s, &self.s_embedded, &self.set.eps)
     }
 
     /// Without located crossings (or under SPSM), a step's measure is its end.
@@ -231,8 +228,8 @@ impl<M: Model> Simulator<M> {
     /// embedded one of one order less built from `f` at the step's end (Heun for Euler;
     /// for RK4 the fourth stage taken at the solution, `x_hat = x + h (f(x) - k_4) / 6`),
     /// which is the next step's first stage, so an accepted step costs no extra `f`.
-    /// Leaves `s` at the end in `s_trial` and `f` there in `rk.f1`; returns whether
-    /// `s_trial` is the end's (not when the step is not finite).
+    /// Leaves `s` (with `w` and `alpha_hat`) evaluated at the end and `f` there in
+    /// `rk.f1`; returns whether they are (not when the step is not finite).
     fn fixed_layer_error(&mut self, t0: f64, t_new: &mut f64, off_grid: &mut bool) -> bool {
         // `x_hat = x + h (f(x) - k_last) / d`; the estimate is of order h^2 (Euler) or
         // h^4 (RK4).
@@ -441,9 +438,8 @@ impl<M: Model> Simulator<M> {
         self.x.copy_from_slice(&self.rk.y1);
         self.t = if h >= remaining { end } else { t0 + h };
         self.ramp_z();
-        // `s` at the point was evaluated for the step's test (every accepted step ends
-        // with one).
-        self.ctl.s.copy_from_slice(&self.s_trial);
+        // `s` at the point was evaluated last by the step's test (every accepted step
+        // ends with one).
         self.eval_point_but_s(self.t);
         // FSAL: the last stage is f at the new point.
         self.f_cur.copy_from_slice(&self.rk.k[pair.stages() - 1]);

@@ -4,7 +4,6 @@
 use super::{Check, Simulator, Switch};
 use crate::error::Quantity;
 use crate::solve::LinearSolver;
-use crate::summary::NEAR_SINGULAR;
 use crate::trace::{Sample, Sink};
 use crate::{Model, Policy, SimError, SolverSummary, Summary};
 
@@ -152,7 +151,6 @@ impl<M: Model> Simulator<M> {
         let st = &self.stats;
         let ss = self.ctl.solver.stats();
         let window = st.stats_from.is_some();
-        let near_singular = self.ctl.min_pivot_ratio.filter(|(r, _)| *r < NEAR_SINGULAR);
         Summary {
             solver: SolverSummary {
                 name: self.ctl.solver.name().to_string(),
@@ -182,7 +180,9 @@ impl<M: Model> Simulator<M> {
             max_abs_w: window.then(|| st.max_w.clone()),
             seen_max_abs_s: st.seen_s.clone(),
             seen_max_abs_w: st.seen_w.clone(),
-            bound_loss: st.loss.record(&self.layout.constraints, near_singular),
+            bound_loss: st
+                .loss
+                .record(&self.layout.constraints, self.near_singular()),
             min_pivot_ratio: self.ctl.min_pivot_ratio,
             robustness_violations: self.set.check_robustness.then_some(st.violations),
             f_evals: st.rhs_evals,
