@@ -232,7 +232,7 @@ fn the_generated_scene_models_are_the_hand_written_ones_through_grabs_and_releas
         (5, GridPins::Corners, false, FAR_EDGE_SLACK),
         (5, GridPins::Edge, false, FAR_EDGE_SLACK),
         (5, GridPins::CornersHeavy, false, FAR_EDGE_SLACK),
-        (5, GridPins::Corners, false, 0.02),
+        (5, GridPins::Corners, false, 1e-3),
     ] {
         let sys = grid_with_slack(w, pins, shear, slack).unwrap();
         let fam = generated_grid(&sys, w, pins, shear, slack).unwrap();
@@ -290,7 +290,7 @@ fn a_generated_model_of_another_scene_is_refused_and_a_broken_pin_is_loud() {
         "{e}"
     );
     // Another slack: the far edge starts elsewhere.
-    let e = generated_grid(&corners, 5, GridPins::Corners, false, 0.02).unwrap_err();
+    let e = generated_grid(&corners, 5, GridPins::Corners, false, 1e-3).unwrap_err();
     assert!(e.contains("particle") && e.contains("starts at"), "{e}");
     let e = generated_grid(&corners, 4, GridPins::Corners, false, FAR_EDGE_SLACK).unwrap_err();
     assert!(e.contains("states"), "{e}");
