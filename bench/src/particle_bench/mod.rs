@@ -6,12 +6,13 @@ mod pictures;
 mod report;
 mod run;
 mod scenes;
+mod targets;
 
 pub use charts::{Line, loglog, ratio_chart, strain_chart};
 pub use pictures::{Capture, strain_colour, write_pictures};
 pub use report::{
-    CSV_COLUMNS, bound_held, cheapest, cheapest_table, fitted_exponent, scene_groups, scene_title,
-    stability_table, write_particles_csv,
+    CSV_COLUMNS, bound_held, cheapest, cheapest_table, dbsmc_runs_table, fitted_exponent,
+    scene_groups, scene_title, stability_table, write_particles_csv,
 };
 pub use run::{
     FrameObserver, MethodSpec, PILOT_SAFETY, ParticleRecord, RELAXED_DRIFT_SAFETY,
@@ -19,3 +20,4 @@ pub use run::{
     index_one, particle_pilot, relaxed_settings, run_particle_method, run_relaxed_with,
 };
 pub use scenes::{Grab, ParticleScene, SceneShape, c1, c2, c3, c3_with_slack, c4, c4_with_slack};
+pub use targets::targets_section;

@@ -150,7 +150,7 @@ pub fn cheapest<'a>(
 }
 
 /// [`cheapest`] among `runs` (already one scene and method).
-fn cheapest_of<'a>(
+pub(super) fn cheapest_of<'a>(
     runs: impl Iterator<Item = &'a ParticleRecord>,
     target: f64,
 ) -> Option<&'a ParticleRecord> {
@@ -252,6 +252,49 @@ pub fn stability_table(records: &[ParticleRecord]) -> String {
                 "-".into()
             },
         );
+    }
+    s
+}
+
+/// Markdown table: every DBSMC run (all designs, scenes in order of first appearance)
+/// with its worst strain over the frames it ran, whether it kept the strain bound and
+/// its `s`-layer, its cost and the counts that explain the cost: control updates and
+/// steps per frame, and how many links asked for updates.
+pub fn dbsmc_runs_table(records: &[ParticleRecord]) -> String {
+    let mut s = String::from(
+        "| scene | links | method | setting | worst strain (frames) | strain bound held | s-layer left at (max \\|s\\|/eps) | ms / frame mean (max) | updates / frame | steps / frame | links asking | status |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for (t, runs) in scene_groups(records) {
+        for r in runs.iter().filter(|r| r.method.starts_with("dbsmc")) {
+            let per_frame = |n: u64| n as f64 / r.frames.max(1) as f64;
+            let layer = r.counters.layer_lost_at.map_or("-".into(), |at| {
+                format!(
+                    "t = {at:.3} s ({:.3})",
+                    r.counters.layer_worst_ratio.unwrap_or(f64::NAN)
+                )
+            });
+            let held = match bound_held(r) {
+                Some(true) => "yes",
+                Some(false) => "**no**",
+                None => "-",
+            };
+            let status: String = r.status.replace('|', "/").chars().take(80).collect();
+            let _ = writeln!(
+                s,
+                "| {t} | {} | {} | {} | {:.2e} ({}) | {held} | {layer} | {:.3} ({:.3}) | {:.0} | {:.0} | {} | {status} |",
+                r.size,
+                r.method,
+                r.knob,
+                r.worst_strain,
+                r.frames,
+                r.ms_mean,
+                r.ms_max,
+                per_frame(r.counters.updates),
+                per_frame(r.counters.steps),
+                r.counters.links_asking,
+            );
+        }
     }
     s
 }
@@ -373,6 +416,32 @@ mod tests {
                 "| C1 N=10 r=1 | a | k=2 (1.000 ms) | k=2 (1.000 ms) | k=2 (1.000 ms) |",
             ]
         );
+    }
+
+    #[test]
+    fn the_dbsmc_table_has_every_dbsmc_run_and_no_other() {
+        let mut lost = rec("dbsmc-euler", "eps=1e-3", Some(1e-3), 2e-3, 1.0, "ok");
+        lost.counters.layer_lost_at = Some(1.527);
+        lost.counters.layer_worst_ratio = Some(2.64);
+        lost.counters.updates = 600;
+        let records = vec![
+            rec("dbsmc", "eps=1e-3", Some(1e-3), 9e-4, 0.5, "ok"),
+            rec("xpbd-substeps", "k=16", None, 6e-3, 0.01, "ok"),
+            lost,
+        ];
+        let rows: Vec<String> = dbsmc_runs_table(&records)
+            .lines()
+            .skip(2)
+            .map(String::from)
+            .collect();
+        assert_eq!(rows.len(), 2, "{rows:?}");
+        assert!(
+            rows[0]
+                .starts_with("| C1 N=10 r=1 | 10 | dbsmc | eps=1e-3 | 9.00e-4 (300) | yes | - |"),
+            "{}",
+            rows[0]
+        );
+        assert!(rows[1].contains("| dbsmc-euler | eps=1e-3 | 2.00e-3 (300) | **no** | t = 1.527 s (2.640) | 1.000 (2.000) | 2 |"), "{}", rows[1]);
     }
 
     #[test]

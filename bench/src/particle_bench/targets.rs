@@ -1,0 +1,496 @@
+//! The targets of issue 13, computed from the benchmark's records, so that the figures
+//! docs/particles.md reads for them come from the same run as the CSV (and cannot go
+//! stale against it): the bound through every scene, the 64 x 64 cloth's cost, the heavy
+//! chains at 1e-3 against XPBD, and the cost exponents of the size sweep.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+use super::report::{bound_held, cheapest_of, fitted_exponent, scene_title};
+use super::run::ParticleRecord;
+
+/// The frame budget of target 2 (ms): 1/60 s of one core.
+pub const FRAME_TARGET_MS: f64 = 16.0;
+/// Target 2's largest ratio of the worst frame to the mean.
+pub const MAX_OVER_MEAN_TARGET: f64 = 2.0;
+/// Target 4's largest cost exponents: chains, cloth.
+pub const EXPONENT_TARGETS: [(&str, f64); 2] = [("C1", 1.1), ("C3", 1.3)];
+
+fn is_dbsmc(r: &ParticleRecord) -> bool {
+    r.method.starts_with("dbsmc")
+}
+
+/// A row of the size sweep (the same first frames at every size), not a whole scene.
+fn is_sweep(r: &ParticleRecord) -> bool {
+    r.variant.contains(" first ")
+}
+
+/// Whether a DBSMC run kept both its guarantees over the frames it ran: the strain
+/// within 1.05 eps and every `s_i` within its layer.
+fn kept(r: &ParticleRecord) -> bool {
+    bound_held(r) == Some(true) && r.counters.layer_lost_at.is_none()
+}
+
+fn ratio(r: &ParticleRecord) -> f64 {
+    r.eps.map_or(f64::NAN, |e| r.worst_strain / e)
+}
+
+/// The markdown section: one subsection per target, each with its verdict.
+pub fn targets_section(records: &[ParticleRecord]) -> String {
+    let mut s = String::from("\n## Targets of issue 13 (computed from this run)\n");
+    s += &bound_target(records);
+    s += &cloth_cost_target(records);
+    s += &heavy_chain_target(records);
+    s += &exponent_target(records);
+    s
+}
+
+/// Target 1: `|L - L0| <= 1.05 eps` on every link through every scene, for DBSMC.
+fn bound_target(records: &[ParticleRecord]) -> String {
+    let mut s = String::from(
+        "\n### 1. DBSMC holds |L - L0| <= 1.05 eps through every scene\n\n\
+         | method | runs | complete | budget | failed | strain bound lost | s-layer left | largest worst strain / eps |\n\
+         |---|---|---|---|---|---|---|---|\n",
+    );
+    let mut by_method: BTreeMap<&str, Vec<&ParticleRecord>> = BTreeMap::new();
+    for r in records.iter().filter(|r| is_dbsmc(r)) {
+        by_method.entry(r.method.as_str()).or_default().push(r);
+    }
+    let mut misses: Vec<&ParticleRecord> = Vec::new();
+    for (m, runs) in &by_method {
+        let count = |f: &dyn Fn(&ParticleRecord) -> bool| runs.iter().filter(|r| f(r)).count();
+        let largest = runs
+            .iter()
+            .filter(|r| r.frames > 0)
+            .map(|r| ratio(r))
+            .fold(0.0f64, f64::max);
+        let _ = writeln!(
+            s,
+            "| {m} | {} | {} | {} | {} | {} | {} | {largest:.3} |",
+            runs.len(),
+            count(&|r| r.complete()),
+            count(&|r| r.status == "budget"),
+            count(&|r| r.status.starts_with("failed")),
+            count(&|r| bound_held(r) == Some(false)),
+            count(&|r| r.counters.layer_lost_at.is_some()),
+        );
+        misses.extend(runs.iter().copied().filter(|r| r.frames > 0 && !kept(r)));
+    }
+    let started = records.iter().filter(|r| is_dbsmc(r) && r.frames > 0);
+    let frame_tied: Vec<&ParticleRecord> = started
+        .clone()
+        .filter(|r| r.method == "dbsmc-relaxed" || r.method == "dbsmc-ramp")
+        .collect();
+    s += "\n";
+    for r in &misses {
+        let _ = writeln!(
+            s,
+            "- missed: {} {} {}: worst strain {:.3} eps{} ({}, {} of {} frames)",
+            scene_title(r),
+            r.method,
+            r.knob,
+            ratio(r),
+            r.counters.layer_lost_at.map_or(String::new(), |t| format!(
+                ", s-layer left at t = {t:.3} s (max |s| {:.3} eps)",
+                r.counters.layer_worst_ratio.unwrap_or(f64::NAN)
+            )),
+            r.status,
+            r.frames,
+            r.frames_total
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nVerdict: {} of {} DBSMC runs that started kept both (strain and s-layer) over the frames they ran; \
+         the frame-tied designs (`dbsmc-relaxed`, `dbsmc-ramp`): {} of {}; whole scenes among those: {}.",
+        started.clone().filter(|r| kept(r)).count(),
+        started.count(),
+        frame_tied.iter().filter(|r| kept(r)).count(),
+        frame_tied.len(),
+        frame_tied
+            .iter()
+            .filter(|r| kept(r) && r.complete())
+            .count(),
+    );
+    s
+}
+
+/// Target 2: the 64 x 64 cloth (a) at eps = 1e-2 under 16 ms per frame, max / mean < 2.
+fn cloth_cost_target(records: &[ParticleRecord]) -> String {
+    let mut s = String::from(
+        "\n### 2. C3 64 x 64 (a) at eps = 1e-2: under 16 ms per frame, max / mean under 2\n\n\
+         | scene | method | setting | frames | worst strain | ms / frame mean | max / mean | holds 1e-2 | meets |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
+    );
+    let mut met = 0;
+    let rows: Vec<&ParticleRecord> = records
+        .iter()
+        .filter(|r| r.scene == "C3" && r.variant.starts_with("W=64 (a)") && r.frames > 0)
+        .collect();
+    for r in &rows {
+        let holds = r.worst_strain <= 1.05e-2 && (!is_dbsmc(r) || kept(r));
+        let over = r.ms_max / r.ms_mean;
+        let meets = holds && r.ms_mean < FRAME_TARGET_MS && over < MAX_OVER_MEAN_TARGET;
+        met += usize::from(meets);
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {}/{} | {:.2e} | {:.1} | {over:.2} | {} | {} |",
+            scene_title(r),
+            r.method,
+            r.knob,
+            r.frames,
+            r.frames_total,
+            r.worst_strain,
+            r.ms_mean,
+            if holds { "yes" } else { "no" },
+            if meets { "yes" } else { "no" },
+        );
+    }
+    let best = |dbsmc: bool| {
+        rows.iter()
+            .filter(|r| is_dbsmc(r) == dbsmc)
+            .filter(|r| r.worst_strain <= 1.05e-2 && (!dbsmc || kept(r)))
+            .min_by(|a, b| a.ms_mean.total_cmp(&b.ms_mean))
+            .map_or("none".to_string(), |r| {
+                format!(
+                    "{} {} {:.1} ms ({:.0}x the target)",
+                    r.method,
+                    r.knob,
+                    r.ms_mean,
+                    r.ms_mean / FRAME_TARGET_MS
+                )
+            })
+    };
+    let _ = writeln!(
+        s,
+        "\nVerdict: {}. Cheapest DBSMC holding 1e-2 over its frames: {}; cheapest other method: {}.",
+        if rows.is_empty() {
+            "not measured in this run"
+        } else if met > 0 {
+            "met"
+        } else {
+            "missed"
+        },
+        best(true),
+        best(false)
+    );
+    s
+}
+
+/// Target 3: on C1 with an end-mass ratio of at least 1e2, DBSMC holding worst strain
+/// 1e-3 cheaper per frame than XPBD small steps holding it (the same run).
+fn heavy_chain_target(records: &[ParticleRecord]) -> String {
+    let mut s = String::from(
+        "\n### 3. C1 with end-mass ratio >= 1e2 at worst strain 1e-3: DBSMC cheaper than XPBD small steps\n\n\
+         Whole scenes (5 s), complete runs, DBSMC runs that kept their s-layer.\n\n\
+         | scene | cheapest DBSMC holding 1e-3 (ms / frame) | cheapest XPBD small steps holding 1e-3 (ms / frame) | ratio | met |\n\
+         |---|---|---|---|---|\n",
+    );
+    let mut scenes: Vec<String> = Vec::new();
+    for r in records
+        .iter()
+        .filter(|r| r.scene == "C1" && r.param >= 1e2 && !is_sweep(r))
+    {
+        let t = scene_title(r);
+        if !scenes.contains(&t) {
+            scenes.push(t);
+        }
+    }
+    for t in &scenes {
+        let on = |r: &&ParticleRecord| &scene_title(r) == t;
+        let dbsmc = cheapest_of(records.iter().filter(on).filter(|r| is_dbsmc(r)), 1e-3);
+        let xpbd = cheapest_of(
+            records
+                .iter()
+                .filter(on)
+                .filter(|r| r.method == "xpbd-substeps"),
+            1e-3,
+        );
+        let cell = |r: Option<&ParticleRecord>| {
+            r.map_or("none".to_string(), |r| {
+                format!("{} {} ({:.3})", r.method, r.knob, r.ms_mean)
+            })
+        };
+        let xpbd_cell = match xpbd {
+            Some(r) => cell(Some(r)),
+            None => {
+                // The closest XPBD came: its least worst strain among complete runs.
+                let closest = records
+                    .iter()
+                    .filter(on)
+                    .filter(|r| r.method == "xpbd-substeps" && r.complete())
+                    .min_by(|a, b| a.worst_strain.total_cmp(&b.worst_strain));
+                closest.map_or("none ran".into(), |r| {
+                    format!(
+                        "none (closest: {} at {:.1e}, {:.3} ms)",
+                        r.knob, r.worst_strain, r.ms_mean
+                    )
+                })
+            }
+        };
+        let (ratio, met) = match (dbsmc, xpbd) {
+            (Some(d), Some(x)) => (
+                format!("{:.2}", d.ms_mean / x.ms_mean),
+                d.ms_mean < x.ms_mean,
+            ),
+            (Some(_), None) => ("-".into(), true),
+            _ => ("-".into(), false),
+        };
+        let _ = writeln!(
+            s,
+            "| {t} | {} | {xpbd_cell} | {ratio} | {} |",
+            cell(dbsmc),
+            if met { "yes" } else { "no" }
+        );
+    }
+    s
+}
+
+/// Target 4: the exponent of cost per frame against links, fitted over the size sweep
+/// (every size over the same first frames), per setting that completed every size with
+/// its guarantees kept.
+fn exponent_target(records: &[ParticleRecord]) -> String {
+    let mut s = String::from(
+        "\n### 4. Cost against links: exponent <= 1.1 on chains, <= 1.3 on cloth\n\n\
+         | family | method | setting | sizes (links) | exponent | target | met |\n\
+         |---|---|---|---|---|---|---|\n",
+    );
+    for (id, target) in EXPONENT_TARGETS {
+        let sweep: Vec<&ParticleRecord> = records
+            .iter()
+            .filter(|r| r.scene == id && is_sweep(r))
+            .collect();
+        let mut sizes: Vec<usize> = sweep.iter().map(|r| r.size).collect();
+        sizes.sort_unstable();
+        sizes.dedup();
+        let mut settings: Vec<(String, String)> = Vec::new();
+        for r in &sweep {
+            let k = (r.method.clone(), r.knob.clone());
+            if !settings.contains(&k) {
+                settings.push(k);
+            }
+        }
+        for (m, k) in settings {
+            let runs: Vec<&&ParticleRecord> = sweep
+                .iter()
+                .filter(|r| r.method == m && r.knob == k)
+                .collect();
+            let whole = runs.len() == sizes.len()
+                && runs
+                    .iter()
+                    .all(|r| r.complete() && (!is_dbsmc(r) || kept(r)));
+            let points: Vec<(f64, f64)> = runs.iter().map(|r| (r.size as f64, r.ms_mean)).collect();
+            let exp = whole.then(|| fitted_exponent(&points)).flatten();
+            let listed: Vec<String> = sizes.iter().map(|n| n.to_string()).collect();
+            let _ = writeln!(
+                s,
+                "| {id} | {m} | {k} | {} | {} | {target} | {} |",
+                listed.join(" / "),
+                exp.map_or("- (not every size held)".into(), |p| format!("{p:.2}")),
+                match exp {
+                    Some(p) if p <= target => "yes",
+                    Some(_) => "no",
+                    None => "-",
+                }
+            );
+        }
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dae_particles::Counters;
+
+    #[allow(clippy::too_many_arguments)]
+    fn rec(
+        scene: &str,
+        variant: &str,
+        size: usize,
+        param: f64,
+        method: &str,
+        knob: &str,
+        eps: Option<f64>,
+        strain: f64,
+        ms: f64,
+    ) -> ParticleRecord {
+        ParticleRecord {
+            scene: scene.into(),
+            variant: variant.into(),
+            size,
+            param,
+            method: method.into(),
+            knob: knob.into(),
+            eps,
+            worst_strain: strain,
+            ms_mean: ms,
+            ms_max: 1.5 * ms,
+            frames: 300,
+            frames_total: 300,
+            status: "ok".into(),
+            counters: Counters::default(),
+            pos_err: None,
+            energy_drift: None,
+            t_min: None,
+            step: None,
+        }
+    }
+
+    #[test]
+    fn the_bound_target_counts_and_names_every_run_that_left_a_guarantee() {
+        let held = rec(
+            "C1",
+            "N=10 r=1e4",
+            10,
+            1e4,
+            "dbsmc-relaxed",
+            "a",
+            Some(1e-3),
+            9e-4,
+            1.0,
+        );
+        let mut layer = rec(
+            "C1",
+            "N=10 r=1e4",
+            10,
+            1e4,
+            "dbsmc-euler",
+            "b",
+            Some(1e-3),
+            5e-4,
+            1.0,
+        );
+        layer.counters.layer_lost_at = Some(1.5);
+        layer.counters.layer_worst_ratio = Some(2.6);
+        let strain = rec("C4", "W=8", 112, 1.0, "dbsmc", "c", Some(1e-2), 2e-2, 1.0);
+        let xpbd = rec(
+            "C1",
+            "N=10 r=1e4",
+            10,
+            1e4,
+            "xpbd-substeps",
+            "k=1",
+            None,
+            3.0,
+            0.1,
+        );
+        let s = bound_target(&[held, layer, strain, xpbd]);
+        assert!(
+            s.contains("| dbsmc-euler | 1 | 1 | 0 | 0 | 0 | 1 | 0.500 |"),
+            "{s}"
+        );
+        assert!(
+            s.contains("| dbsmc | 1 | 1 | 0 | 0 | 1 | 0 | 2.000 |"),
+            "{s}"
+        );
+        assert!(
+            s.contains("s-layer left at t = 1.500 s (max |s| 2.600 eps)"),
+            "{s}"
+        );
+        assert!(s.contains("C4 W=8 dbsmc c: worst strain 2.000 eps"), "{s}");
+        assert!(!s.contains("xpbd"), "{s}");
+        assert!(s.contains("1 of 3 DBSMC runs"), "{s}");
+        assert!(s.contains("(`dbsmc-relaxed`, `dbsmc-ramp`): 1 of 1"), "{s}");
+    }
+
+    #[test]
+    fn the_heavy_chain_target_compares_the_cheapest_holding_runs_of_one_scene() {
+        let t = |m: &str, k: &str, eps, strain, ms| {
+            rec("C1", "N=10 r=1e2", 10, 1e2, m, k, eps, strain, ms)
+        };
+        let mut lost = t("dbsmc-dp", "x", Some(1e-3), 1e-4, 0.01);
+        lost.counters.layer_lost_at = Some(0.1);
+        let records = [
+            t("dbsmc-relaxed", "a", Some(1e-3), 9e-4, 0.3),
+            t("dbsmc-ramp", "b", Some(1e-3), 8e-4, 0.2),
+            lost,
+            t("xpbd-substeps", "k=64", None, 2e-3, 0.05),
+            t("xpbd-substeps", "k=256", None, 9e-4, 0.1),
+            // Another scene, and a light chain: not in this target.
+            rec(
+                "C1",
+                "N=10 r=1",
+                10,
+                1.0,
+                "xpbd-substeps",
+                "k=1",
+                None,
+                1e-4,
+                0.001,
+            ),
+        ];
+        let s = heavy_chain_target(&records);
+        assert!(
+            s.contains(
+                "| C1 N=10 r=1e2 | dbsmc-ramp b (0.200) | xpbd-substeps k=256 (0.100) | 2.00 | no |"
+            ),
+            "{s}"
+        );
+        assert!(!s.contains("r=1 |"), "{s}");
+    }
+
+    #[test]
+    fn the_exponent_target_fits_only_settings_that_held_every_size() {
+        let sweep = |n: usize, m: &str, ms: f64, eps| {
+            rec(
+                "C3",
+                &format!("W={n} (a) first 0.2 s"),
+                n,
+                1.0,
+                m,
+                "k",
+                eps,
+                5e-3,
+                ms,
+            )
+        };
+        let mut lost = sweep(1000, "dbsmc-ramp", 10.0, Some(1e-2));
+        lost.counters.layer_lost_at = Some(0.1);
+        let records = [
+            sweep(10, "xpbd-substeps", 1.0, None),
+            sweep(1000, "xpbd-substeps", 100.0, None),
+            sweep(10, "dbsmc-ramp", 1.0, Some(1e-2)),
+            lost,
+        ];
+        let s = exponent_target(&records);
+        assert!(
+            s.contains("| C3 | xpbd-substeps | k | 10 / 1000 | 1.00 | 1.3 | yes |"),
+            "{s}"
+        );
+        assert!(
+            s.contains("| C3 | dbsmc-ramp | k | 10 / 1000 | - (not every size held) | 1.3 | - |"),
+            "{s}"
+        );
+    }
+
+    #[test]
+    fn the_cloth_target_is_met_only_under_the_frame_budget_with_the_strain_held() {
+        let w64 = |m: &str, strain, ms| {
+            rec(
+                "C3",
+                "W=64 (a) first 0.2 s",
+                8064,
+                1.0,
+                m,
+                "k",
+                None,
+                strain,
+                ms,
+            )
+        };
+        let missed = cloth_cost_target(&[
+            w64("xpbd-substeps", 2e-2, 5.0),
+            w64("index1-rk4", 1e-3, 900.0),
+        ]);
+        assert!(missed.contains("Verdict: missed"), "{missed}");
+        assert!(
+            missed.contains("cheapest other method: index1-rk4 k 900.0 ms (56x the target)"),
+            "{missed}"
+        );
+        let met = cloth_cost_target(&[w64("xpbd-substeps", 5e-3, 5.0)]);
+        assert!(met.contains("Verdict: met"), "{met}");
+        let none = cloth_cost_target(&[]);
+        assert!(none.contains("Verdict: not measured in this run"), "{none}");
+    }
+}
