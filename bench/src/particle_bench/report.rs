@@ -55,8 +55,12 @@ fn quote(s: &str) -> String {
 }
 
 /// Whether a DBSMC run kept `|L - L0| <= 1.05 eps L0` on every link and frame it ran
-/// (`None` for methods without a bound).
+/// (`None` for methods without a bound, and for a run that failed before its first
+/// frame: it measured no strain, so it neither held nor lost the bound).
 pub fn bound_held(r: &ParticleRecord) -> Option<bool> {
+    if r.frames == 0 {
+        return None;
+    }
     r.eps.map(|e| r.worst_strain <= 1.05 * e)
 }
 
@@ -415,6 +419,31 @@ mod tests {
                 "| C1 N=100 r=1 | b | k=1 (2.000 ms) | k=1 (2.000 ms) | none |",
                 "| C1 N=10 r=1 | a | k=2 (1.000 ms) | k=2 (1.000 ms) | k=2 (1.000 ms) |",
             ]
+        );
+    }
+
+    #[test]
+    fn a_run_that_failed_before_its_first_frame_neither_held_nor_lost_the_bound() {
+        let mut never = rec(
+            "dbsmc",
+            "eps=1e-2",
+            Some(1e-2),
+            f64::NAN,
+            f64::NAN,
+            "failed: singular",
+        );
+        never.frames = 0;
+        assert_eq!(bound_held(&never), None);
+        let stability = stability_table(&[never]);
+        assert!(
+            stability.contains("| 1 | 0 | 0 | 1 | 0 | 0 |"),
+            "{stability}"
+        );
+        let lost = rec("dbsmc", "eps=1e-2", Some(1e-2), 2e-2, 1.0, "ok");
+        assert_eq!(bound_held(&lost), Some(false));
+        assert_eq!(
+            bound_held(&rec("xpbd-substeps", "k=1", None, 2e-2, 1.0, "ok")),
+            None
         );
     }
 

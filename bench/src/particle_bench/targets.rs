@@ -76,6 +76,19 @@ fn bound_target(records: &[ParticleRecord]) -> String {
         );
         misses.extend(runs.iter().copied().filter(|r| r.frames > 0 && !kept(r)));
     }
+    // Runs that failed before their first frame measured nothing: named by scene, with
+    // the reason, not counted as holding or losing.
+    let mut failed: Vec<(String, usize, String)> = Vec::new();
+    for r in records.iter().filter(|r| is_dbsmc(r) && r.frames == 0) {
+        let t = scene_title(r);
+        match failed.iter_mut().find(|f| f.0 == t) {
+            Some(f) => f.1 += 1,
+            None => failed.push((t, 1, r.status.chars().take(120).collect())),
+        }
+    }
+    for (t, n, why) in &failed {
+        let _ = writeln!(s, "- {n} runs on {t} did not start: {why}");
+    }
     let started = records.iter().filter(|r| is_dbsmc(r) && r.frames > 0);
     let frame_tied: Vec<&ParticleRecord> = started
         .clone()
@@ -130,7 +143,8 @@ fn cloth_cost_target(records: &[ParticleRecord]) -> String {
     for r in &rows {
         let holds = r.worst_strain <= 1.05e-2 && (!is_dbsmc(r) || kept(r));
         let over = r.ms_max / r.ms_mean;
-        let meets = holds && r.ms_mean < FRAME_TARGET_MS && over < MAX_OVER_MEAN_TARGET;
+        let meets =
+            r.complete() && holds && r.ms_mean < FRAME_TARGET_MS && over < MAX_OVER_MEAN_TARGET;
         met += usize::from(meets);
         let _ = writeln!(
             s,
@@ -146,9 +160,11 @@ fn cloth_cost_target(records: &[ParticleRecord]) -> String {
             if meets { "yes" } else { "no" },
         );
     }
+    // The verdict reads complete runs only (the size sweep's first frames, or the whole
+    // scene): the first frames of a run stopped by its budget are the cheap ones.
     let best = |dbsmc: bool| {
         rows.iter()
-            .filter(|r| is_dbsmc(r) == dbsmc)
+            .filter(|r| r.complete() && is_dbsmc(r) == dbsmc)
             .filter(|r| r.worst_strain <= 1.05e-2 && (!dbsmc || kept(r)))
             .min_by(|a, b| a.ms_mean.total_cmp(&b.ms_mean))
             .map_or("none".to_string(), |r| {
@@ -163,7 +179,7 @@ fn cloth_cost_target(records: &[ParticleRecord]) -> String {
     };
     let _ = writeln!(
         s,
-        "\nVerdict: {}. Cheapest DBSMC holding 1e-2 over its frames: {}; cheapest other method: {}.",
+        "\nVerdict: {}. Cheapest complete DBSMC run holding 1e-2: {}; cheapest complete run of another method: {}.",
         if rows.is_empty() {
             "not measured in this run"
         } else if met > 0 {
@@ -375,13 +391,30 @@ mod tests {
             3.0,
             0.1,
         );
-        let s = bound_target(&[held, layer, strain, xpbd]);
+        let mut never = rec(
+            "C3",
+            "W=32 (a) shear",
+            3906,
+            1.0,
+            "dbsmc",
+            "d",
+            Some(1e-2),
+            f64::NAN,
+            f64::NAN,
+        );
+        never.frames = 0;
+        never.status = "failed: J_Omega is singular at the start".into();
+        let s = bound_target(&[held, layer, strain, xpbd, never]);
         assert!(
-            s.contains("| dbsmc-euler | 1 | 1 | 0 | 0 | 0 | 1 | 0.500 |"),
+            s.contains("| dbsmc | 2 | 1 | 0 | 1 | 1 | 0 | 2.000 |"),
             "{s}"
         );
         assert!(
-            s.contains("| dbsmc | 1 | 1 | 0 | 0 | 1 | 0 | 2.000 |"),
+            s.contains("- 1 runs on C3 W=32 (a) shear did not start: failed: J_Omega is singular"),
+            "{s}"
+        );
+        assert!(
+            s.contains("| dbsmc-euler | 1 | 1 | 0 | 0 | 0 | 1 | 0.500 |"),
             "{s}"
         );
         assert!(
@@ -485,11 +518,22 @@ mod tests {
         ]);
         assert!(missed.contains("Verdict: missed"), "{missed}");
         assert!(
-            missed.contains("cheapest other method: index1-rk4 k 900.0 ms (56x the target)"),
+            missed.contains(
+                "cheapest complete run of another method: index1-rk4 k 900.0 ms (56x the target)"
+            ),
             "{missed}"
         );
         let met = cloth_cost_target(&[w64("xpbd-substeps", 5e-3, 5.0)]);
         assert!(met.contains("Verdict: met"), "{met}");
+        // A run stopped by its budget: its first frames do not meet the target.
+        let mut stopped = w64("xpbd-substeps", 5e-3, 5.0);
+        stopped.status = "budget".into();
+        let budget = cloth_cost_target(&[stopped]);
+        assert!(budget.contains("Verdict: missed"), "{budget}");
+        assert!(
+            budget.contains("cheapest complete run of another method: none"),
+            "{budget}"
+        );
         let none = cloth_cost_target(&[]);
         assert!(none.contains("Verdict: not measured in this run"), "{none}");
     }
