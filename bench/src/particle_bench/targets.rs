@@ -76,8 +76,9 @@ fn bound_target(records: &[ParticleRecord]) -> String {
         );
         misses.extend(runs.iter().copied().filter(|r| r.frames > 0 && !kept(r)));
     }
-    // Runs that failed before their first frame measured nothing: named by scene, with
-    // the reason, not counted as holding or losing.
+    // Runs that ended inside their first frame (failed at the start, or stopped there by
+    // the budget) measured nothing: named by scene, with the reason, not counted as
+    // holding or losing.
     let mut failed: Vec<(String, usize, String)> = Vec::new();
     for r in records.iter().filter(|r| is_dbsmc(r) && r.frames == 0) {
         let t = scene_title(r);
@@ -87,7 +88,7 @@ fn bound_target(records: &[ParticleRecord]) -> String {
         }
     }
     for (t, n, why) in &failed {
-        let _ = writeln!(s, "- {n} runs on {t} did not start: {why}");
+        let _ = writeln!(s, "- {n} runs on {t} completed no frame: {why}");
     }
     let started = records.iter().filter(|r| is_dbsmc(r) && r.frames > 0);
     let frame_tied: Vec<&ParticleRecord> = started
@@ -114,15 +115,15 @@ fn bound_target(records: &[ParticleRecord]) -> String {
     }
     let _ = writeln!(
         s,
-        "\nVerdict: {} of {} DBSMC runs that started kept both (strain and s-layer) over the frames they ran; \
-         the frame-tied designs (`dbsmc-relaxed`, `dbsmc-ramp`): {} of {}; whole scenes among those: {}.",
+        "\nVerdict: {} of {} DBSMC runs that ran a frame kept both (strain and s-layer) over the frames they ran; \
+         the frame-tied designs (`dbsmc-relaxed`, `dbsmc-ramp`): {} of {}, of which {} ran their whole scene (the size sweep's runs cover its first frames).",
         started.clone().filter(|r| kept(r)).count(),
         started.count(),
         frame_tied.iter().filter(|r| kept(r)).count(),
         frame_tied.len(),
         frame_tied
             .iter()
-            .filter(|r| kept(r) && r.complete())
+            .filter(|r| kept(r) && r.complete() && !is_sweep(r))
             .count(),
     );
     s
@@ -404,13 +405,26 @@ mod tests {
         );
         never.frames = 0;
         never.status = "failed: J_Omega is singular at the start".into();
-        let s = bound_target(&[held, layer, strain, xpbd, never]);
+        let sweep = rec(
+            "C1",
+            "N=10 r=1 first 0.2 s",
+            10,
+            1.0,
+            "dbsmc-ramp",
+            "e",
+            Some(1e-2),
+            5e-3,
+            1.0,
+        );
+        let s = bound_target(&[held, layer, strain, xpbd, never, sweep]);
         assert!(
             s.contains("| dbsmc | 2 | 1 | 0 | 1 | 1 | 0 | 2.000 |"),
             "{s}"
         );
         assert!(
-            s.contains("- 1 runs on C3 W=32 (a) shear did not start: failed: J_Omega is singular"),
+            s.contains(
+                "- 1 runs on C3 W=32 (a) shear completed no frame: failed: J_Omega is singular"
+            ),
             "{s}"
         );
         assert!(
@@ -423,8 +437,11 @@ mod tests {
         );
         assert!(s.contains("C4 W=8 dbsmc c: worst strain 2.000 eps"), "{s}");
         assert!(!s.contains("xpbd"), "{s}");
-        assert!(s.contains("1 of 3 DBSMC runs"), "{s}");
-        assert!(s.contains("(`dbsmc-relaxed`, `dbsmc-ramp`): 1 of 1"), "{s}");
+        assert!(s.contains("2 of 4 DBSMC runs that ran a frame"), "{s}");
+        assert!(
+            s.contains("(`dbsmc-relaxed`, `dbsmc-ramp`): 2 of 2, of which 1 ran their whole scene"),
+            "{s}"
+        );
     }
 
     #[test]
