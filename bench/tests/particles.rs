@@ -374,6 +374,19 @@ fn cloth_ramped(slack: f64) -> (ParticleRecord, Vec<u64>, Vec<(usize, usize)>) {
     (r, backend.triggered_updates().to_vec(), ends)
 }
 
+/// The updates asked for by the links with a particle in the far row (`iy = W - 1`)
+/// of a `w x w` cloth, and by all links.
+fn far_edge_asks(w: usize, asked: &[u64], ends: &[(usize, usize)]) -> (u64, u64) {
+    let far = |p: usize| p / w == w - 1;
+    let at_edge = ends
+        .iter()
+        .zip(asked)
+        .filter(|((a, b), _)| far(*a) || far(*b))
+        .map(|(_, n)| n)
+        .sum();
+    (at_edge, asked.iter().sum())
+}
+
 /// The counters of a DBSMC run: one factorisation per control update (no pin changes
 /// here), and on a cloth whose far edge has less slack (0.1 %) than the layers' strain
 /// (1 %) only a few of the links ask for the updates: those at the far edge between
@@ -400,12 +413,7 @@ fn on_a_nearly_taut_cloth_a_few_links_ask_for_every_update_and_each_update_facto
     // the far row asked for most of them.
     let asking = asked.iter().filter(|&&n| n > 0).count() as u64;
     assert_eq!(asking, c.links_asking);
-    let far = |p: usize| p / w == w - 1;
-    let at_edge: u64 = (0..ends.len())
-        .filter(|&l| far(ends[l].0) || far(ends[l].1))
-        .map(|l| asked[l])
-        .sum();
-    let all: u64 = asked.iter().sum();
+    let (at_edge, all) = far_edge_asks(w, &asked, &ends);
     // Every update but the one at the start was asked for by at least one link.
     assert!(all + 1 >= c.updates, "{all} asks for {} updates", c.updates);
     eprintln!("{at_edge} of the {all} asks came from links at the far edge");
@@ -433,12 +441,7 @@ fn a_far_edge_with_slack_above_the_layers_asks_for_fewer_updates() {
         slack.counters.updates,
         taut.counters.updates
     );
-    let far = |p: usize| p / w == w - 1;
-    let at_edge: u64 = (0..ends.len())
-        .filter(|&l| far(ends[l].0) || far(ends[l].1))
-        .map(|l| asked[l])
-        .sum();
-    let all: u64 = asked.iter().sum();
+    let (at_edge, all) = far_edge_asks(w, &asked, &ends);
     eprintln!("{at_edge} of the {all} asks came from links at the far edge");
     assert!(
         2 * at_edge < all,
