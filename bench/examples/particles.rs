@@ -18,7 +18,7 @@
 //! to `docs/results`, or to `target/particles-filtered` for a filtered run, so that
 //! reproducing one figure does not overwrite the committed full results. `--slack S`
 //! gives the cloths with two pinned corners (C3 (a), (c), C4 and the size sweep's) a far
-//! edge `S` longer than the 1 m between the corners instead of `FAR_EDGE_SLACK` (0.1 %),
+//! edge `S` longer than the 1 m between the corners instead of `FAR_EDGE_SLACK` (2 %),
 //! names it in their variants, and counts as a filter.
 
 use std::path::{Path, PathBuf};

@@ -85,9 +85,9 @@
 //! step's start. Should steps still shrink to nothing (two in a row shorter than a
 //! millionth of the reference step, the fixed step or, with the embedded pairs, the
 //! largest step allowed but at most the smallest `mu_i`: a variable resting on its
-//! watch level with its rate lost in rounding), a progress guard takes the next step whole, without locating
-//! in it, and updates at its end; its excursion is still measured on the cubics, and
-//! [`Summary::unlocated_steps`] counts such steps.
+//! watch level with its rate lost in rounding), a progress guard takes the next step
+//! whole, without locating in it, and updates at its end; its excursion is still
+//! measured on the cubics, and [`Summary::unlocated_steps`] counts such steps.
 //!
 //! **Cost.** Per step: two [`Model::sliding`] at its end (the solution's, which is the
 //! point's, and the embedded solution's, for the test of the step's error in `s`), one

@@ -99,9 +99,9 @@ pub struct Summary {
     /// Steps taken whole, without locating the crossings inside them, by the progress
     /// guard (after two steps in a row shorter than a millionth of the reference step,
     /// the fixed step or at most the smallest `mu_i`: a variable resting on its watch
-    /// level with its rate lost in rounding). Their excursions are still measured on the cubic of each `s_i` and reported as a
-    /// bound loss when they leave the layer; a non-zero count says where the located
-    /// crossings gave way.
+    /// level with its rate lost in rounding). Their excursions are still measured on
+    /// the cubic of each `s_i` and reported as a bound loss when they leave the layer;
+    /// a non-zero count says where the located crossings gave way.
     pub unlocated_steps: u64,
     /// Number of control updates (for SPSM: control evaluations, one per stage).
     pub updates: u64,

@@ -107,7 +107,7 @@ pub fn write_particles_csv<W: Write>(records: &[ParticleRecord], mut out: W) -> 
 
 /// The records grouped by `key`, groups in order of first appearance, in one pass (a
 /// benchmark writes hundreds of rows; a scan of all rows per group would be quadratic).
-fn grouped<'a, K: std::hash::Hash + Eq + Clone>(
+pub(super) fn grouped<'a, K: std::hash::Hash + Eq + Clone>(
     records: impl IntoIterator<Item = &'a ParticleRecord>,
     key: impl Fn(&ParticleRecord) -> K,
 ) -> Vec<(K, Vec<&'a ParticleRecord>)> {

@@ -6,7 +6,7 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use super::report::{bound_held, cheapest_of, fitted_exponent, scene_title};
+use super::report::{bound_held, cheapest_of, fitted_exponent, grouped, scene_title};
 use super::run::ParticleRecord;
 
 /// The frame budget of target 2 (ms): 1/60 s of one core.
@@ -79,16 +79,12 @@ fn bound_target(records: &[ParticleRecord]) -> String {
     // Runs that ended inside their first frame (failed at the start, or stopped there by
     // the budget) measured nothing: named by scene, with the reason, not counted as
     // holding or losing.
-    let mut failed: Vec<(String, usize, String)> = Vec::new();
-    for r in records.iter().filter(|r| is_dbsmc(r) && r.frames == 0) {
-        let t = scene_title(r);
-        match failed.iter_mut().find(|f| f.0 == t) {
-            Some(f) => f.1 += 1,
-            None => failed.push((t, 1, r.status.chars().take(120).collect())),
-        }
-    }
-    for (t, n, why) in &failed {
-        let _ = writeln!(s, "- {n} runs on {t} completed no frame: {why}");
+    for (t, runs) in grouped(
+        records.iter().filter(|r| is_dbsmc(r) && r.frames == 0),
+        scene_title,
+    ) {
+        let why: String = runs[0].status.chars().take(120).collect();
+        let _ = writeln!(s, "- {} runs on {t} completed no frame: {why}", runs.len());
     }
     let started = records.iter().filter(|r| is_dbsmc(r) && r.frames > 0);
     let frame_tied: Vec<&ParticleRecord> = started
@@ -203,26 +199,13 @@ fn heavy_chain_target(records: &[ParticleRecord]) -> String {
          | scene | cheapest DBSMC holding 1e-3 (ms / frame) | cheapest XPBD small steps holding 1e-3 (ms / frame) | ratio | met |\n\
          |---|---|---|---|---|\n",
     );
-    let mut scenes: Vec<String> = Vec::new();
-    for r in records
+    let heavy = records
         .iter()
-        .filter(|r| r.scene == "C1" && r.param >= 1e2 && !is_sweep(r))
-    {
-        let t = scene_title(r);
-        if !scenes.contains(&t) {
-            scenes.push(t);
-        }
-    }
-    for t in &scenes {
-        let on = |r: &&ParticleRecord| &scene_title(r) == t;
-        let dbsmc = cheapest_of(records.iter().filter(on).filter(|r| is_dbsmc(r)), 1e-3);
-        let xpbd = cheapest_of(
-            records
-                .iter()
-                .filter(on)
-                .filter(|r| r.method == "xpbd-substeps"),
-            1e-3,
-        );
+        .filter(|r| r.scene == "C1" && r.param >= 1e2 && !is_sweep(r));
+    for (t, runs) in grouped(heavy, scene_title) {
+        let xpbd_runs = || runs.iter().copied().filter(|r| r.method == "xpbd-substeps");
+        let dbsmc = cheapest_of(runs.iter().copied().filter(|r| is_dbsmc(r)), 1e-3);
+        let xpbd = cheapest_of(xpbd_runs(), 1e-3);
         let cell = |r: Option<&ParticleRecord>| {
             r.map_or("none".to_string(), |r| {
                 format!("{} {} ({:.3})", r.method, r.knob, r.ms_mean)
@@ -232,10 +215,8 @@ fn heavy_chain_target(records: &[ParticleRecord]) -> String {
             Some(r) => cell(Some(r)),
             None => {
                 // The closest XPBD came: its least worst strain among complete runs.
-                let closest = records
-                    .iter()
-                    .filter(on)
-                    .filter(|r| r.method == "xpbd-substeps" && r.complete())
+                let closest = xpbd_runs()
+                    .filter(|r| r.complete())
                     .min_by(|a, b| a.worst_strain.total_cmp(&b.worst_strain));
                 closest.map_or("none ran".into(), |r| {
                     format!(
@@ -280,18 +261,10 @@ fn exponent_target(records: &[ParticleRecord]) -> String {
         let mut sizes: Vec<usize> = sweep.iter().map(|r| r.size).collect();
         sizes.sort_unstable();
         sizes.dedup();
-        let mut settings: Vec<(String, String)> = Vec::new();
-        for r in &sweep {
-            let k = (r.method.clone(), r.knob.clone());
-            if !settings.contains(&k) {
-                settings.push(k);
-            }
-        }
-        for (m, k) in settings {
-            let runs: Vec<&&ParticleRecord> = sweep
-                .iter()
-                .filter(|r| r.method == m && r.knob == k)
-                .collect();
+        let settings = grouped(sweep.iter().copied(), |r| {
+            (r.method.clone(), r.knob.clone())
+        });
+        for ((m, k), runs) in settings {
             let whole = runs.len() == sizes.len()
                 && runs
                     .iter()

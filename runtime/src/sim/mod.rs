@@ -81,6 +81,9 @@ pub struct Simulator<M: Model> {
     set: Settings,
     /// Wall-clock time after which a piece stops ([`Simulator::set_deadline`]).
     deadline: Option<Instant>,
+    /// The smallest `mu_i` of the settings (fixed for the run): the progress guard's
+    /// reference and the ramp's finite-difference step read it every step or update.
+    mu_min: f64,
     layout: Layout,
     ctl: Controller,
     rk: Rk,
@@ -195,8 +198,10 @@ impl<M: Model> Simulator<M> {
         };
         let vn = || vec![0.0; n];
         let vm = || vec![0.0; m];
+        let mu_min = settings.mu.iter().copied().fold(f64::INFINITY, f64::min);
         Ok(Self {
             model,
+            mu_min,
             layout,
             ctl,
             rk: Rk::new(n),
@@ -581,7 +586,7 @@ impl<M: Model> Simulator<M> {
     /// difference along the flow (`s'` one short step on, evaluated apart from the
     /// point's own `s`, `J_Omega` and `beta`), `va = -J_s^{-1} s''`.
     fn ramp_against_drift(&mut self, t: f64) {
-        let delta = 1e-6 * self.set.mu.iter().copied().fold(f64::INFINITY, f64::min);
+        let delta = 1e-6 * self.mu_min;
         self.model.rhs(t, &self.x, &self.z, &mut self.fx);
         self.stats.rhs_evals += 1;
         for ((xs, x), f) in self.xs.iter_mut().zip(&self.x).zip(&self.fx) {

@@ -475,11 +475,10 @@ impl<M: Model> Simulator<M> {
     /// took steps whole (uncut) that the control needed cut, and the layer was lost.
     fn reference_step(&self) -> f64 {
         if self.set.integrator.is_adaptive() {
-            let mu = self.set.mu.iter().copied().fold(f64::INFINITY, f64::min);
             self.set
                 .max_step
                 .min(self.set.t_end - self.set.t_start)
-                .min(mu)
+                .min(self.mu_min)
         } else {
             self.set.step
         }
