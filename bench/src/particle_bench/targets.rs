@@ -226,19 +226,22 @@ fn heavy_chain_target(records: &[ParticleRecord]) -> String {
                 })
             }
         };
+        // Without a complete XPBD run there is nothing to be cheaper than (a filtered
+        // run, or every XPBD run stopped by the budget): not compared, not met.
+        let xpbd_ran = xpbd_runs().any(|r| r.complete());
         let (ratio, met) = match (dbsmc, xpbd) {
             (Some(d), Some(x)) => (
                 format!("{:.2}", d.ms_mean / x.ms_mean),
-                d.ms_mean < x.ms_mean,
+                if d.ms_mean < x.ms_mean { "yes" } else { "no" },
             ),
-            (Some(_), None) => ("-".into(), true),
-            _ => ("-".into(), false),
+            (Some(_), None) if xpbd_ran => ("-".into(), "yes"),
+            (Some(_), None) => ("-".into(), "not compared"),
+            (None, _) => ("-".into(), "no"),
         };
         let _ = writeln!(
             s,
-            "| {t} | {} | {xpbd_cell} | {ratio} | {} |",
-            cell(dbsmc),
-            if met { "yes" } else { "no" }
+            "| {t} | {} | {xpbd_cell} | {ratio} | {met} |",
+            cell(dbsmc)
         );
     }
     s
@@ -451,6 +454,21 @@ mod tests {
             "{s}"
         );
         assert!(!s.contains("r=1 |"), "{s}");
+    }
+
+    #[test]
+    fn the_heavy_chain_target_is_met_without_a_ratio_only_where_xpbd_ran_and_never_held() {
+        let t = |m: &str, k: &str, eps, strain, ms| {
+            rec("C1", "N=100 r=1e4", 100, 1e4, m, k, eps, strain, ms)
+        };
+        let dbsmc = t("dbsmc-relaxed", "a", Some(1e-3), 9e-4, 7.0);
+        let alone = heavy_chain_target(std::slice::from_ref(&dbsmc));
+        assert!(alone.contains("| none ran | - | not compared |"), "{alone}");
+        let beaten = heavy_chain_target(&[dbsmc, t("xpbd-substeps", "k=4096", None, 1.2e-3, 10.0)]);
+        assert!(
+            beaten.contains("| none (closest: k=4096 at 1.2e-3, 10.000 ms) | - | yes |"),
+            "{beaten}"
+        );
     }
 
     #[test]
