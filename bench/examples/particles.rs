@@ -28,7 +28,7 @@ use dae_bench::{
     Capture, MethodSpec, ParticleRecord, ParticleScene, bound_held, c1, c2, c3_with_slack,
     c4_with_slack, cheapest, cheapest_table, drive_scene, index_one, particle_pilot, ratio_chart,
     run_particle_method, scene_groups, scene_title, stability_table, strain_chart,
-    write_particles_csv, write_pictures,
+    timed_repeatedly, write_particles_csv, write_pictures,
 };
 use dae_particles::{FAR_EDGE_SLACK, GridPins};
 use dae_runtime::{Integrator, SolverChoice};
@@ -309,7 +309,9 @@ fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Options) -
                     not_run += 1;
                     continue;
                 }
-                let r = run_particle_method(sc, spec, b.as_ref(), SWEEP_BUDGET, None, None);
+                let r = timed_repeatedly(|| {
+                    run_particle_method(sc, spec, b.as_ref(), SWEEP_BUDGET, None, None)
+                });
                 print(&r);
                 runs.push(r);
             }
@@ -523,14 +525,16 @@ fn main() {
         };
         for sweep in sweeps() {
             for spec in sweep.into_iter().filter(|spec| o.keeps(spec)) {
-                let mut r = run_particle_method(
-                    scene,
-                    &spec,
-                    bounds.as_ref(),
-                    budget,
-                    reference.as_ref(),
-                    None,
-                );
+                let mut r = timed_repeatedly(|| {
+                    run_particle_method(
+                        scene,
+                        &spec,
+                        bounds.as_ref(),
+                        budget,
+                        reference.as_ref(),
+                        None,
+                    )
+                });
                 if matches!(
                     spec,
                     MethodSpec::Dbsmc { .. } | MethodSpec::DbsmcGenerated { .. }

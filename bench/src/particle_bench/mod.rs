@@ -4,6 +4,7 @@
 mod charts;
 mod pictures;
 mod report;
+mod retime;
 mod run;
 mod scenes;
 mod targets;
@@ -14,6 +15,7 @@ pub use report::{
     CSV_COLUMNS, bound_held, cheapest, cheapest_table, dbsmc_runs_table, fitted_exponent,
     scene_groups, scene_title, stability_table, write_particles_csv,
 };
+pub use retime::{MAX_TIMINGS, RETIME_BELOW_MS, timed_repeatedly};
 pub use run::{
     FrameObserver, MethodSpec, PILOT_SAFETY, ParticleRecord, RELAXED_DRIFT_SAFETY,
     RELAXED_GRAZE_PER_MU, RELAXED_MU_PER_FRAME, RELAXED_STEP_PER_MU, dbsmc_settings, drive_scene,

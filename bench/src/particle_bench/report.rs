@@ -8,7 +8,7 @@ use std::io::{self, Write};
 use super::run::ParticleRecord;
 
 /// The CSV's columns, in order (the first eight are the ones issue 13 asks for).
-pub const CSV_COLUMNS: [&str; 25] = [
+pub const CSV_COLUMNS: [&str; 26] = [
     "scene",
     "size",
     "method",
@@ -34,6 +34,7 @@ pub const CSV_COLUMNS: [&str; 25] = [
     "s_layer_lost_at",
     "s_layer_worst_ratio",
     "links_asking",
+    "timings",
 ];
 
 fn num(v: f64) -> String {
@@ -98,6 +99,7 @@ pub fn write_particles_csv<W: Write>(records: &[ParticleRecord], mut out: W) -> 
             } else {
                 String::new()
             },
+            r.timings.to_string(),
         ];
         let line: Vec<String> = fields.iter().map(|f| quote(f)).collect();
         writeln!(out, "{}", line.join(","))?;
@@ -335,6 +337,7 @@ mod tests {
             energy_drift: Some(-0.5),
             t_min: None,
             step: None,
+            timings: 1,
         }
     }
 

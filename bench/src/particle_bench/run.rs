@@ -143,6 +143,9 @@ pub struct ParticleRecord {
     pub t_min: Option<f64>,
     /// The DBSMC step (s).
     pub step: Option<f64>,
+    /// Timings that `ms_mean` and `ms_max` are the medians of (1: timed once; see
+    /// [`timed_repeatedly`](super::timed_repeatedly)).
+    pub timings: u32,
 }
 
 impl ParticleRecord {
@@ -639,5 +642,6 @@ fn blank(scene: &ParticleScene, spec: &MethodSpec) -> ParticleRecord {
         energy_drift: None,
         t_min: None,
         step: None,
+        timings: 1,
     }
 }

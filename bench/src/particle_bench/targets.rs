@@ -327,6 +327,7 @@ mod tests {
             energy_drift: None,
             t_min: None,
             step: None,
+            timings: 1,
         }
     }
 
