@@ -109,8 +109,8 @@ pub use particle_bench::{
     write_pictures,
 };
 pub use particle_methods::{
-    ChainKernels, ClothKernels, FamilyParticles, HairKernels, IndexOneParticles, PilotBounds, Xpbd,
-    generated_chain, generated_grid, generated_strands,
+    ChainKernels, ClothKernels, FamilyParticles, HairKernels, IndexOneParticles, PilotBounds,
+    SweepOrder, Xpbd, generated_chain, generated_grid, generated_strands,
 };
 pub use particles::{Lcg, Particles};
 pub use scenes::{SceneError, TRUTH_TOL, chain_scene, embedded_chain_scene, vertical_plane_map};

@@ -11,7 +11,7 @@ use dae_runtime::{
 };
 
 use super::scenes::{ParticleScene, SceneShape};
-use crate::{IndexOneParticles, PilotBounds, Xpbd};
+use crate::{IndexOneParticles, PilotBounds, SweepOrder, Xpbd};
 
 /// A method and its setting.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -51,8 +51,11 @@ pub enum MethodSpec {
         /// The gain in units of `eps_i / mu`.
         gain: f64,
     },
-    /// XPBD small steps: `k` substeps of one iteration per frame.
+    /// XPBD small steps: `k` substeps of one iteration per frame, links in the
+    /// system's order.
     XpbdSubsteps(u32),
+    /// XPBD small steps with the links swept by colour ([`SweepOrder::Coloured`]).
+    XpbdColoured(u32),
     /// XPBD: one step of `n` iterations per frame.
     XpbdIterations(u32),
     /// The index-1 method with this many RK4 steps per frame.
@@ -84,6 +87,7 @@ impl MethodSpec {
             MethodSpec::DbsmcRelaxed { .. } => "dbsmc-relaxed".into(),
             MethodSpec::DbsmcRamped { .. } => "dbsmc-ramp".into(),
             MethodSpec::XpbdSubsteps(_) => "xpbd-substeps".into(),
+            MethodSpec::XpbdColoured(_) => "xpbd-coloured".into(),
             MethodSpec::XpbdIterations(_) => "xpbd-iterations".into(),
             MethodSpec::IndexOne(_) => "index1-rk4".into(),
         }
@@ -97,7 +101,7 @@ impl MethodSpec {
             MethodSpec::DbsmcRelaxed { eps, gain } | MethodSpec::DbsmcRamped { eps, gain } => {
                 format!("eps={eps:e} c={gain}")
             }
-            MethodSpec::XpbdSubsteps(k) => format!("k={k}"),
+            MethodSpec::XpbdSubsteps(k) | MethodSpec::XpbdColoured(k) => format!("k={k}"),
             MethodSpec::XpbdIterations(n) => format!("n={n}"),
             MethodSpec::IndexOne(s) => format!("steps/frame={s}"),
         }
@@ -449,11 +453,15 @@ pub fn run_particle_method(
         r
     };
     match *spec {
-        MethodSpec::XpbdSubsteps(k) => match Xpbd::new(&scene.system, k, 1) {
+        MethodSpec::XpbdSubsteps(k) => match Xpbd::new(&scene.system, k, 1, SweepOrder::System) {
             Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
             Err(e) => failed(e),
         },
-        MethodSpec::XpbdIterations(n) => match Xpbd::new(&scene.system, 1, n) {
+        MethodSpec::XpbdColoured(k) => match Xpbd::new(&scene.system, k, 1, SweepOrder::Coloured) {
+            Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
+            Err(e) => failed(e),
+        },
+        MethodSpec::XpbdIterations(n) => match Xpbd::new(&scene.system, 1, n, SweepOrder::System) {
             Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
             Err(e) => failed(e),
         },

@@ -14,4 +14,4 @@ pub use family_models::{
 };
 
 pub use index1::{IndexOneParticles, PilotBounds};
-pub use xpbd::Xpbd;
+pub use xpbd::{SweepOrder, Xpbd};
