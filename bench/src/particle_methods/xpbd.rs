@@ -20,9 +20,9 @@
 //! by particle) or by colour. The order is part of the method, not a detail: one sweep
 //! per substep in the grid builder's order (each particle's `x` link, then its `y`
 //! link, row by row) gains energy without bound on the 64 x 64 cloth (worst strain
-//! 1e17-1e21 at k <= 64 over 5 s), where by colour the energy only falls; on a chain
+//! 1e13-1e21 at k <= 64 over 5 s), where by colour the energy only falls; on a chain
 //! the system's order leaves about half the strain per substep, and the coloured one
-//! costs about 2.5x less per substep (its consecutive links are independent, so the
+//! costs 1.5-2.5x less per substep (its consecutive links are independent, so the
 //! processor overlaps them).
 
 use dae_particles::{Backend, BackendError, Counters, Kinematics, Pin, System};
