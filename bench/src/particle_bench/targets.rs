@@ -20,12 +20,12 @@ fn is_dbsmc(r: &ParticleRecord) -> bool {
     r.method.starts_with("dbsmc")
 }
 
-/// A row of the size sweep (the same first frames at every size), not a whole scene.
 /// XPBD small steps, in the system's order or by colour.
 fn is_xpbd_small_steps(r: &ParticleRecord) -> bool {
     r.method == "xpbd-substeps" || r.method == "xpbd-coloured"
 }
 
+/// A row of the size sweep (the same first frames at every size), not a whole scene.
 fn is_sweep(r: &ParticleRecord) -> bool {
     r.variant.contains(" first ")
 }

@@ -44,8 +44,10 @@ fn sweep_links(system: &System, order: SweepOrder) -> Vec<(usize, usize, f64)> {
     if order == SweepOrder::System {
         return links.collect();
     }
-    // Colours taken at each particle, as bits (greedy colouring of a graph of degree
-    // d needs at most 2d - 1 colours; the scenes' particles have at most 4 links).
+    // Colours taken at each particle, as bits (greedy colouring of links meeting at
+    // most d at a particle needs at most 2d - 1 colours; the scenes' particles have at
+    // most 4 links). Past 128 colours the rest share the last one: the sweep still
+    // takes every link once, only that colour's links may share a particle.
     let mut taken: Vec<u128> = vec![0; system.n_particles()];
     let mut tagged: Vec<(u32, usize, (usize, usize, f64))> = links
         .enumerate()
