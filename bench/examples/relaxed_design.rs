@@ -7,8 +7,10 @@
 //! drift of `s'` (`Settings::follow_drift`) up to the gain that sweeps the layer, at
 //! safety 1 and 2; and with them following it only as far as grazing returns `mu / 8`
 //! apart need (`Settings::graze`, the benchmark's design), with `v` held or ramping
-//! against the drift between updates (`Settings::ramp_against_drift`). Which keep the
-//! layer, and at what cost per frame?
+//! against the drift between updates (`Settings::ramp_against_drift`); and the design,
+//! held and ramped, with the method's `sgn(s)` in the law instead of the design's
+//! saturation `sat(s / eps)` inside the layer (`Settings::saturate_in_layer`; every
+//! other row saturates). Which keep the layer, and at what cost per frame?
 //!
 //! ```text
 //! cargo run --release -p dae-bench --example relaxed_design
@@ -40,6 +42,9 @@ enum Control {
     Graze,
     /// The benchmark's design with `v` ramping against the drift between updates.
     GrazeRamp,
+    /// The benchmark's design, held or ramped (`true`), with `sgn(s)` in the law
+    /// instead of the saturation inside the layer.
+    GrazeSign(bool),
 }
 
 impl Control {
@@ -51,6 +56,10 @@ impl Control {
             Control::Follow(f) => format!("gains sweep the layer against the drift, safety {f}"),
             Control::Graze => "gains graze the layer against the drift (design)".into(),
             Control::GrazeRamp => "design, v ramps against the drift".into(),
+            Control::GrazeSign(false) => "design with sgn(s) inside the layer".into(),
+            Control::GrazeSign(true) => {
+                "design with sgn(s) inside the layer, v ramps against the drift".into()
+            }
         }
     }
 }
@@ -66,6 +75,17 @@ fn run(scene: &ParticleScene, eps: f64, gain: f64, control: Control) -> String {
         match control {
             Control::Graze => design,
             Control::GrazeRamp => design.ramp_against_drift(),
+            Control::GrazeSign(ramp) => {
+                let sign = Settings {
+                    saturate: false,
+                    ..design
+                };
+                if ramp {
+                    sign.ramp_against_drift()
+                } else {
+                    sign
+                }
+            }
             Control::Fixed => settings,
             Control::State(f) => {
                 let smallest = settings.eps.iter().copied().fold(f64::INFINITY, f64::min);
@@ -132,6 +152,8 @@ fn main() {
             Control::Follow(2.0 * RELAXED_DRIFT_SAFETY),
             Control::Graze,
             Control::GrazeRamp,
+            Control::GrazeSign(false),
+            Control::GrazeSign(true),
         ] {
             println!("{}", run(scene, *eps, *gain, control));
         }

@@ -223,6 +223,10 @@ pub struct Settings {
     /// method's zero-order hold).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub ramp: bool,
+    /// Inside the layer, ask for the rate `-k_i s_i / eps_i` instead of `-k_i sgn(s_i)`
+    /// (see [`Settings::saturate_in_layer`]); `false` keeps the method's `sgn`.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub saturate: bool,
     /// Start from these states `x0` and algebraic values `z0` instead of the model's
     /// [`initial_state`](crate::Model::initial_state) and
     /// [`initial_alg`](crate::Model::initial_alg) (see [`Settings::initial`]).
@@ -284,6 +288,7 @@ impl Settings {
             follow_drift: None,
             graze: None,
             ramp: false,
+            saturate: false,
             initial: None,
         }
     }
@@ -495,6 +500,35 @@ impl Settings {
     /// ```
     pub fn ramp_against_drift(mut self) -> Self {
         self.ramp = true;
+        self
+    }
+
+    /// At every update ask each sliding variable inside its layer for the rate
+    /// `s_i' = -k_i s_i / eps_i` (the saturation `sat(s_i / eps_i)` in place of `sgn(s_i)`
+    /// in the law `v = J_hat^{-1}(-alpha_hat - K sgn(s))`); on and outside the boundary
+    /// the two are the same.
+    ///
+    /// An extension of the method. An update resets every variable, and with `sgn` a
+    /// variable found anywhere inside its layer is sent across it at the full gain: of
+    /// many variables, the one that happens to sit near its boundary, moving towards the
+    /// other side, ends the next interval soon, so the intervals shrink as the number of
+    /// constraints grows. With the saturation a variable near the middle of its layer
+    /// moves slowly, and the next update is asked for by the variables near their
+    /// boundaries. The layer is kept as with `sgn`: a crossing of the boundary moving
+    /// outward updates the control there, where the rate asked for is the full gain
+    /// inward. What does not carry over is the crossing period of the method's gain
+    /// design (T 3.14, T 4.4), which assumes the full gain inside the layer; use it
+    /// with a design that does not rely on that period (the frame-tied design of the
+    /// particle benchmark, where it cut the updates per frame 1.3-3.8x on every scene
+    /// tried: `docs/particles.md`). Under [`Policy::Spsm`] the law saturates anyway.
+    ///
+    /// ```
+    /// use dae_runtime::Settings;
+    /// let s = Settings::new(vec![1e-3], vec![0.05], vec![0.2]).saturate_in_layer();
+    /// assert!(s.saturate);
+    /// ```
+    pub fn saturate_in_layer(mut self) -> Self {
+        self.saturate = true;
         self
     }
 

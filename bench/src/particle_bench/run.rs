@@ -380,7 +380,8 @@ pub const RELAXED_GRAZE_PER_MU: f64 = 0.125;
 /// The relaxed DBSMC design: no pilot, `mu = RELAXED_MU_PER_FRAME * FRAME` on every
 /// link, `eps_i = eps L0_i`, gains at least `gain eps_i / mu` and following the drift
 /// (`follow_drift(RELAXED_DRIFT_SAFETY)`) as far as grazing returns `mu / 8` apart need
-/// (`graze(RELAXED_GRAZE_PER_MU * mu)`), the exact alpha, monitoring, Dormand-Prince
+/// (`graze(RELAXED_GRAZE_PER_MU * mu)`), the rate `-k_i s_i / eps_i` asked of a link
+/// inside its layer (`saturate_in_layer`), the exact alpha, monitoring, Dormand-Prince
 /// at the default tolerance with steps of at most `RELAXED_STEP_PER_MU * mu`.
 ///
 /// The floor is the sufficient gain of T 4.4, `k = mu^3 M / 2 + 4 eps / mu`, for an
@@ -390,6 +391,12 @@ pub const RELAXED_GRAZE_PER_MU: f64 = 0.125;
 /// intervals. Nothing guarantees the crossing when the drift grows faster than that;
 /// the runtime's monitor then reports the loss of the layer (`s_layer_lost_at`), which
 /// no table counts as held.
+///
+/// The saturation inside the layer (instead of the method's `sgn`) leaves a link found
+/// near the middle of its layer at an update moving slowly, so that the next update is
+/// asked for by the links near their boundaries, not by whichever of many links was
+/// sent across its layer at the full gain: 1.3-3.8x fewer updates per frame on every
+/// scene of `relaxed_design` (its columns "sgn" against "design").
 pub fn relaxed_settings<M: ParticleDae>(model: &M, eps: f64, gain: f64) -> Settings {
     let m = model.n_constraints();
     let mu = RELAXED_MU_PER_FRAME * FRAME;
@@ -402,6 +409,7 @@ pub fn relaxed_settings<M: ParticleDae>(model: &M, eps: f64, gain: f64) -> Setti
         .max_step(RELAXED_STEP_PER_MU * mu)
         .follow_drift(RELAXED_DRIFT_SAFETY)
         .graze(RELAXED_GRAZE_PER_MU * mu)
+        .saturate_in_layer()
 }
 
 /// The frame-tied design ([`relaxed_settings`]) on the hand-written model of `scene`,

@@ -17,7 +17,7 @@ impl<M: Model> Simulator<M> {
             self.ctl.factor(&self.model, t, &self.x, &self.z)?;
             self.run.j_current = true;
         }
-        let switch = if self.set.policy == Policy::Spsm {
+        let switch = if self.set.policy == Policy::Spsm || self.set.saturate {
             Switch::Saturation
         } else {
             Switch::Sign
