@@ -154,6 +154,11 @@ pub(crate) struct Args {
     /// update, instead of holding it (Settings::ramp_against_drift).
     #[arg(long)]
     ramp: bool,
+    /// Inside the layer ask each constraint for the rate -k s/eps instead of -k sgn(s)
+    /// (Settings::saturate_in_layer; the same on the boundary, where the updates are
+    /// asked for).
+    #[arg(long)]
+    saturate: bool,
 }
 
 fn parse_solver(text: &str) -> Result<SolverChoice, String> {
@@ -302,6 +307,9 @@ pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
     }
     if args.ramp {
         settings = settings.ramp_against_drift();
+    }
+    if args.saturate {
+        settings = settings.saturate_in_layer();
     }
     let summary = simulate(args, model, settings.clone(), design.as_ref())?;
     let outcome = if !summary.bound_held() && summary.reaching_time.is_none() {

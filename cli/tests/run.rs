@@ -308,6 +308,23 @@ fn gains_for_given_mu_come_from_the_pilot() {
     }
 }
 
+/// `--saturate` reaches the runtime's settings: on the double pendulum at the method's
+/// design the two rows' layers are asked for other rates inside them, and the run keeps
+/// its bound with another count of updates.
+#[test]
+fn the_saturated_law_from_the_command_line() {
+    let run = |extra: &[&str]| {
+        let mut a = vec!["--settle", "1", "--json"];
+        a.extend_from_slice(extra);
+        json(&thesis_scene("4", &a))
+    };
+    let (sgn, sat) = (run(&[]), run(&["--saturate"]));
+    for v in [&sgn, &sat] {
+        assert!(v["bound_loss"].is_null(), "{v}");
+    }
+    assert_ne!(sgn["updates"], sat["updates"], "--saturate changed nothing");
+}
+
 /// `--follow-drift`, `--graze` and `--ramp` reach the runtime's settings, the summary says
 /// which constraints asked for the updates, and `--graze` alone is refused by name.
 #[test]

@@ -519,8 +519,9 @@ impl Settings {
     /// inward. What does not carry over is the crossing period of the method's gain
     /// design (T 3.14, T 4.4), which assumes the full gain inside the layer; use it
     /// with a design that does not rely on that period (the frame-tied design of the
-    /// particle benchmark, where it cut the updates per frame 1.3-3.8x on every scene
-    /// tried: `docs/particles.md`). Under [`Policy::Spsm`] the law saturates anyway.
+    /// particle benchmark, where it cut the updates per frame 1.1-3.2x on the five runs
+    /// of `relaxed_design`: `docs/particles.md`). Under [`Policy::Spsm`] the law
+    /// saturates anyway.
     ///
     /// ```
     /// use dae_runtime::Settings;

@@ -395,8 +395,8 @@ pub const RELAXED_GRAZE_PER_MU: f64 = 0.125;
 /// The saturation inside the layer (instead of the method's `sgn`) leaves a link found
 /// near the middle of its layer at an update moving slowly, so that the next update is
 /// asked for by the links near their boundaries, not by whichever of many links was
-/// sent across its layer at the full gain: 1.3-3.8x fewer updates per frame on every
-/// scene of `relaxed_design` (its columns "sgn" against "design").
+/// sent across its layer at the full gain: 1.1-3.2x fewer updates per frame on the five
+/// runs of `relaxed_design` (its rows "design with sgn(s)" against "design").
 pub fn relaxed_settings<M: ParticleDae>(model: &M, eps: f64, gain: f64) -> Settings {
     let m = model.n_constraints();
     let mu = RELAXED_MU_PER_FRAME * FRAME;

@@ -101,6 +101,7 @@ pub(super) fn flag(field: &str) -> &str {
         "follow_drift" => "--follow-drift",
         "graze" => "--graze",
         "ramp" => "--ramp",
+        "saturate" => "--saturate",
         other => other,
     }
 }
