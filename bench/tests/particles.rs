@@ -300,9 +300,10 @@ fn fixed_and_followed_gains_keep_the_layer_on_the_heavy_end_chain() {
 
 /// The frame-tied design's gains graze their layers (raised over the floor `4 eps / mu`
 /// only as far as returns `mu / 8` apart need) instead of sweeping them (raised to `2
-/// sqrt(eps D)`): on the heavy-end 10-link chain at eps = 1e-3 both keep the layer and
-/// the strain, and grazing makes a fraction of the updates (over the whole 5 s: 23
-/// against 143 per frame, measured in one run).
+/// sqrt(eps D)`): on the heavy-end 10-link chain at eps = 1e-3 over 1 s both keep the
+/// layer and the strain, and grazing makes about half the updates (measured: 1,057
+/// against 2,070 with the design's saturation; with `sgn(s)` in the law, over the whole
+/// 5 s, 23 against 143 per frame).
 #[test]
 fn grazing_gains_keep_the_layer_with_fewer_updates_than_sweeping_ones() {
     let mut scene = c1(10, 1e4).unwrap();
@@ -325,7 +326,7 @@ fn grazing_gains_keep_the_layer_with_fewer_updates_than_sweeping_ones() {
         assert!(r.worst_strain <= 1.05 * eps, "{what}: {}", r.worst_strain);
     }
     assert!(
-        3 * grazing.counters.updates < sweeping.counters.updates,
+        3 * grazing.counters.updates < 2 * sweeping.counters.updates,
         "updates: grazing {}, sweeping {}",
         grazing.counters.updates,
         sweeping.counters.updates
@@ -396,14 +397,18 @@ fn saturating_inside_the_layer_keeps_it_with_fewer_updates_on_a_chain() {
     }
 }
 
-/// The 16 x 16 cloth (C3 (a)) whose far edge has `slack`, 0.2 s ramped at eps = 1e-2:
-/// its record, how many updates each link asked for, and the links' ends.
-fn cloth_ramped(slack: f64) -> (ParticleRecord, Vec<u64>, Vec<(usize, usize)>) {
+/// The 16 x 16 cloth (C3 (a)) whose far edge has `slack`, 0.2 s ramped at eps = 1e-2,
+/// the law saturated inside the layer (the design's) or with `sgn(s)`: its record, how
+/// many updates each link asked for, and the links' ends.
+fn cloth_ramped(slack: f64, saturate: bool) -> (ParticleRecord, Vec<u64>, Vec<(usize, usize)>) {
     let mut scene = c3_with_slack(16, GridPins::Corners, false, slack).unwrap();
     scene.duration = 0.2;
     let model = ParticleModel::new(&scene.system).unwrap();
     let ends = model.ends().to_vec();
-    let settings = relaxed_settings(&model, 1e-2, 4.0).ramp_against_drift();
+    let settings = Settings {
+        saturate,
+        ..relaxed_settings(&model, 1e-2, 4.0).ramp_against_drift()
+    };
     let mut backend = Dbsmc::new(model, settings, "ramped")
         .unwrap()
         .keep_going_after_bound_loss();
@@ -419,8 +424,15 @@ fn cloth_ramped(slack: f64) -> (ParticleRecord, Vec<u64>, Vec<(usize, usize)>) {
         None,
         None,
     );
-    assert!(r.complete(), "slack {slack}: {}", r.status);
-    assert_eq!(r.counters.layer_lost_at, None, "slack {slack}");
+    assert!(
+        r.complete(),
+        "slack {slack}, saturate {saturate}: {}",
+        r.status
+    );
+    assert_eq!(
+        r.counters.layer_lost_at, None,
+        "slack {slack}, saturate {saturate}"
+    );
     assert_eq!(r.counters.factorisations, r.counters.updates);
     (r, backend.triggered_updates().to_vec(), ends)
 }
@@ -447,7 +459,7 @@ fn far_edge_asks(w: usize, asked: &[u64], ends: &[(usize, usize)]) -> (u64, u64)
 #[test]
 fn on_a_nearly_taut_cloth_a_few_links_ask_for_every_update_and_each_update_factors_once() {
     let w = 16;
-    let (r, asked, ends) = cloth_ramped(1e-3);
+    let (r, asked, ends) = cloth_ramped(1e-3, true);
     let c = r.counters;
     assert!(c.updates > 12, "{} updates", c.updates);
     let links = ends.len() as u64;
@@ -474,30 +486,38 @@ fn on_a_nearly_taut_cloth_a_few_links_ask_for_every_update_and_each_update_facto
     );
 }
 
-/// With the scene's slack (2 %, above the layers' 1 %) the far edge no longer sets
-/// the cloth's update rate: the same run makes fewer updates than with 0.1 %, and the
-/// far edge's links no longer ask for most of them.
+/// With the scene's slack (2 %, above the layers' 1 %) the far edge no longer comes
+/// straight within the layers: the same run makes fewer updates than with 0.1 %. With
+/// `sgn(s)` in the law (measured: 191 against 304 updates) the far edge's links then no
+/// longer ask for most of them; with the design's saturation (57 against 72) the links
+/// elsewhere sit near the middle of their layers, and the far edge's, the most strained,
+/// still ask for all of them (112 of 112 asks).
 #[test]
 fn a_far_edge_with_slack_above_the_layers_asks_for_fewer_updates() {
     let w = 16;
-    let (taut, _, _) = cloth_ramped(1e-3);
-    let (slack, asked, ends) = cloth_ramped(FAR_EDGE_SLACK);
-    eprintln!(
-        "updates: slack 2 % {}, slack 0.1 % {}",
-        slack.counters.updates, taut.counters.updates
-    );
-    assert!(
-        4 * slack.counters.updates < 3 * taut.counters.updates,
-        "updates: slack 2 % {}, 0.1 % {}",
-        slack.counters.updates,
-        taut.counters.updates
-    );
-    let (at_edge, all) = far_edge_asks(w, &asked, &ends);
-    eprintln!("{at_edge} of the {all} asks came from links at the far edge");
-    assert!(
-        2 * at_edge < all,
-        "{at_edge} of {all} asks from links at the far edge"
-    );
+    for saturate in [false, true] {
+        let (taut, _, _) = cloth_ramped(1e-3, saturate);
+        let (slack, asked, ends) = cloth_ramped(FAR_EDGE_SLACK, saturate);
+        let (u_slack, u_taut) = (slack.counters.updates, taut.counters.updates);
+        if saturate {
+            assert!(
+                u_slack < u_taut,
+                "saturated: slack 2 % {u_slack}, 0.1 % {u_taut}"
+            );
+        } else {
+            assert!(
+                4 * u_slack < 3 * u_taut,
+                "sgn: slack 2 % {u_slack}, 0.1 % {u_taut}"
+            );
+        }
+        if !saturate {
+            let (at_edge, all) = far_edge_asks(w, &asked, &ends);
+            assert!(
+                2 * at_edge < all,
+                "sgn: {at_edge} of {all} asks from links at the far edge"
+            );
+        }
+    }
 }
 
 /// A gain below the drift's `2 sqrt(eps D)` grazes the layer (`s` turns back inside the
