@@ -6,7 +6,8 @@
 mod common;
 
 use common::{
-    TRACKING_EPS as EPS, TRACKING_MU as MU, Tracking, assert_refused, tracking_settings as settings,
+    TRACKING_EPS as EPS, TRACKING_MU as MU, Tracking, assert_refused, tracking_max_s,
+    tracking_settings as settings,
 };
 use dae_runtime::{Crossing, Integrator, Policy, Settings, Simulator, Trace};
 
@@ -90,26 +91,12 @@ fn the_ramped_run_keeps_the_bound_by_an_independent_fine_integration() {
         if t[k] < from {
             continue;
         }
-        // The interval's z from the closed-form ramp, x integrated on its own (RK4,
-        // 1e-4 s), s = mu w' + w from the equations.
+        // The interval's z from the closed-form ramp.
         let (tb, zb) = (t[k], trace.z(k)[0]);
         let a = -held_drift(tb, trace.x(k)[0], zb, v) / MU;
         let end = updates.iter().copied().find(|&u| u > tb).unwrap_or(3.0);
         let z = |tau: f64| zb + v * (tau - tb) + 0.5 * a * (tau - tb).powi(2);
-        let f = |tau: f64, x: f64| z(tau) - x;
-        let (mut tau, mut x) = (tb, trace.x(k)[0]);
-        let n = ((end - tb) / 1e-4).ceil().max(1.0) as usize;
-        let h = (end - tb) / n as f64;
-        for _ in 0..n {
-            let k1 = f(tau, x);
-            let k2 = f(tau + 0.5 * h, x + 0.5 * h * k1);
-            let k3 = f(tau + 0.5 * h, x + 0.5 * h * k2);
-            let k4 = f(tau + h, x + h * k3);
-            x += h / 6.0 * (k1 + 2.0 * (k2 + k3) + k4);
-            tau += h;
-            let s = MU * (z(tau) - x - tau.cos()) + (x - tau.sin());
-            max = max.max(s.abs());
-        }
+        max = max.max(tracking_max_s(z, (tb, trace.x(k)[0]), end));
         checked += 1;
     }
     assert!(checked > 10, "{checked} intervals");

@@ -5,7 +5,9 @@
 
 mod common;
 
-use common::{TRACKING_EPS as EPS, TRACKING_MU as MU, Tracking, tracking_settings as settings};
+use common::{
+    TRACKING_EPS as EPS, TRACKING_MU as MU, Tracking, tracking_max_s, tracking_settings as settings,
+};
 use dae_runtime::{Settings, Simulator, Trace};
 
 const GAIN: f64 = 0.05;
@@ -89,24 +91,11 @@ fn the_saturated_run_keeps_the_layer_by_an_independent_fine_integration() {
         if tb < from || k + 1 >= t.len() || t[k + 1] > end {
             continue;
         }
-        // The interval's z from the held v (read from the trace), x integrated on its
-        // own (RK4, 1e-4 s), s from the equations.
+        // The interval's z from the held v (read from the trace).
         let zb = trace.z(k)[0];
         let v = (trace.z(k + 1)[0] - zb) / (t[k + 1] - tb);
-        let f = |tau: f64, x: f64| zb + v * (tau - tb) - x;
-        let (mut tau, mut x) = (tb, trace.x(k)[0]);
-        let n = ((end - tb) / 1e-4).ceil().max(1.0) as usize;
-        let h = (end - tb) / n as f64;
-        for _ in 0..n {
-            let k1 = f(tau, x);
-            let k2 = f(tau + 0.5 * h, x + 0.5 * h * k1);
-            let k3 = f(tau + 0.5 * h, x + 0.5 * h * k2);
-            let k4 = f(tau + h, x + h * k3);
-            x += h / 6.0 * (k1 + 2.0 * (k2 + k3) + k4);
-            tau += h;
-            let s = MU * (zb + v * (tau - tb) - x - tau.cos()) + (x - tau.sin());
-            max = max.max(s.abs());
-        }
+        let z = |tau: f64| zb + v * (tau - tb);
+        max = max.max(tracking_max_s(z, (tb, trace.x(k)[0]), end));
         checked += 1;
     }
     assert!(checked > 10, "{checked} intervals");

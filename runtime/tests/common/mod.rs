@@ -18,6 +18,28 @@ pub fn tracking_settings(gain: f64) -> Settings {
         .t_end(3.0)
 }
 
+/// The largest `|s|` of [`Tracking`] over `[t0, t1]` with `z(t)` given (an interval of a
+/// run, its `z` from the trace), by an integration of `x' = z - x` of its own (classical
+/// RK4, steps of at most 1e-4 s) from `x(t0) = x0`, `s = mu (z - x - cos t) + (x - sin t)`
+/// from the equations: independent of the simulator's steps, for checking what a run kept.
+pub fn tracking_max_s(z: impl Fn(f64) -> f64, (t0, x0): (f64, f64), t1: f64) -> f64 {
+    let f = |t: f64, x: f64| z(t) - x;
+    let n = ((t1 - t0) / 1e-4).ceil().max(1.0) as usize;
+    let h = (t1 - t0) / n as f64;
+    let (mut t, mut x, mut max) = (t0, x0, 0.0f64);
+    for _ in 0..n {
+        let k1 = f(t, x);
+        let k2 = f(t + 0.5 * h, x + 0.5 * h * k1);
+        let k3 = f(t + 0.5 * h, x + 0.5 * h * k2);
+        let k4 = f(t + h, x + h * k3);
+        x += h / 6.0 * (k1 + 2.0 * (k2 + k3) + k4);
+        t += h;
+        let s = TRACKING_MU * (z(t) - x - t.cos()) + (x - t.sin());
+        max = max.max(s.abs());
+    }
+    max
+}
+
 /// `Simulator::new` refuses `settings` for [`Tracking`] with a settings error that names
 /// `field` and whose reason contains `what` (`label` says which case failed).
 pub fn assert_refused(label: &str, settings: Settings, field: &str, what: &str) {
