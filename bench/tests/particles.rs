@@ -272,6 +272,14 @@ fn the_relaxed_design_holds_a_heavy_end_chain_without_a_pilot() {
     );
 }
 
+/// A run of the frame-tied design (`what` names it in the failure) ran its whole scene,
+/// kept its `s`-layer (the runtime's monitor) and held its strain within 1.05 `eps`.
+fn assert_held(r: &ParticleRecord, eps: f64, what: &str) {
+    assert!(r.complete(), "{what}: {}", r.status);
+    assert_eq!(r.counters.layer_lost_at, None, "{what}");
+    assert!(r.worst_strain <= 1.05 * eps, "{what}: {}", r.worst_strain);
+}
+
 /// The heavy-ended 10-link chain (end mass 1e4) at eps = 1e-2, the frame-tied design
 /// with its gains fixed at the floor `8 eps / mu` and with them following the drift (as
 /// far as grazing needs, the design):
@@ -288,13 +296,7 @@ fn fixed_and_followed_gains_keep_the_layer_on_the_heavy_end_chain() {
     let (eps, gain) = (1e-2, 8.0);
     for follow in [false, true] {
         let run = relaxed_run(&scene, eps, gain, follow);
-        assert!(run.complete(), "follow {follow}: {}", run.status);
-        assert_eq!(run.counters.layer_lost_at, None, "follow {follow}");
-        assert!(
-            run.worst_strain <= 1.05 * eps,
-            "follow {follow}: {}",
-            run.worst_strain
-        );
+        assert_held(&run, eps, &format!("follow {follow}"));
     }
 }
 
@@ -321,9 +323,7 @@ fn grazing_gains_keep_the_layer_with_fewer_updates_than_sweeping_ones() {
     };
     let (grazing, sweeping) = (run(true), run(false));
     for (what, r) in [("grazing", &grazing), ("sweeping", &sweeping)] {
-        assert!(r.complete(), "{what}: {}", r.status);
-        assert_eq!(r.counters.layer_lost_at, None, "{what}");
-        assert!(r.worst_strain <= 1.05 * eps, "{what}: {}", r.worst_strain);
+        assert_held(r, eps, what);
     }
     assert!(
         3 * grazing.counters.updates < 2 * sweeping.counters.updates,
@@ -349,9 +349,7 @@ fn a_ramp_against_the_drift_keeps_the_layer_with_fewer_updates_on_a_light_chain(
     };
     let (held, ramped) = (run(false), run(true));
     for (what, r) in [("held", &held), ("ramped", &ramped)] {
-        assert!(r.complete(), "{what}: {}", r.status);
-        assert_eq!(r.counters.layer_lost_at, None, "{what}");
-        assert!(r.worst_strain <= 1.05 * eps, "{what}: {}", r.worst_strain);
+        assert_held(r, eps, what);
     }
     assert!(
         5 * ramped.counters.updates < 4 * held.counters.updates,
@@ -380,13 +378,7 @@ fn saturating_inside_the_layer_keeps_it_with_fewer_updates_on_a_chain() {
         };
         let (sat, sgn) = (run(true), run(false));
         for (what, r) in [("saturated", &sat), ("sgn", &sgn)] {
-            assert!(r.complete(), "{what}, ramp {ramp}: {}", r.status);
-            assert_eq!(r.counters.layer_lost_at, None, "{what}, ramp {ramp}");
-            assert!(
-                r.worst_strain <= 1.05 * eps,
-                "{what}, ramp {ramp}: {}",
-                r.worst_strain
-            );
+            assert_held(r, eps, &format!("{what}, ramp {ramp}"));
         }
         assert!(
             5 * sat.counters.updates < 4 * sgn.counters.updates,
