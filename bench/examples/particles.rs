@@ -204,6 +204,10 @@ fn sweeps(fine_k: bool) -> Vec<Vec<MethodSpec>> {
                 integrator: Integrator::Rk4,
             })
             .to_vec(),
+        // The generated model with the frame-tied design, `v` ramped.
+        [1e-2, 1e-3, 1e-4]
+            .map(|eps| MethodSpec::DbsmcRampGenerated { eps, gain: 4.0 })
+            .to_vec(),
     ]
 }
 
@@ -264,6 +268,10 @@ fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Options) -
         MethodSpec::DbsmcRamped {
             eps: 1e-2,
             gain: 32.0,
+        },
+        MethodSpec::DbsmcRampGenerated {
+            eps: 1e-2,
+            gain: 4.0,
         },
     ];
     let mut md = format!(
@@ -386,6 +394,7 @@ fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Options) -
             "dbsmc-dp",
             "dbsmc-relaxed",
             "dbsmc-ramp",
+            "dbsmc-ramp-generated",
         ] {
             let best: Vec<Option<&ParticleRecord>> = scenes
                 .iter()
@@ -636,6 +645,7 @@ fn main() {
         "dbsmc-generated",
         "dbsmc-relaxed",
         "dbsmc-ramp",
+        "dbsmc-ramp-generated",
         "index1-rk4",
         "xpbd-substeps",
         "xpbd-coloured",

@@ -5,11 +5,12 @@
 //! (issue 13's first target), and at what cost per frame.
 //!
 //! ```text
-//! cargo run --release -p dae-bench --example whole_scenes [-- [--ramp] EPS C BUDGET [TEXT]]
+//! cargo run --release -p dae-bench --example whole_scenes [-- [--ramp | --generated] EPS C BUDGET [TEXT]]
 //! ```
 //!
 //! `--ramp` runs the design with `v` ramped against the drift between updates
-//! (`dbsmc-ramp`, `Settings::ramp_against_drift`) instead of held.
+//! (`dbsmc-ramp`, `Settings::ramp_against_drift`) instead of held; `--generated` runs
+//! it ramped on the scenes' generated family models (`dbsmc-ramp-generated`).
 //! `EPS` (default 1e-2), `C` (the floor gain `c eps / mu`, default 8) and `BUDGET`, the
 //! wall-clock seconds one scene may take (default 120; the harness stops a run that
 //! has spent it, or a tenth of it while its projected total is over it, and the table
@@ -43,13 +44,16 @@ fn scenes() -> Result<Vec<ParticleScene>, String> {
 
 fn main() {
     let ramp = std::env::args().any(|a| a == "--ramp");
-    let args: Vec<String> = std::env::args().filter(|a| a != "--ramp").collect();
+    let generated = std::env::args().any(|a| a == "--generated");
+    let args: Vec<String> = std::env::args()
+        .filter(|a| a != "--ramp" && a != "--generated")
+        .collect();
     let arg = |i: usize, default: f64| -> f64 {
         match args.get(i) {
             None => default,
             Some(a) => a.parse().unwrap_or_else(|_| {
                 eprintln!(
-                    "whole_scenes: `{a}` is not a number (usage: whole_scenes [--ramp] [EPS C BUDGET [TEXT]])"
+                    "whole_scenes: `{a}` is not a number (usage: whole_scenes [--ramp | --generated] [EPS C BUDGET [TEXT]])"
                 );
                 std::process::exit(2);
             }),
@@ -63,7 +67,9 @@ fn main() {
         std::process::exit(1);
     });
     scenes.retain(|s| only.as_ref().is_none_or(|t| s.title().contains(t.as_str())));
-    let spec = if ramp {
+    let spec = if generated {
+        MethodSpec::DbsmcRampGenerated { eps, gain }
+    } else if ramp {
         MethodSpec::DbsmcRamped { eps, gain }
     } else {
         MethodSpec::DbsmcRelaxed { eps, gain }

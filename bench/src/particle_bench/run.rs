@@ -51,6 +51,15 @@ pub enum MethodSpec {
         /// The gain in units of `eps_i / mu`.
         gain: f64,
     },
+    /// The frame-tied design with `v` ramped ([`MethodSpec::DbsmcRamped`]) on the
+    /// scene's generated family model (as [`MethodSpec::DbsmcGenerated`]): the
+    /// compiled model with the design that needs no pilot.
+    DbsmcRampGenerated {
+        /// Relative layer (strain bound).
+        eps: f64,
+        /// The gain in units of `eps_i / mu`.
+        gain: f64,
+    },
     /// XPBD small steps: `k` substeps of one iteration per frame, links in the
     /// system's order.
     XpbdSubsteps(u32),
@@ -86,10 +95,26 @@ impl MethodSpec {
             },
             MethodSpec::DbsmcRelaxed { .. } => "dbsmc-relaxed".into(),
             MethodSpec::DbsmcRamped { .. } => "dbsmc-ramp".into(),
+            MethodSpec::DbsmcRampGenerated { .. } => "dbsmc-ramp-generated".into(),
             MethodSpec::XpbdSubsteps(_) => "xpbd-substeps".into(),
             MethodSpec::XpbdColoured(_) => "xpbd-coloured".into(),
             MethodSpec::XpbdIterations(_) => "xpbd-iterations".into(),
             MethodSpec::IndexOne(_) => "index1-rk4".into(),
+        }
+    }
+    /// The strain bound of a DBSMC setting (`None` for the methods without one). Every
+    /// variant is named, so that a new DBSMC variant cannot fall through to `None`.
+    pub fn eps(&self) -> Option<f64> {
+        match *self {
+            MethodSpec::Dbsmc { eps, .. }
+            | MethodSpec::DbsmcGenerated { eps, .. }
+            | MethodSpec::DbsmcRelaxed { eps, .. }
+            | MethodSpec::DbsmcRamped { eps, .. }
+            | MethodSpec::DbsmcRampGenerated { eps, .. } => Some(eps),
+            MethodSpec::XpbdSubsteps(_)
+            | MethodSpec::XpbdColoured(_)
+            | MethodSpec::XpbdIterations(_)
+            | MethodSpec::IndexOne(_) => None,
         }
     }
     /// The setting, e.g. `k=20`.
@@ -98,9 +123,9 @@ impl MethodSpec {
             MethodSpec::Dbsmc { eps, .. } | MethodSpec::DbsmcGenerated { eps, .. } => {
                 format!("eps={eps:e}")
             }
-            MethodSpec::DbsmcRelaxed { eps, gain } | MethodSpec::DbsmcRamped { eps, gain } => {
-                format!("eps={eps:e} c={gain}")
-            }
+            MethodSpec::DbsmcRelaxed { eps, gain }
+            | MethodSpec::DbsmcRamped { eps, gain }
+            | MethodSpec::DbsmcRampGenerated { eps, gain } => format!("eps={eps:e} c={gain}"),
             MethodSpec::XpbdSubsteps(k) | MethodSpec::XpbdColoured(k) => format!("k={k}"),
             MethodSpec::XpbdIterations(n) => format!("n={n}"),
             MethodSpec::IndexOne(s) => format!("steps/frame={s}"),
@@ -481,8 +506,7 @@ pub fn run_particle_method(
             let Some(bounds) = bounds else {
                 return failed("no pilot bounds for the design".into());
             };
-            let sys = &scene.system;
-            let run = RunDbsmc {
+            RunDbsmc {
                 scene,
                 spec,
                 design: Design::Pilot(bounds),
@@ -492,23 +516,21 @@ pub fn run_particle_method(
                 budget,
                 reference,
                 observe,
-            };
-            match scene.shape {
-                SceneShape::Chain {
-                    links,
-                    end_mass_ratio,
-                } => run.with(crate::generated_chain(sys, links, end_mass_ratio)),
-                SceneShape::Strands { strands, links } => {
-                    run.with(crate::generated_strands(sys, strands, links))
-                }
-                SceneShape::Grid {
-                    w,
-                    pins,
-                    shear,
-                    slack,
-                } => run.with(crate::generated_grid(sys, w, pins, shear, slack)),
             }
+            .with_generated()
         }
+        MethodSpec::DbsmcRampGenerated { eps, gain } => RunDbsmc {
+            scene,
+            spec,
+            design: Design::Relaxed { gain, ramp: true },
+            eps,
+            solver: SolverChoice::Auto,
+            integrator: Integrator::DormandPrince,
+            budget,
+            reference,
+            observe,
+        }
+        .with_generated(),
         MethodSpec::Dbsmc {
             eps,
             solver,
@@ -572,6 +594,27 @@ struct RunDbsmc<'a, 'o> {
 }
 
 impl RunDbsmc<'_, '_> {
+    /// [`Self::with`] on the scene's generated family model (C1: `chain.dae`, C2:
+    /// `c2_hair.dae`, C3 and C4: `c3_cloth.dae`).
+    fn with_generated(self) -> ParticleRecord {
+        let sys = &self.scene.system;
+        match self.scene.shape {
+            SceneShape::Chain {
+                links,
+                end_mass_ratio,
+            } => self.with(crate::generated_chain(sys, links, end_mass_ratio)),
+            SceneShape::Strands { strands, links } => {
+                self.with(crate::generated_strands(sys, strands, links))
+            }
+            SceneShape::Grid {
+                w,
+                pins,
+                shear,
+                slack,
+            } => self.with(crate::generated_grid(sys, w, pins, shear, slack)),
+        }
+    }
+
     /// Designs the settings for `model` from the pilot bounds and runs the scene on it.
     /// The strain is measured over the whole run; a lost s-layer is recorded
     /// (`s_layer_lost_at`), not a reason to stop.
@@ -640,13 +683,7 @@ fn blank(scene: &ParticleScene, spec: &MethodSpec) -> ParticleRecord {
         param: scene.param,
         method: spec.method(),
         knob: spec.knob(),
-        eps: match spec {
-            MethodSpec::Dbsmc { eps, .. }
-            | MethodSpec::DbsmcGenerated { eps, .. }
-            | MethodSpec::DbsmcRelaxed { eps, .. }
-            | MethodSpec::DbsmcRamped { eps, .. } => Some(*eps),
-            _ => None,
-        },
+        eps: spec.eps(),
         worst_strain: f64::NAN,
         ms_mean: f64::NAN,
         ms_max: f64::NAN,

@@ -20,6 +20,14 @@ fn is_dbsmc(r: &ParticleRecord) -> bool {
     r.method.starts_with("dbsmc")
 }
 
+/// A run of the frame-tied design (no pilot), on the hand-written or the generated model.
+fn is_frame_tied(r: &ParticleRecord) -> bool {
+    matches!(
+        r.method.as_str(),
+        "dbsmc-relaxed" | "dbsmc-ramp" | "dbsmc-ramp-generated"
+    )
+}
+
 /// XPBD small steps, in the system's order or by colour.
 fn is_xpbd_small_steps(r: &ParticleRecord) -> bool {
     r.method == "xpbd-substeps" || r.method == "xpbd-coloured"
@@ -92,10 +100,7 @@ fn bound_target(records: &[ParticleRecord]) -> String {
         let _ = writeln!(s, "- {} runs on {t} completed no frame: {why}", runs.len());
     }
     let started = records.iter().filter(|r| is_dbsmc(r) && r.frames > 0);
-    let frame_tied: Vec<&ParticleRecord> = started
-        .clone()
-        .filter(|r| r.method == "dbsmc-relaxed" || r.method == "dbsmc-ramp")
-        .collect();
+    let frame_tied: Vec<&ParticleRecord> = started.clone().filter(|r| is_frame_tied(r)).collect();
     s += "\n";
     for r in &misses {
         let _ = writeln!(
@@ -117,7 +122,7 @@ fn bound_target(records: &[ParticleRecord]) -> String {
     let _ = writeln!(
         s,
         "\nVerdict: {} of {} DBSMC runs that ran a frame kept both (strain and s-layer) over the frames they ran; \
-         the frame-tied designs (`dbsmc-relaxed`, `dbsmc-ramp`): {} of {}, of which {} ran their whole scene (the size sweep's runs cover its first frames).",
+         the frame-tied designs (`dbsmc-relaxed`, `dbsmc-ramp`, `dbsmc-ramp-generated`): {} of {}, of which {} ran their whole scene (the size sweep's runs cover its first frames).",
         started.clone().filter(|r| kept(r)).count(),
         started.count(),
         frame_tied.iter().filter(|r| kept(r)).count(),
@@ -422,7 +427,7 @@ mod tests {
         assert!(!s.contains("xpbd"), "{s}");
         assert!(s.contains("2 of 4 DBSMC runs that ran a frame"), "{s}");
         assert!(
-            s.contains("(`dbsmc-relaxed`, `dbsmc-ramp`): 2 of 2, of which 1 ran their whole scene"),
+            s.contains("(`dbsmc-relaxed`, `dbsmc-ramp`, `dbsmc-ramp-generated`): 2 of 2, of which 1 ran their whole scene"),
             "{s}"
         );
     }

@@ -4,7 +4,7 @@
 //! least-squares fit of log time against log links) and on `cloth.dae` at W = 16, 32, 64.
 //!
 //! ```text
-//! cargo run --release -p dae-runtime --features families --example family_eval
+//! cargo run --release -p dae-runtime --features families --example family_model_eval
 //! ```
 //!
 //! Each figure is the best of several repetitions (a repetition runs the four functions
