@@ -1,0 +1,117 @@
+//! How much one run's counts say: the frame-tied design (`dae_bench::relaxed_settings`)
+//! run on one scene with its longest step moved by -4 % ... +4 % around `mu / 4`, `mu / 2`
+//! and `mu`, and the spread of the control updates and steps per frame it makes.
+//!
+//! On a chaotic scene (the chains with heavy ends) any change of the step pattern leads
+//! the trajectory elsewhere, and the counts of one run are one draw among many: a
+//! comparison of two settings there needs several draws each. The layer is checked in
+//! every run (a run that left it is counted, not hidden), and the exit status is 1 if
+//! any did. The wall time per frame is timed once per run: compare it on a quiet machine.
+//!
+//! ```text
+//! cargo run --release -p dae-bench --example count_spread [-- SCENE EPS C held|ramp]
+//! ```
+//!
+//! `SCENE` is `c1:N:RATIO` (C1, `N` links, end-mass ratio `RATIO`) or `c3:W` (C3 (a),
+//! `W` x `W`); the defaults run the heavy 10-link chain (`c1:10:1e4`) at eps = 1e-3,
+//! `c = 4`, `v` ramped.
+
+use std::time::Duration;
+
+use dae_bench::{ParticleScene, c1, c3, run_relaxed_with};
+use dae_particles::GridPins;
+
+/// The longest step's distances from the design's, as factors.
+const NUDGES: [f64; 9] = [0.96, 0.97, 0.98, 0.99, 1.0, 1.01, 1.02, 1.03, 1.04];
+
+fn scene(spec: &str) -> Result<ParticleScene, String> {
+    let p: Vec<&str> = spec.split(':').collect();
+    let num = |s: &str| -> Result<f64, String> {
+        s.parse()
+            .map_err(|_| format!("`{s}` in `{spec}` is not a number"))
+    };
+    match p.as_slice() {
+        ["c1", n, r] => c1(num(n)? as usize, num(r)?).map_err(|e| e.to_string()),
+        ["c3", w] => c3(num(w)? as usize, GridPins::Corners, false).map_err(|e| e.to_string()),
+        _ => Err(format!("`{spec}`: a scene is c1:N:RATIO or c3:W")),
+    }
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let get = |i: usize, d: &str| args.get(i).cloned().unwrap_or_else(|| d.to_string());
+    let parsed = scene(&get(0, "c1:10:1e4")).and_then(|s| {
+        let eps: f64 = get(1, "1e-3").parse().map_err(|_| "EPS is not a number")?;
+        let gain: f64 = get(2, "4").parse().map_err(|_| "C is not a number")?;
+        let ramp = match get(3, "ramp").as_str() {
+            "ramp" => true,
+            "held" => false,
+            other => return Err(format!("`{other}`: held or ramp")),
+        };
+        Ok((s, eps, gain, ramp))
+    });
+    let (scene, eps, gain, ramp) = parsed.unwrap_or_else(|e| {
+        eprintln!("count_spread: {e} (usage: count_spread [SCENE EPS C held|ramp])");
+        std::process::exit(2);
+    });
+    println!(
+        "{}, eps = {eps:e}, c = {gain}, v {}\n",
+        scene.title(),
+        if ramp { "ramped" } else { "held" }
+    );
+    println!(
+        "| longest step | updates / frame: at exactly this step; median [min, max] of the 9 | steps / frame, median [min, max] | ms / frame, median [min, max] (one timing each) | layer or strain left |"
+    );
+    println!("|---|---|---|---|---|");
+    let mut lost_any = false;
+    for per_mu in [0.25, 0.5, 1.0] {
+        let mut runs = Vec::new();
+        for nudge in NUDGES {
+            let r = run_relaxed_with(&scene, eps, gain, Duration::from_secs(600), |s| {
+                let s = if ramp { s.ramp_against_drift() } else { s };
+                let mu = s.mu[0];
+                s.max_step(per_mu * nudge * mu)
+            });
+            let f = r.frames.max(1) as f64;
+            let lost = r.counters.layer_lost_at.is_some() || r.worst_strain > 1.05 * eps;
+            runs.push((
+                r.counters.updates as f64 / f,
+                r.counters.steps as f64 / f,
+                lost,
+                r.complete(),
+                r.ms_mean,
+            ));
+        }
+        let at_design = runs[NUDGES.len() / 2].0;
+        let sorted = |f: fn(&(f64, f64, bool, bool, f64)) -> f64| {
+            let mut v: Vec<f64> = runs.iter().map(f).collect();
+            v.sort_by(f64::total_cmp);
+            v
+        };
+        let (upd, steps, ms) = (sorted(|r| r.0), sorted(|r| r.1), sorted(|r| r.4));
+        let lost = runs.iter().filter(|r| r.2).count();
+        let short = runs.iter().filter(|r| !r.3).count();
+        lost_any |= lost > 0;
+        println!(
+            "| mu / {} | {at_design:.1}: {:.1} [{:.1}, {:.1}] | {:.1} [{:.1}, {:.1}] | {:.3} [{:.3}, {:.3}] | {lost} of 9{} |",
+            1.0 / per_mu,
+            upd[4],
+            upd[0],
+            upd[8],
+            steps[4],
+            steps[0],
+            steps[8],
+            ms[4],
+            ms[0],
+            ms[8],
+            if short > 0 {
+                format!(" ({short} incomplete)")
+            } else {
+                String::new()
+            }
+        );
+    }
+    if lost_any {
+        std::process::exit(1);
+    }
+}
