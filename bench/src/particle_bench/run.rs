@@ -485,90 +485,77 @@ pub fn run_particle_method(
         r.status = format!("failed: {reason}");
         r
     };
-    match *spec {
-        MethodSpec::XpbdSubsteps(k) => match Xpbd::new(&scene.system, k, 1, SweepOrder::System) {
-            Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
-            Err(e) => failed(e),
-        },
-        MethodSpec::XpbdColoured(k) => match Xpbd::new(&scene.system, k, 1, SweepOrder::Coloured) {
-            Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
-            Err(e) => failed(e),
-        },
-        MethodSpec::XpbdIterations(n) => match Xpbd::new(&scene.system, 1, n, SweepOrder::System) {
-            Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
-            Err(e) => failed(e),
-        },
-        MethodSpec::IndexOne(s) => match index_one(scene, s) {
-            Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
-            Err(e) => failed(e),
-        },
-        MethodSpec::DbsmcGenerated { eps, integrator } => {
-            let Some(bounds) = bounds else {
-                return failed("no pilot bounds for the design".into());
+    let pilot = || {
+        bounds
+            .map(Design::Pilot)
+            .ok_or("no pilot bounds for the design")
+    };
+    let relaxed = |gain, ramp| Ok(Design::Relaxed { gain, ramp });
+    let dp = Integrator::DormandPrince;
+    // The other methods run here; for DBSMC: the design, the solver and integrator, and
+    // whether the model is generated.
+    let (design, eps, solver, integrator, generated) = match *spec {
+        MethodSpec::XpbdSubsteps(k) => {
+            return match Xpbd::new(&scene.system, k, 1, SweepOrder::System) {
+                Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
+                Err(e) => failed(e),
             };
-            RunDbsmc {
-                scene,
-                spec,
-                design: Design::Pilot(bounds),
-                eps,
-                solver: SolverChoice::Auto,
-                integrator,
-                budget,
-                reference,
-                observe,
-            }
-            .with_generated()
         }
-        MethodSpec::DbsmcRampGenerated { eps, gain } => RunDbsmc {
-            scene,
-            spec,
-            design: Design::Relaxed { gain, ramp: true },
-            eps,
-            solver: SolverChoice::Auto,
-            integrator: Integrator::DormandPrince,
-            budget,
-            reference,
-            observe,
+        MethodSpec::XpbdColoured(k) => {
+            return match Xpbd::new(&scene.system, k, 1, SweepOrder::Coloured) {
+                Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
+                Err(e) => failed(e),
+            };
         }
-        .with_generated(),
+        MethodSpec::XpbdIterations(n) => {
+            return match Xpbd::new(&scene.system, 1, n, SweepOrder::System) {
+                Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
+                Err(e) => failed(e),
+            };
+        }
+        MethodSpec::IndexOne(s) => {
+            return match index_one(scene, s) {
+                Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
+                Err(e) => failed(e),
+            };
+        }
         MethodSpec::Dbsmc {
             eps,
             solver,
             integrator,
-        } => {
-            let Some(bounds) = bounds else {
-                return failed("no pilot bounds for the design".into());
-            };
-            RunDbsmc {
-                scene,
-                spec,
-                design: Design::Pilot(bounds),
-                eps,
-                solver,
-                integrator,
-                budget,
-                reference,
-                observe,
-            }
-            .with(ParticleModel::new(&scene.system).map_err(|e| e.to_string()))
+        } => (pilot(), eps, solver, integrator, false),
+        MethodSpec::DbsmcGenerated { eps, integrator } => {
+            (pilot(), eps, SolverChoice::Auto, integrator, true)
         }
-        MethodSpec::DbsmcRelaxed { eps, gain } | MethodSpec::DbsmcRamped { eps, gain } => {
-            RunDbsmc {
-                scene,
-                spec,
-                design: Design::Relaxed {
-                    gain,
-                    ramp: matches!(spec, MethodSpec::DbsmcRamped { .. }),
-                },
-                eps,
-                solver: SolverChoice::Auto,
-                integrator: Integrator::DormandPrince,
-                budget,
-                reference,
-                observe,
-            }
-            .with(ParticleModel::new(&scene.system).map_err(|e| e.to_string()))
+        MethodSpec::DbsmcRelaxed { eps, gain } => {
+            (relaxed(gain, false), eps, SolverChoice::Auto, dp, false)
         }
+        MethodSpec::DbsmcRamped { eps, gain } => {
+            (relaxed(gain, true), eps, SolverChoice::Auto, dp, false)
+        }
+        MethodSpec::DbsmcRampGenerated { eps, gain } => {
+            (relaxed(gain, true), eps, SolverChoice::Auto, dp, true)
+        }
+    };
+    let design = match design {
+        Ok(d) => d,
+        Err(e) => return failed(e.into()),
+    };
+    let run = RunDbsmc {
+        scene,
+        spec,
+        design,
+        eps,
+        solver,
+        integrator,
+        budget,
+        reference,
+        observe,
+    };
+    if generated {
+        run.with_generated()
+    } else {
+        run.with(ParticleModel::new(&scene.system).map_err(|e| e.to_string()))
     }
 }
 
