@@ -37,6 +37,26 @@ fn scene(spec: &str) -> Result<ParticleScene, String> {
     }
 }
 
+/// One draw: its counts and cost per frame, whether it left its layer or its strain
+/// bound, and whether it ran the whole scene.
+struct Draw {
+    updates: f64,
+    steps: f64,
+    ms: f64,
+    left: bool,
+    complete: bool,
+}
+
+/// The median, least and largest of `values` (nine draws).
+fn spread(mut values: Vec<f64>) -> (f64, f64, f64) {
+    values.sort_by(f64::total_cmp);
+    (
+        values[values.len() / 2],
+        values[0],
+        values[values.len() - 1],
+    )
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let get = |i: usize, d: &str| args.get(i).cloned().unwrap_or_else(|| d.to_string());
@@ -65,45 +85,42 @@ fn main() {
     println!("|---|---|---|---|---|");
     let mut lost_any = false;
     for per_mu in [0.25, 0.5, 1.0] {
-        let mut runs = Vec::new();
-        for nudge in NUDGES {
-            let r = run_relaxed_with(&scene, eps, gain, Duration::from_secs(600), |s| {
-                let s = if ramp { s.ramp_against_drift() } else { s };
-                let mu = s.mu[0];
-                s.max_step(per_mu * nudge * mu)
-            });
-            let f = r.frames.max(1) as f64;
-            let lost = r.counters.layer_lost_at.is_some() || r.worst_strain > 1.05 * eps;
-            runs.push((
-                r.counters.updates as f64 / f,
-                r.counters.steps as f64 / f,
-                lost,
-                r.complete(),
-                r.ms_mean,
-            ));
-        }
-        let at_design = runs[NUDGES.len() / 2].0;
-        let sorted = |f: fn(&(f64, f64, bool, bool, f64)) -> f64| {
-            let mut v: Vec<f64> = runs.iter().map(f).collect();
-            v.sort_by(f64::total_cmp);
-            v
-        };
-        let (upd, steps, ms) = (sorted(|r| r.0), sorted(|r| r.1), sorted(|r| r.4));
-        let lost = runs.iter().filter(|r| r.2).count();
-        let short = runs.iter().filter(|r| !r.3).count();
+        let draws: Vec<Draw> = NUDGES
+            .iter()
+            .map(|nudge| {
+                let r = run_relaxed_with(&scene, eps, gain, Duration::from_secs(600), |s| {
+                    let s = if ramp { s.ramp_against_drift() } else { s };
+                    let mu = s.mu[0];
+                    s.max_step(per_mu * nudge * mu)
+                });
+                let f = r.frames.max(1) as f64;
+                Draw {
+                    updates: r.counters.updates as f64 / f,
+                    steps: r.counters.steps as f64 / f,
+                    ms: r.ms_mean,
+                    left: r.counters.layer_lost_at.is_some() || r.worst_strain > 1.05 * eps,
+                    complete: r.complete(),
+                }
+            })
+            .collect();
+        let at_design = draws[NUDGES.len() / 2].updates;
+        let of = |f: fn(&Draw) -> f64| spread(draws.iter().map(f).collect());
+        let (upd, steps, ms) = (of(|d| d.updates), of(|d| d.steps), of(|d| d.ms));
+        let lost = draws.iter().filter(|d| d.left).count();
+        let short = draws.iter().filter(|d| !d.complete).count();
         lost_any |= lost > 0;
         println!(
             "| mu / {} | {at_design:.1}: {:.1} [{:.1}, {:.1}] | {:.1} [{:.1}, {:.1}] | {:.3} [{:.3}, {:.3}] | {lost} of 9{} |",
             1.0 / per_mu,
-            upd[4],
-            upd[0],
-            upd[8],
-            steps[4],
-            steps[0],
-            steps[8],
-            ms[4],
-            ms[0],
-            ms[8],
+            upd.0,
+            upd.1,
+            upd.2,
+            steps.0,
+            steps.1,
+            steps.2,
+            ms.0,
+            ms.1,
+            ms.2,
             if short > 0 {
                 format!(" ({short} incomplete)")
             } else {

@@ -485,12 +485,9 @@ pub fn run_particle_method(
         r.status = format!("failed: {reason}");
         r
     };
-    let pilot = || {
-        bounds
-            .map(Design::Pilot)
-            .ok_or("no pilot bounds for the design")
-    };
-    let relaxed = |gain, ramp| Ok(Design::Relaxed { gain, ramp });
+    // The pilot-based designs need the bounds; `None` without them.
+    let pilot = bounds.map(Design::Pilot);
+    let relaxed = |gain, ramp| Some(Design::Relaxed { gain, ramp });
     let dp = Integrator::DormandPrince;
     // The other methods run here; for DBSMC: the design, the solver and integrator, and
     // whether the model is generated.
@@ -523,9 +520,9 @@ pub fn run_particle_method(
             eps,
             solver,
             integrator,
-        } => (pilot(), eps, solver, integrator, false),
+        } => (pilot, eps, solver, integrator, false),
         MethodSpec::DbsmcGenerated { eps, integrator } => {
-            (pilot(), eps, SolverChoice::Auto, integrator, true)
+            (pilot, eps, SolverChoice::Auto, integrator, true)
         }
         MethodSpec::DbsmcRelaxed { eps, gain } => {
             (relaxed(gain, false), eps, SolverChoice::Auto, dp, false)
@@ -537,9 +534,8 @@ pub fn run_particle_method(
             (relaxed(gain, true), eps, SolverChoice::Auto, dp, true)
         }
     };
-    let design = match design {
-        Ok(d) => d,
-        Err(e) => return failed(e.into()),
+    let Some(design) = design else {
+        return failed("no pilot bounds for the design".into());
     };
     let run = RunDbsmc {
         scene,
