@@ -3,7 +3,7 @@
 //! once left their `s`-layer (before the runtime's located crossings were fixed): with
 //! fixed gains at the runtime's default Dormand-Prince tolerance (`TOLERANCE_PER_EPS =
 //! 0.01` of the smallest layer), at a tolerance 100 times tighter, and with steps of at
-//! most 1/4 and 1/16 of the design's longest (`mu / 4`); with the gains following the
+//! most 1/4 and 1/16 of the design's longest (`mu / 2`); with the gains following the
 //! drift of `s'` (`Settings::follow_drift`) up to the gain that sweeps the layer, at
 //! safety 1 and 2; and with them following it only as far as grazing returns `mu / 8`
 //! apart need (`Settings::graze`, the benchmark's design), with `v` held or ramping

@@ -5,7 +5,7 @@
 //! (issue 13's first target), and at what cost per frame.
 //!
 //! ```text
-//! cargo run --release -p dae-bench --example whole_scenes [-- [--ramp | --generated] EPS C BUDGET [TEXT]]
+//! cargo run --release -p dae-bench --example whole_scenes [-- [--ramp | --generated] [--jobs N] EPS C BUDGET [TEXT]]
 //! ```
 //!
 //! `--ramp` runs the design with `v` ramped against the drift between updates
@@ -17,10 +17,15 @@
 //! says how many frames it ran). A scene that stops at the budget counts as not shown.
 //! `TEXT` keeps the scenes whose title contains it. The column "links asking" counts
 //! the links whose own `s_i` asked for at least one update (`Summary::triggered_updates`).
+//! The scenes run one per core at a time (`--jobs N` runs N at a time, 1 for one at a
+//! time); each scene's run is one thread's, and the table lists them in order when all
+//! have ended (a line on stderr as each ends).
 
 use std::time::Duration;
 
-use dae_bench::{MethodSpec, ParticleScene, c1, c2, c3, c4, run_particle_method};
+use dae_bench::{
+    MethodSpec, ParticleScene, c1, c2, c3, c4, default_workers, parallel_map, run_particle_method,
+};
 use dae_particles::GridPins;
 
 fn scenes() -> Result<Vec<ParticleScene>, String> {
@@ -43,17 +48,31 @@ fn scenes() -> Result<Vec<ParticleScene>, String> {
 }
 
 fn main() {
-    let ramp = std::env::args().any(|a| a == "--ramp");
-    let generated = std::env::args().any(|a| a == "--generated");
-    let args: Vec<String> = std::env::args()
-        .filter(|a| a != "--ramp" && a != "--generated")
-        .collect();
+    let mut ramp = false;
+    let mut generated = false;
+    let mut jobs = default_workers();
+    let mut args: Vec<String> = Vec::new();
+    let mut given = std::env::args();
+    while let Some(a) = given.next() {
+        match a.as_str() {
+            "--ramp" => ramp = true,
+            "--generated" => generated = true,
+            "--jobs" => {
+                let v = given.next().unwrap_or_default();
+                jobs = v.parse().ok().filter(|&n| n > 0).unwrap_or_else(|| {
+                    eprintln!("whole_scenes: --jobs `{v}`: not a positive whole number");
+                    std::process::exit(2);
+                });
+            }
+            _ => args.push(a),
+        }
+    }
     let arg = |i: usize, default: f64| -> f64 {
         match args.get(i) {
             None => default,
             Some(a) => a.parse().unwrap_or_else(|_| {
                 eprintln!(
-                    "whole_scenes: `{a}` is not a number (usage: whole_scenes [--ramp | --generated] [EPS C BUDGET [TEXT]])"
+                    "whole_scenes: `{a}` is not a number (usage: whole_scenes [--ramp | --generated] [--jobs N] [EPS C BUDGET [TEXT]])"
                 );
                 std::process::exit(2);
             }),
@@ -78,9 +97,19 @@ fn main() {
         "| scene | links | worst strain / eps | s-layer left (max \\|s\\|/eps) | ms / frame mean (max) | updates / frame | links asking | frames | status |"
     );
     println!("|---|---|---|---|---|---|---|---|---|");
+    let runs = parallel_map(scenes.len(), jobs, |i| {
+        let r = run_particle_method(&scenes[i], &spec, None, budget, None, None);
+        eprintln!(
+            "{}: {} ({}/{} frames)",
+            scenes[i].title(),
+            r.status,
+            r.frames,
+            r.frames_total
+        );
+        r
+    });
     let (mut lost, mut short) = (0, 0);
-    for scene in &scenes {
-        let r = run_particle_method(scene, &spec, None, budget, None, None);
+    for (scene, r) in scenes.iter().zip(runs) {
         let layer = match (r.counters.layer_lost_at, r.counters.layer_worst_ratio) {
             (Some(t), Some(q)) => format!("{t:.3} s, {q:.3} eps"),
             _ => "-".into(),

@@ -3,6 +3,7 @@
 
 mod charts;
 mod pictures;
+mod pool;
 mod report;
 mod retime;
 mod run;
@@ -11,6 +12,7 @@ mod targets;
 
 pub use charts::{Line, loglog, ratio_chart, strain_chart};
 pub use pictures::{Capture, strain_colour, write_pictures};
+pub use pool::{default_workers, parallel_map};
 pub use report::{
     CSV_COLUMNS, bound_held, cheapest, cheapest_table, dbsmc_runs_table, fitted_exponent,
     scene_groups, scene_title, stability_table, write_particles_csv,
@@ -18,8 +20,9 @@ pub use report::{
 pub use retime::{MAX_TIMINGS, RETIME_BELOW_MS, timed_repeatedly};
 pub use run::{
     FrameObserver, MethodSpec, PILOT_SAFETY, ParticleRecord, RELAXED_DRIFT_SAFETY,
-    RELAXED_GRAZE_PER_MU, RELAXED_MU_PER_FRAME, RELAXED_STEP_PER_MU, dbsmc_settings, drive_scene,
-    index_one, particle_pilot, relaxed_settings, run_particle_method, run_relaxed_with,
+    RELAXED_GRAZE_PER_MU, RELAXED_MU_PER_FRAME, RELAXED_STEP_PER_MU, RELAXED_TOLERANCE_PER_EPS,
+    dbsmc_settings, drive_scene, index_one, particle_pilot, relaxed_settings, run_particle_method,
+    run_relaxed_with,
 };
 pub use scenes::{Grab, ParticleScene, SceneShape, c1, c2, c3, c3_with_slack, c4, c4_with_slack};
 pub use targets::targets_section;

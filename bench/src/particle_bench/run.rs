@@ -382,11 +382,25 @@ pub fn dbsmc_settings<M: ParticleDae>(
 pub const RELAXED_MU_PER_FRAME: f64 = 0.25;
 
 /// The longest Dormand-Prince step of the relaxed design, as a fraction of `mu`: the
-/// cubic of `s` that locates the crossings is then fitted over a step no longer than a
-/// quarter of the surface's time constant (on C1 N=10 r=1e4 at eps = 1e-3, `mu / 8`,
-/// gain 8: steps of a whole control interval left the layer at 1.6 s, `max |s| / eps =
-/// 1.06`; capped at a frame / 100 they held for the 5 s: one-off runs of these settings with the cap changed).
-pub const RELAXED_STEP_PER_MU: f64 = 0.25;
+/// cubic of `s` that locates the crossings is then fitted over a step no longer than half
+/// of the surface's time constant. `mu / 4` until 2026-11-27: `count_spread` (nine draws
+/// of the longest step within 4 % at each of `mu / 4`, `mu / 2` and `mu`, 198 draws on
+/// 11 scenes, docs/particles.md "How much one run's counts say") kept every layer at
+/// all three, and `mu / 2` made a third fewer steps than `mu / 4` where the longest step
+/// sets them (the 10-link chains, the small cloth) with as many updates; `mu` saved
+/// little more (11.7 against 13.5 steps per frame on C1 N=10 r=1e2), and with an older
+/// law (on C1 N=10 r=1e4 at eps = 1e-3, `mu / 8`, gain 8) steps of a whole control
+/// interval left the layer at 1.6 s.
+pub const RELAXED_STEP_PER_MU: f64 = 0.5;
+
+/// The state tolerance of the relaxed design's Dormand-Prince steps, as a fraction of the
+/// smallest layer: `rtol = atol = RELAXED_TOLERANCE_PER_EPS * min eps_i`, ten times the
+/// runtime's default ([`dae_runtime::TOLERANCE_PER_EPS`]). What keeps `s` within its
+/// layer is each step's error in `s` ([`dae_runtime::LAYER_ERROR_PER_STEP`]), which
+/// does not depend on it; on the heavy 10-link chain at eps = 1e-3 the default
+/// tolerance set the steps (68 per frame for 18 updates; 47 at ten times it, 42 at 30
+/// times, the same updates, every layer kept: one-off runs, 2026-11-27).
+pub const RELAXED_TOLERANCE_PER_EPS: f64 = 0.1;
 
 /// Safety factor of the relaxed design's gains over the drift of `s'` measured online
 /// ([`Settings::follow_drift`]): 1 kept the layer on every scene of `relaxed_design`,
@@ -407,7 +421,8 @@ pub const RELAXED_GRAZE_PER_MU: f64 = 0.125;
 /// (`follow_drift(RELAXED_DRIFT_SAFETY)`) as far as grazing returns `mu / 8` apart need
 /// (`graze(RELAXED_GRAZE_PER_MU * mu)`), the rate `-k_i s_i / eps_i` asked of a link
 /// inside its layer (`saturate_in_layer`), the exact alpha, monitoring, Dormand-Prince
-/// at the default tolerance with steps of at most `RELAXED_STEP_PER_MU * mu`.
+/// with the state tolerance `RELAXED_TOLERANCE_PER_EPS min eps_i` and steps of at most
+/// `RELAXED_STEP_PER_MU * mu` (`mu / 2`).
 ///
 /// The floor is the sufficient gain of T 4.4, `k = mu^3 M / 2 + 4 eps / mu`, for an
 /// assumed drift `M_i = 2 (gain - 4) eps_i / mu^4` instead of the pilot's worst one: the
@@ -427,7 +442,9 @@ pub fn relaxed_settings<M: ParticleDae>(model: &M, eps: f64, gain: f64) -> Setti
     let mu = RELAXED_MU_PER_FRAME * FRAME;
     let e: Vec<f64> = (0..m).map(|i| eps * model.rest_length(i)).collect();
     let k: Vec<f64> = e.iter().map(|e| gain * e / mu).collect();
+    let tol = RELAXED_TOLERANCE_PER_EPS * e.iter().copied().fold(f64::INFINITY, f64::min);
     Settings::new(e, vec![mu; m], k)
+        .tolerance(tol, tol)
         .alpha(AlphaChoice::Exact)
         .integrator(Integrator::DormandPrince)
         .step(FRAME)

@@ -1,0 +1,89 @@
+//! Running the benchmark's independent runs on several cores. Each run is one thread's
+//! work from start to end (its timing is of one core); the runs are handed out in
+//! their order, so the longest wait at the end is one run's.
+
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// `f(0), ..., f(n - 1)` on `workers` threads (at least one), in the order of the
+/// indices as far as the threads allow; the results in index order.
+///
+/// A panic in `f` is a bug of the benchmark, not an outcome of a run (a run's failure is
+/// a record), so it is propagated when the threads are joined.
+pub fn parallel_map<T: Send>(n: usize, workers: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
+    let workers = workers.clamp(1, n.max(1));
+    if workers == 1 {
+        return (0..n).map(f).collect();
+    }
+    let next = AtomicUsize::new(0);
+    let out: Mutex<Vec<Option<T>>> = Mutex::new((0..n).map(|_| None).collect());
+    std::thread::scope(|s| {
+        for _ in 0..workers {
+            s.spawn(|| {
+                loop {
+                    let i = next.fetch_add(1, Ordering::Relaxed);
+                    if i >= n {
+                        break;
+                    }
+                    let r = f(i);
+                    // A poisoned lock means another worker panicked; that panic is
+                    // re-raised by the scope, so this worker's results no longer matter.
+                    if let Ok(mut out) = out.lock() {
+                        out[i] = Some(r);
+                    }
+                }
+            });
+        }
+    });
+    out.into_inner()
+        .unwrap_or_else(|e| e.into_inner())
+        .into_iter()
+        .map(|r| r.expect("every index was run: the scope joined every worker"))
+        .collect()
+}
+
+/// The workers the benchmark uses unless told: one per core the system offers.
+pub fn default_workers() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashSet;
+    use std::thread::ThreadId;
+
+    #[test]
+    fn results_come_back_in_index_order_whatever_the_workers() {
+        for workers in [0, 1, 2, 3, 8, 100] {
+            let v = parallel_map(37, workers, |i| {
+                // Uneven work, so that the threads finish out of order.
+                std::thread::sleep(std::time::Duration::from_micros(((i * 7) % 5) as u64 * 50));
+                i * i
+            });
+            assert_eq!(v, (0..37).map(|i| i * i).collect::<Vec<_>>(), "{workers}");
+        }
+        assert!(parallel_map(0, 2, |i| i).is_empty());
+    }
+
+    #[test]
+    fn two_workers_run_on_two_threads() {
+        let ids: Mutex<HashSet<ThreadId>> = Mutex::new(HashSet::new());
+        parallel_map(8, 2, |_| {
+            ids.lock().unwrap().insert(std::thread::current().id());
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        });
+        assert_eq!(ids.into_inner().unwrap().len(), 2);
+    }
+
+    #[test]
+    #[should_panic(expected = "run 3 failed")]
+    fn a_panicking_run_is_not_swallowed() {
+        parallel_map(6, 2, |i| {
+            if i == 3 {
+                panic!("run 3 failed");
+            }
+            i
+        });
+    }
+}
