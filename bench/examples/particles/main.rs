@@ -558,7 +558,7 @@ fn draw_pictures(
         );
         let stem = format!("{}_{}", scene.stem(), spec.method());
         match write_pictures(
-            &pictures,
+            pictures,
             &stem,
             scene.system.links(),
             &capture,
