@@ -171,32 +171,24 @@ fn sweeps(fine_k: bool) -> Vec<Vec<MethodSpec>> {
     } else {
         (0..7).map(|p| 1 << (2 * p)).collect()
     };
+    // The pilot-based design with one integrator, at the three eps.
+    let pilot_based = |integrator| {
+        [1e-2, 1e-3, 1e-4]
+            .map(|eps| MethodSpec::Dbsmc {
+                eps,
+                solver: SolverChoice::Auto,
+                integrator,
+            })
+            .to_vec()
+    };
     vec![
         ks.iter().copied().map(MethodSpec::XpbdSubsteps).collect(),
         ks.iter().copied().map(MethodSpec::XpbdColoured).collect(),
         [4, 16, 64, 256].map(MethodSpec::XpbdIterations).to_vec(),
         [4, 16, 64, 256, 1024].map(MethodSpec::IndexOne).to_vec(),
-        [1e-2, 1e-3, 1e-4]
-            .map(|eps| MethodSpec::Dbsmc {
-                eps,
-                solver: SolverChoice::Auto,
-                integrator: Integrator::Rk4,
-            })
-            .to_vec(),
-        [1e-2, 1e-3, 1e-4]
-            .map(|eps| MethodSpec::Dbsmc {
-                eps,
-                solver: SolverChoice::Auto,
-                integrator: Integrator::Euler,
-            })
-            .to_vec(),
-        [1e-2, 1e-3, 1e-4]
-            .map(|eps| MethodSpec::Dbsmc {
-                eps,
-                solver: SolverChoice::Auto,
-                integrator: Integrator::DormandPrince,
-            })
-            .to_vec(),
+        pilot_based(Integrator::Rk4),
+        pilot_based(Integrator::Euler),
+        pilot_based(Integrator::DormandPrince),
         // The frame-tied design without a pilot, at three floors of the gains.
         [
             (1e-2, 4.0),

@@ -17,24 +17,39 @@ pub fn parallel_map<T: Send>(n: usize, workers: usize, f: impl Fn(usize) -> T + 
     }
     let next = AtomicUsize::new(0);
     let out: Mutex<Vec<Option<T>>> = Mutex::new((0..n).map(|_| None).collect());
-    std::thread::scope(|s| {
-        for _ in 0..workers {
-            s.spawn(|| {
-                loop {
-                    let i = next.fetch_add(1, Ordering::Relaxed);
-                    if i >= n {
-                        break;
+    // The workers are joined here, not by the scope, so that a panic is raised again
+    // with its own message (the scope's would only say that a thread panicked).
+    let panicked = std::thread::scope(|s| {
+        let workers: Vec<_> = (0..workers)
+            .map(|_| {
+                s.spawn(|| {
+                    loop {
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        if i >= n {
+                            break;
+                        }
+                        let r = f(i);
+                        // A poisoned lock means another worker panicked; that panic is
+                        // raised again below, so this worker's results no longer matter.
+                        if let Ok(mut out) = out.lock() {
+                            out[i] = Some(r);
+                        }
                     }
-                    let r = f(i);
-                    // A poisoned lock means another worker panicked; that panic is
-                    // re-raised by the scope, so this worker's results no longer matter.
-                    if let Ok(mut out) = out.lock() {
-                        out[i] = Some(r);
-                    }
-                }
-            });
+                })
+            })
+            .collect();
+        // Every worker is joined (one left to the scope would make it panic itself).
+        let mut first = None;
+        for w in workers {
+            if let Err(payload) = w.join() {
+                first.get_or_insert(payload);
+            }
         }
+        first
     });
+    if let Some(payload) = panicked {
+        std::panic::resume_unwind(payload);
+    }
     out.into_inner()
         .unwrap_or_else(|e| e.into_inner())
         .into_iter()
