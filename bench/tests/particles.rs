@@ -647,3 +647,51 @@ fn xpbd_swept_by_colour_loses_energy_where_the_grid_builders_order_gains_it() {
     assert!(coloured <= 1e-9, "coloured sweep gained {coloured} M g m");
     assert!(system > 1.0, "builder's order gained only {system} M g m");
 }
+
+/// Runs side by side on two threads (the benchmark's default, `parallel_map`) end as
+/// they do one at a time: the same steps, updates, evaluations, frames, status and worst
+/// strain to the bit, for every kind of method, with the results in the order asked.
+/// Only the wall time may differ (docs/particles.md, "Two runs at a time").
+#[test]
+fn runs_on_two_threads_end_as_they_do_one_at_a_time() {
+    let mut light = c1(10, 1.0).unwrap();
+    light.duration = 0.2;
+    let mut heavy = c1(10, 1e4).unwrap();
+    heavy.duration = 0.2;
+    let specs = [
+        MethodSpec::XpbdColoured(16),
+        MethodSpec::XpbdSubsteps(16),
+        MethodSpec::XpbdIterations(16),
+        MethodSpec::IndexOne(16),
+        MethodSpec::DbsmcRelaxed {
+            eps: 1e-3,
+            gain: 4.0,
+        },
+        MethodSpec::DbsmcRamped {
+            eps: 1e-2,
+            gain: 4.0,
+        },
+        MethodSpec::DbsmcRampGenerated {
+            eps: 1e-3,
+            gain: 4.0,
+        },
+    ];
+    let runs: Vec<(&ParticleScene, &MethodSpec)> = [&light, &heavy]
+        .into_iter()
+        .flat_map(|sc| specs.iter().map(move |spec| (sc, spec)))
+        .collect();
+    let run = |i: usize| {
+        let (scene, spec) = runs[i];
+        run_particle_method(scene, spec, None, Duration::from_secs(120), None, None)
+    };
+    let one = dae_bench::parallel_map(runs.len(), 1, run);
+    let two = dae_bench::parallel_map(runs.len(), 2, run);
+    for ((a, b), (scene, spec)) in one.iter().zip(&two).zip(&runs) {
+        let what = format!("{} {} {}", scene.title(), spec.method(), spec.knob());
+        assert!(a.complete(), "{what}: {}", a.status);
+        assert_eq!((&a.method, &a.knob), (&b.method, &b.knob), "{what}: order");
+        assert_eq!(a.counters, b.counters, "{what}");
+        assert_eq!((a.frames, &a.status), (b.frames, &b.status), "{what}");
+        assert_eq!(a.worst_strain.to_bits(), b.worst_strain.to_bits(), "{what}");
+    }
+}
