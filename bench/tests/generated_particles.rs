@@ -395,7 +395,7 @@ fn a_short_c4_grab_and_release_on_the_generated_cloth_holds_the_bound_as_the_han
 /// hand-written model's (`dbsmc-ramp`): as many control updates within 10 %,
 /// and the tracked particle (the chain's end, the grabbed particle) at the end within a
 /// thousandth of the distance it moved (measured: the same updates, 218 and 141, and
-/// 1e-7 and 5e-6 of it).
+/// 1e-8 and 7e-6 of it).
 #[test]
 fn the_frame_tied_design_on_the_generated_models_holds_and_follows_the_hand_written_model() {
     let mut cloth = c4(6).unwrap();

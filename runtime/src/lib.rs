@@ -439,9 +439,9 @@ pub use charts::{
 pub use design::{
     AutoDesign, AutoDesignOptions, ConstraintDesign, ConstraintSpec, Design, DesignError,
     DesignPass, GainChoice, LayerBound, MAX_INDEX, MuChoice, MuSearch, PilotError, PilotEstimate,
-    PilotEstimator, PilotRun, PilotRunError, approximate_inverse_gain, approximate_inverse_gains,
-    auto_design, c_r, design, design_at, jacobi_coupling, optimise_mu, pilot_run, pilot_specs,
-    reachable_bound, robust_gain, sufficient_gain, t_min,
+    PilotEstimator, PilotRun, PilotRunError, ROUNDING_FLOOR, approximate_inverse_gain,
+    approximate_inverse_gains, auto_design, c_r, design, design_at, jacobi_coupling, optimise_mu,
+    pilot_run, pilot_specs, reachable_bound, robust_gain, sufficient_gain, t_min,
 };
 pub use model::{Model, w_offsets};
 

@@ -180,6 +180,14 @@ impl Program {
         entries: Vec<EntryLoop>,
         is_family: impl Fn(VarRef) -> bool,
     ) -> Program {
+        // A few values (a link's length, a mass) divide many times in a group's tape.
+        let groups: Vec<Group> = groups
+            .into_iter()
+            .map(|g| Group {
+                tape: g.tape.with_shared_reciprocals(),
+                ..g
+            })
+            .collect();
         let plans = groups
             .iter()
             .map(|g| plan(g, &arrays, &is_family))

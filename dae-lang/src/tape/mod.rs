@@ -15,6 +15,8 @@
 
 use crate::{ArrayId, Func, MapId, VarRef};
 
+mod reciprocal;
+
 /// An operand of an instruction.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Operand {

@@ -32,7 +32,7 @@ pub use approx::{approximate_inverse_gain, approximate_inverse_gains, jacobi_cou
 pub use bounds::{LayerBound, c_r, reachable_bound, t_min};
 pub use gains::{GainChoice, robust_gain, sufficient_gain};
 pub use optimise::{ConstraintDesign, Design, MuSearch, design, design_at, optimise_mu};
-pub use pilot::{PilotError, PilotEstimate, PilotEstimator};
+pub use pilot::{PilotError, PilotEstimate, PilotEstimator, ROUNDING_FLOOR};
 pub use pilot_run::{
     AutoDesign, AutoDesignOptions, DesignPass, MuChoice, PilotRun, PilotRunError, auto_design,
     pilot_run, pilot_specs,

@@ -102,6 +102,31 @@ pub enum PilotError {
     BadSafety(f64),
 }
 
+/// Below this fraction of the largest over the constraints, an estimated `M_i` or
+/// `|beta_i|` is taken as 0: it is the rounding of an exact zero, not a motion. A
+/// constraint at rest (the middle links of a long chain in a short pilot) has `beta_i`
+/// and a drift of exactly 0 only while its compiled code cancels equal terms exactly;
+/// evaluated in another order (a reciprocal shared by several divisions) they come out
+/// as a few units of rounding (3e-14 against hundreds on the chain of
+/// `cli/tests/design.rs`), and the design would give that constraint a `mu` of its own
+/// instead of listing it as quiet ([`Design::quiet`](super::Design::quiet)).
+pub const ROUNDING_FLOOR: f64 = 1e-12;
+
+/// `values` times `safety`, with those at most [`ROUNDING_FLOOR`] of the largest set to 0.
+fn above_rounding(values: &[f64], safety: f64) -> Vec<f64> {
+    let largest = values.iter().fold(0.0f64, |a, &b| a.max(b));
+    values
+        .iter()
+        .map(|&v| {
+            if v <= ROUNDING_FLOOR * largest {
+                0.0
+            } else {
+                v * safety
+            }
+        })
+        .collect()
+}
+
 impl PilotEstimator {
     /// An estimator for `constraints` constraints.
     pub fn new(constraints: usize) -> Self {
@@ -183,8 +208,8 @@ impl PilotEstimator {
             return Err(PilotError::NoDriftData { constraint });
         }
         Ok(PilotEstimate {
-            beta_abs: self.beta_abs.iter().map(|b| b * safety).collect(),
-            m: self.m.iter().map(|m| m * safety).collect(),
+            beta_abs: above_rounding(&self.beta_abs, safety),
+            m: above_rounding(&self.m, safety),
             intervals: self.intervals,
             samples: self.samples,
         })
@@ -288,6 +313,20 @@ mod tests {
         );
         assert!((e.m[1] - 0.5 * e.m[0]).abs() < 1e-9);
         assert!((e.beta_abs[0] - a * 1.5).abs() < 1e-3);
+    }
+
+    #[test]
+    fn a_bound_at_the_rounding_of_zero_is_zero() {
+        // Constraint 1 is at rest: its beta and drift are rounding (1e-14) beside
+        // constraint 0's (1e2); constraint 2 moves slowly, but well above rounding.
+        let mut est = PilotEstimator::new(3);
+        est.observe(0.0, &[100.0, 3e-14, 1e-6], &[0.0, 0.0, 0.0])
+            .unwrap();
+        est.observe(0.5, &[-120.0, -2e-14, 2e-6], &[50.0, 1e-14, 1e-7])
+            .unwrap();
+        let e = est.estimate(2.0).unwrap();
+        assert_eq!(e.beta_abs, vec![240.0, 0.0, 4e-6]);
+        assert_eq!(e.m, vec![200.0, 0.0, 4e-7]);
     }
 
     #[test]
