@@ -29,11 +29,9 @@ pub fn parallel_map<T: Send>(n: usize, workers: usize, f: impl Fn(usize) -> T + 
                             break;
                         }
                         let r = f(i);
-                        // A poisoned lock means another worker panicked; that panic is
-                        // raised again below, so this worker's results no longer matter.
-                        if let Ok(mut out) = out.lock() {
-                            out[i] = Some(r);
-                        }
+                        // The lock is held only to store a result (`f` runs outside it),
+                        // so it is never poisoned by a run's panic.
+                        out.lock().unwrap_or_else(|e| e.into_inner())[i] = Some(r);
                     }
                 })
             })
