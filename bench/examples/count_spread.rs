@@ -18,7 +18,7 @@
 
 use std::time::Duration;
 
-use dae_bench::{ParticleScene, c1, c3, run_relaxed_with};
+use dae_bench::{ParticleScene, c1, c3, left_a_guarantee, run_relaxed_with};
 use dae_particles::GridPins;
 
 /// The longest step's distances from the design's, as factors.
@@ -98,7 +98,7 @@ fn main() {
                     updates: r.counters.updates as f64 / f,
                     steps: r.counters.steps as f64 / f,
                     ms: r.ms_mean,
-                    left: r.counters.layer_lost_at.is_some() || r.worst_strain > 1.05 * eps,
+                    left: left_a_guarantee(&r),
                     complete: r.complete(),
                 }
             })

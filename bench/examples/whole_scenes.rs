@@ -24,7 +24,8 @@
 use std::time::Duration;
 
 use dae_bench::{
-    MethodSpec, ParticleScene, c1, c2, c3, c4, default_workers, parallel_map, run_particle_method,
+    MethodSpec, ParticleScene, c1, c2, c3, c4, default_workers, left_a_guarantee, parallel_map,
+    run_particle_method,
 };
 use dae_particles::GridPins;
 
@@ -114,7 +115,7 @@ fn main() {
             (Some(t), Some(q)) => format!("{t:.3} s, {q:.3} eps"),
             _ => "-".into(),
         };
-        if r.counters.layer_lost_at.is_some() || r.worst_strain > 1.05 * eps {
+        if left_a_guarantee(&r) {
             lost += 1;
         } else if !r.complete() {
             short += 1;

@@ -32,8 +32,8 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use dae_bench::{
-    Capture, MethodSpec, ParticleRecord, ParticleScene, PilotBounds, bound_held, c1, c2,
-    c3_with_slack, c4_with_slack, cheapest, cheapest_table, drive_scene, index_one, parallel_map,
+    Capture, MethodSpec, ParticleRecord, ParticleScene, PilotBounds, c1, c2, c3_with_slack,
+    c4_with_slack, cheapest, cheapest_table, drive_scene, index_one, kept_both, parallel_map,
     particle_pilot, ratio_chart, run_particle_method, scene_groups, scene_title, stability_table,
     strain_chart, timed_repeatedly, write_particles_csv, write_pictures,
 };
@@ -515,10 +515,7 @@ fn draw_pictures(
                     && r.method == spec.method()
                     && r.knob == spec.knob()
             })?;
-            let kept = r.complete()
-                && bound_held(r) == Some(true)
-                && r.counters.layer_lost_at.is_none();
-            kept.then(|| (r.eps.unwrap_or(1e-2), r.ms_mean, spec))
+            (r.complete() && kept_both(r)).then(|| (r.eps.unwrap_or(1e-2), r.ms_mean, spec))
         })
         .max_by(|a, b| a.0.total_cmp(&b.0).then(b.1.total_cmp(&a.1)));
     let mut shots: Vec<(MethodSpec, f64)> = Vec::new();

@@ -15,7 +15,7 @@ pub use pictures::{Capture, strain_colour, write_pictures};
 pub use pool::{default_workers, parallel_map};
 pub use report::{
     CSV_COLUMNS, bound_held, cheapest, cheapest_table, dbsmc_runs_table, fitted_exponent,
-    scene_groups, scene_title, stability_table, write_particles_csv,
+    kept_both, left_a_guarantee, scene_groups, scene_title, stability_table, write_particles_csv,
 };
 pub use retime::{MAX_TIMINGS, RETIME_BELOW_MS, timed_repeatedly};
 pub use run::{

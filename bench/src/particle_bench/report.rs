@@ -65,6 +65,18 @@ pub fn bound_held(r: &ParticleRecord) -> Option<bool> {
     r.eps.map(|e| r.worst_strain <= 1.05 * e)
 }
 
+/// Whether a DBSMC run kept both its guarantees over the frames it ran: the strain
+/// within 1.05 eps ([`bound_held`]) and every `s_i` within its layer.
+pub fn kept_both(r: &ParticleRecord) -> bool {
+    bound_held(r) == Some(true) && r.counters.layer_lost_at.is_none()
+}
+
+/// Whether a run lost a guarantee: it left an `s`-layer, or a frame it ran broke the
+/// strain bound. A run that ran no frame lost nothing (nor kept anything).
+pub fn left_a_guarantee(r: &ParticleRecord) -> bool {
+    bound_held(r) == Some(false) || r.counters.layer_lost_at.is_some()
+}
+
 /// Write the records as CSV with [`CSV_COLUMNS`].
 pub fn write_particles_csv<W: Write>(records: &[ParticleRecord], mut out: W) -> io::Result<()> {
     writeln!(out, "{}", CSV_COLUMNS.join(","))?;

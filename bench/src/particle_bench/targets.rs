@@ -6,7 +6,7 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use super::report::{bound_held, cheapest_of, fitted_exponent, grouped, scene_title};
+use super::report::{bound_held, cheapest_of, fitted_exponent, grouped, kept_both, scene_title};
 use super::run::ParticleRecord;
 
 /// The frame budget of target 2 (ms): 1/60 s of one core.
@@ -36,12 +36,6 @@ fn is_xpbd_small_steps(r: &ParticleRecord) -> bool {
 /// A row of the size sweep (the same first frames at every size), not a whole scene.
 fn is_sweep(r: &ParticleRecord) -> bool {
     r.variant.contains(" first ")
-}
-
-/// Whether a DBSMC run kept both its guarantees over the frames it ran: the strain
-/// within 1.05 eps and every `s_i` within its layer.
-fn kept(r: &ParticleRecord) -> bool {
-    bound_held(r) == Some(true) && r.counters.layer_lost_at.is_none()
 }
 
 fn ratio(r: &ParticleRecord) -> f64 {
@@ -87,7 +81,11 @@ fn bound_target(records: &[ParticleRecord]) -> String {
             count(&|r| bound_held(r) == Some(false)),
             count(&|r| r.counters.layer_lost_at.is_some()),
         );
-        misses.extend(runs.iter().copied().filter(|r| r.frames > 0 && !kept(r)));
+        misses.extend(
+            runs.iter()
+                .copied()
+                .filter(|r| r.frames > 0 && !kept_both(r)),
+        );
     }
     // Runs that ended inside their first frame (failed at the start, or stopped there by
     // the budget) measured nothing: named by scene, with the reason, not counted as
@@ -123,13 +121,13 @@ fn bound_target(records: &[ParticleRecord]) -> String {
         s,
         "\nVerdict: {} of {} DBSMC runs that ran a frame kept both (strain and s-layer) over the frames they ran; \
          the frame-tied designs (`dbsmc-relaxed`, `dbsmc-ramp`, `dbsmc-ramp-generated`): {} of {}, of which {} ran their whole scene (the size sweep's runs cover its first frames).",
-        started.clone().filter(|r| kept(r)).count(),
+        started.clone().filter(|r| kept_both(r)).count(),
         started.count(),
-        frame_tied.iter().filter(|r| kept(r)).count(),
+        frame_tied.iter().filter(|r| kept_both(r)).count(),
         frame_tied.len(),
         frame_tied
             .iter()
-            .filter(|r| kept(r) && r.complete() && !is_sweep(r))
+            .filter(|r| kept_both(r) && r.complete() && !is_sweep(r))
             .count(),
     );
     s
@@ -148,7 +146,7 @@ fn cloth_cost_target(records: &[ParticleRecord]) -> String {
         .filter(|r| r.scene == "C3" && r.variant.starts_with("W=64 (a)") && r.frames > 0)
         .collect();
     for r in &rows {
-        let holds = r.worst_strain <= 1.05e-2 && (!is_dbsmc(r) || kept(r));
+        let holds = r.worst_strain <= 1.05e-2 && (!is_dbsmc(r) || kept_both(r));
         let over = r.ms_max / r.ms_mean;
         let meets =
             r.complete() && holds && r.ms_mean < FRAME_TARGET_MS && over < MAX_OVER_MEAN_TARGET;
@@ -172,7 +170,7 @@ fn cloth_cost_target(records: &[ParticleRecord]) -> String {
     let best = |dbsmc: bool| {
         rows.iter()
             .filter(|r| r.complete() && is_dbsmc(r) == dbsmc)
-            .filter(|r| r.worst_strain <= 1.05e-2 && (!dbsmc || kept(r)))
+            .filter(|r| r.worst_strain <= 1.05e-2 && (!dbsmc || kept_both(r)))
             .min_by(|a, b| a.ms_mean.total_cmp(&b.ms_mean))
             .map_or("none".to_string(), |r| {
                 format!(
@@ -282,7 +280,7 @@ fn exponent_target(records: &[ParticleRecord]) -> String {
             let whole = runs.len() == sizes.len()
                 && runs
                     .iter()
-                    .all(|r| r.complete() && (!is_dbsmc(r) || kept(r)));
+                    .all(|r| r.complete() && (!is_dbsmc(r) || kept_both(r)));
             let points: Vec<(f64, f64)> = runs.iter().map(|r| (r.size as f64, r.ms_mean)).collect();
             let exp = whole.then(|| fitted_exponent(&points)).flatten();
             let listed: Vec<String> = sizes.iter().map(|n| n.to_string()).collect();
