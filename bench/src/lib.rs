@@ -35,7 +35,9 @@
 //!   docs/particles.md through the `dae_particles::Backend` seam, with the baselines
 //!   [`Xpbd`] (zero compliance, substeps or iterations) and [`IndexOneParticles`] (RK4,
 //!   exact solve at every stage), the DBSMC design from an index-1 pilot
-//!   ([`particle_pilot`], [`dbsmc_settings`]), charts and pictures;
+//!   ([`particle_pilot`], [`dbsmc_settings`]), a method's settings run as a series
+//!   ([`run_series`]: XPBD's and the index-1 method's costlier settings are left out once
+//!   one ran out of its budget or held the tightest level), charts and pictures;
 //!   `cargo run --release -p dae-bench --example particles` regenerates
 //!   `docs/results/particles.csv` and everything beside it.
 //! * **Scenes from generated family models** ([`FamilyParticles`], [`generated_chain`],
@@ -99,14 +101,14 @@ pub use harness::{
     designed_bounds, pilot_beta_bound, run_method, step_rule, write_csv,
 };
 pub use particle_bench::{
-    CSV_COLUMNS, Capture, FrameObserver, Grab, Line, MAX_TIMINGS, MethodSpec, PILOT_SAFETY,
+    CSV_COLUMNS, Capture, FrameObserver, Grab, Line, MAX_TIMINGS, MethodSpec, NotRun, PILOT_SAFETY,
     ParticleRecord, ParticleScene, RELAXED_DRIFT_SAFETY, RELAXED_GRAZE_PER_MU,
     RELAXED_MU_PER_FRAME, RELAXED_STEP_PER_MU, RELAXED_TOLERANCE_PER_EPS, RETIME_BELOW_MS,
-    SceneShape, bound_held, c1, c2, c3, c3_with_slack, c4, c4_with_slack, cheapest, cheapest_table,
-    dbsmc_runs_table, dbsmc_settings, default_workers, drive_scene, fitted_exponent, index_one,
-    kept_both, left_a_guarantee, loglog, parallel_map, particle_pilot, ratio_chart,
-    relaxed_settings, run_particle_method, run_relaxed_with, scene_groups, scene_title,
-    stability_table, strain_chart, strain_colour, targets_section, timed_repeatedly,
+    STRAIN_LEVELS, SceneShape, bound_held, c1, c2, c3, c3_with_slack, c4, c4_with_slack, cheapest,
+    cheapest_table, dbsmc_runs_table, dbsmc_settings, default_workers, drive_scene, ends_series,
+    fitted_exponent, index_one, kept_both, left_a_guarantee, loglog, parallel_map, particle_pilot,
+    ratio_chart, relaxed_settings, run_particle_method, run_relaxed_with, run_series, scene_groups,
+    scene_title, stability_table, strain_chart, strain_colour, targets_section, timed_repeatedly,
     write_particles_csv, write_pictures,
 };
 pub use particle_methods::{

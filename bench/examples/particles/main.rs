@@ -4,11 +4,17 @@
 //! row of `docs/results/particles.csv`, charts, tables and pictures beside it.
 //!
 //! ```text
-//! cargo run --release -p dae-bench --example particles [-- --large] [--jobs N] [--budget SECS] [--only TEXT] [--method TEXT] [--slack S] [DIR]
+//! cargo run --release -p dae-bench --example particles [-- --large] [--studies] [--jobs N] [--budget SECS] [--only TEXT] [--method TEXT] [--slack S] [DIR]
 //! ```
 //!
 //! `--large` adds C1 at N = 1,000 (end-mass ratios 1e2, 1e4) and 10,000, C2 1,000 x 32,
-//! C3 (b), (c) at W = 64 and (a) at W = 128. `--budget` is the wall-clock budget of one
+//! C3 (b), (c) at W = 64 and (a) at W = 128. `--studies` adds the pilot-based DBSMC design
+//! (the one the frame-tied design replaced: `dbsmc` with RK4, `dbsmc-euler`, `dbsmc-dp`,
+//! and `dbsmc-generated` on the generated models), each scene's pilot run and, in the size
+//! sweep, `dbsmc-dp`. The settings of XPBD and the index-1 method run as a series,
+//! cheapest first, until one runs out of its budget or holds 1e-4 over the whole scene:
+//! the costlier ones are not run, and the tables' notes name them. Every DBSMC setting
+//! runs (each eps is a bound to check). `--budget` is the wall-clock budget of one
 //! run (default 6 s): a run whose projected time exceeds it stops after a tenth of it
 //! and is recorded as `budget` with the frames it ran (its cost per frame is measured,
 //! its worst strain covers those frames only; runs on the small C4, W = 8, get at least
@@ -34,8 +40,8 @@ use std::time::{Duration, Instant};
 use dae_bench::{
     Capture, MethodSpec, ParticleRecord, ParticleScene, PilotBounds, c1, c2, c3_with_slack,
     c4_with_slack, cheapest, cheapest_table, drive_scene, index_one, kept_both, parallel_map,
-    particle_pilot, ratio_chart, run_particle_method, scene_groups, scene_title, stability_table,
-    strain_chart, timed_repeatedly, write_particles_csv, write_pictures,
+    particle_pilot, ratio_chart, run_particle_method, run_series, scene_groups, scene_title,
+    stability_table, strain_chart, timed_repeatedly, write_particles_csv, write_pictures,
 };
 use dae_particles::{FAR_EDGE_SLACK, GridPins};
 use dae_runtime::{Integrator, SolverChoice};
@@ -46,6 +52,8 @@ const SMALL_C4_BUDGET: Duration = Duration::from_secs(30);
 
 struct Options {
     large: bool,
+    /// Whether the pilot-based design runs too (`--studies`).
+    studies: bool,
     /// Runs at a time.
     jobs: usize,
     budget: Duration,
@@ -72,6 +80,7 @@ impl Options {
 fn options() -> Result<Options, String> {
     let mut o = Options {
         large: false,
+        studies: false,
         jobs: dae_bench::default_workers(),
         budget: Duration::from_secs(6),
         only: None,
@@ -84,6 +93,7 @@ fn options() -> Result<Options, String> {
     while let Some(a) = args.next() {
         match a.as_str() {
             "--large" => o.large = true,
+            "--studies" => o.studies = true,
             "--budget" => {
                 let v = args.next().ok_or("--budget needs a number of seconds")?;
                 let s: f64 = v
@@ -161,11 +171,13 @@ fn scenes(large: bool, slack: f64) -> Result<Vec<ParticleScene>, String> {
     Ok(v)
 }
 
-/// The settings swept per method, cheapest first. XPBD's substeps go up by 4x, or by 2x
+/// The settings swept per method, as series cheapest first (one per method, one per
+/// gain floor of the frame-tied design; see [`run_series`]). XPBD's substeps go up by 4x, or by 2x
 /// up to 8192 on the chains (`fine_k`), where issue 13's third target compares DBSMC
 /// with XPBD tuned to a worst strain: a 4x grid can miss the cheapest holding setting
 /// by up to 4x in cost.
-fn sweeps(fine_k: bool) -> Vec<Vec<MethodSpec>> {
+/// The pilot-based design runs only in `studies`.
+fn sweeps(fine_k: bool, studies: bool) -> Vec<Vec<MethodSpec>> {
     let ks: Vec<u32> = if fine_k {
         (0..14).map(|p| 1 << p).collect()
     } else {
@@ -181,44 +193,56 @@ fn sweeps(fine_k: bool) -> Vec<Vec<MethodSpec>> {
             })
             .to_vec()
     };
-    vec![
+    let mut sweeps = vec![
         ks.iter().copied().map(MethodSpec::XpbdSubsteps).collect(),
         ks.iter().copied().map(MethodSpec::XpbdColoured).collect(),
         [4, 16, 64, 256].map(MethodSpec::XpbdIterations).to_vec(),
         [4, 16, 64, 256, 1024].map(MethodSpec::IndexOne).to_vec(),
-        pilot_based(Integrator::Rk4),
-        pilot_based(Integrator::Euler),
-        pilot_based(Integrator::DormandPrince),
-        // The frame-tied design without a pilot, at three floors of the gains.
-        [
-            (1e-2, 4.0),
-            (1e-3, 4.0),
-            (1e-4, 4.0),
-            (1e-2, 8.0),
-            (1e-3, 8.0),
-            (1e-4, 8.0),
-            (1e-2, 32.0),
-            (1e-3, 32.0),
-            (1e-4, 32.0),
-        ]
-        .map(|(eps, gain)| MethodSpec::DbsmcRelaxed { eps, gain })
-        .to_vec(),
-        // The same design with `v` ramped against the drift between updates.
+    ];
+    if studies {
+        sweeps.extend(
+            [
+                Integrator::Rk4,
+                Integrator::Euler,
+                Integrator::DormandPrince,
+            ]
+            .map(pilot_based),
+        );
+    }
+    // The frame-tied design without a pilot, at three floors of the gains: one
+    // series per floor, the eps tighter along it.
+    for gain in [4.0, 8.0, 32.0] {
+        sweeps.push(
+            [1e-2, 1e-3, 1e-4]
+                .map(|eps| MethodSpec::DbsmcRelaxed { eps, gain })
+                .to_vec(),
+        );
+    }
+    // The same design with `v` ramped against the drift between updates.
+    sweeps.push(
         [1e-2, 1e-3, 1e-4]
             .map(|eps| MethodSpec::DbsmcRamped { eps, gain: 4.0 })
             .to_vec(),
-        // The scene's generated family model (chain.dae, c2_hair.dae, c3_cloth.dae).
-        [1e-2, 1e-3, 1e-4]
-            .map(|eps| MethodSpec::DbsmcGenerated {
-                eps,
-                integrator: Integrator::Rk4,
-            })
-            .to_vec(),
-        // The generated model with the frame-tied design, `v` ramped.
+    );
+    // The scene's generated family model (chain.dae, c2_hair.dae, c3_cloth.dae), with
+    // the pilot-based design.
+    if studies {
+        sweeps.push(
+            [1e-2, 1e-3, 1e-4]
+                .map(|eps| MethodSpec::DbsmcGenerated {
+                    eps,
+                    integrator: Integrator::Rk4,
+                })
+                .to_vec(),
+        );
+    }
+    // The generated model with the frame-tied design, `v` ramped.
+    sweeps.push(
         [1e-2, 1e-3, 1e-4]
             .map(|eps| MethodSpec::DbsmcRampGenerated { eps, gain: 4.0 })
             .to_vec(),
-    ]
+    );
+    sweeps
 }
 
 /// The tracked particle's position at t = 1 s from the index-1 method at
@@ -283,7 +307,7 @@ fn prepare(scene: &ParticleScene, o: &Options) -> Prepared {
     // Pilot bounds for the DBSMC design: the index-1 method, finer until it runs.
     let mut bounds = None;
     let mut pilot_note = String::from("no pilot ran");
-    let pilot_needed = sweeps(false)
+    let pilot_needed = sweeps(false, o.studies)
         .iter()
         .flatten()
         .any(|spec| o.keeps(spec) && needs_pilot(spec));
@@ -300,8 +324,10 @@ fn prepare(scene: &ParticleScene, o: &Options) -> Prepared {
             Err(e) => pilot_note = format!("pilot failed: {e}"),
         }
     }
-    notes.push(format!("{}: {pilot_note}", scene.title()));
-    println!("{} ({} links): {pilot_note}", scene.title(), scene.size());
+    if pilot_needed {
+        notes.push(format!("{}: {pilot_note}", scene.title()));
+        println!("{} ({} links): {pilot_note}", scene.title(), scene.size());
+    }
     Prepared {
         reference,
         bounds,
@@ -317,15 +343,20 @@ fn needs_pilot(spec: &MethodSpec) -> bool {
     )
 }
 
-/// One run of the benchmark's sweep on a prepared scene.
-fn run(scene: &ParticleScene, prep: &Prepared, spec: &MethodSpec, o: &Options) -> ParticleRecord {
-    // The small C4 is there to show the grab and the release: its runs get at least
-    // SMALL_C4_BUDGET so that those that cost up to about 100 ms per frame get there.
-    let budget = if scene.id == "C4" && scene.size() < 1000 {
+/// The wall-clock budget of one run on `scene`. The small C4 is there to show the grab
+/// and the release: its runs get at least SMALL_C4_BUDGET so that those that cost up to
+/// about 100 ms per frame get there.
+fn run_budget(scene: &ParticleScene, o: &Options) -> Duration {
+    if scene.id == "C4" && scene.size() < 1000 {
         o.budget.max(SMALL_C4_BUDGET)
     } else {
         o.budget
-    };
+    }
+}
+
+/// One run of the benchmark's sweep on a prepared scene.
+fn run(scene: &ParticleScene, prep: &Prepared, spec: &MethodSpec, o: &Options) -> ParticleRecord {
+    let budget = run_budget(scene, o);
     let mut r = timed_repeatedly(|| {
         run_particle_method(
             scene,
@@ -384,26 +415,58 @@ fn main() {
     for p in &prepared {
         notes.extend(p.notes.iter().cloned());
     }
-    // Every run of every scene, in the scenes' and the sweeps' order.
-    let runs: Vec<(usize, MethodSpec)> = kept
+    // Every series of every scene (a method's settings, cheapest first), in the
+    // scenes' and the sweeps' order. A series runs on one worker until a run ends it
+    // (`run_series`: a run of XPBD or the index-1 method out of its budget, or holding
+    // the tightest level whole; a DBSMC series runs every eps). The small C4's series, whose runs have the longest budget, are
+    // handed out first, so that none of them is the last to end.
+    let opts = &o;
+    let series: Vec<(usize, Vec<MethodSpec>)> = kept
         .iter()
         .enumerate()
         .flat_map(|(i, scene)| {
-            sweeps(scene.id == "C1")
+            sweeps(scene.id == "C1", opts.studies)
                 .into_iter()
-                .flatten()
-                .filter(|spec| o.keeps(spec))
-                .map(move |spec| (i, spec))
+                .filter_map(move |sweep| {
+                    let kept: Vec<MethodSpec> =
+                        sweep.into_iter().filter(|s| opts.keeps(s)).collect();
+                    (!kept.is_empty()).then_some((i, kept))
+                })
         })
         .collect();
-    records.extend(parallel_map(runs.len(), o.jobs, |j| {
-        let (i, spec) = &runs[j];
-        run(kept[*i], &prepared[*i], spec, &o)
-    }));
+    let mut order: Vec<usize> = (0..series.len()).collect();
+    order.sort_by_key(|&j| std::cmp::Reverse(run_budget(kept[series[j].0], &o)));
+    let mut done: Vec<Option<_>> = (0..series.len()).map(|_| None).collect();
+    let ran = parallel_map(order.len(), o.jobs, |k| {
+        let (i, specs) = &series[order[k]];
+        run_series(specs, MethodSpec::knob, |spec| {
+            run(kept[*i], &prepared[*i], spec, &o)
+        })
+    });
+    for (&j, r) in order.iter().zip(ran) {
+        done[j] = Some(r);
+    }
+    let mut not_run = 0;
+    for ((i, specs), r) in series.iter().zip(done) {
+        let (runs, left) = r.expect("every series was run");
+        records.extend(runs);
+        if let Some(left) = left {
+            not_run += left.knobs.len();
+            let note = format!(
+                "{}: {} {} not run: {}",
+                kept[*i].title(),
+                specs[0].method(),
+                left.knobs.join(", "),
+                left.reason
+            );
+            println!("  {note}");
+            notes.push(note);
+        }
+    }
     println!(
-        "{:.0} s: {} runs",
+        "{:.0} s: {} runs ({not_run} costlier settings not run)",
         clock.elapsed().as_secs_f64(),
-        runs.len()
+        records.len()
     );
     // The pictures' runs are chosen among all methods: none for a run filtered by
     // method.
@@ -502,7 +565,7 @@ fn draw_pictures(
     pictures: &Path,
 ) {
     let title = scene.title();
-    let dbsmc = sweeps(false)
+    let dbsmc = sweeps(false, true)
         .into_iter()
         .flatten()
         .filter(|spec| {

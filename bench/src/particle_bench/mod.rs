@@ -8,6 +8,7 @@ mod report;
 mod retime;
 mod run;
 mod scenes;
+mod series;
 mod targets;
 
 pub use charts::{Line, loglog, ratio_chart, strain_chart};
@@ -25,4 +26,5 @@ pub use run::{
     run_relaxed_with,
 };
 pub use scenes::{Grab, ParticleScene, SceneShape, c1, c2, c3, c3_with_slack, c4, c4_with_slack};
+pub use series::{NotRun, STRAIN_LEVELS, ends_series, run_series};
 pub use targets::targets_section;
