@@ -316,7 +316,6 @@ pub fn dbsmc_runs_table(records: &[ParticleRecord]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use dae_particles::Counters;
 
     fn rec(
         method: &str,
@@ -327,25 +326,11 @@ mod tests {
         status: &str,
     ) -> ParticleRecord {
         ParticleRecord {
-            scene: "C1".into(),
-            variant: "N=10 r=1".into(),
-            size: 10,
-            param: 1.0,
-            method: method.into(),
-            knob: knob.into(),
-            eps,
-            worst_strain: strain,
             ms_mean: ms,
             ms_max: 2.0 * ms,
-            frames: 300,
-            frames_total: 300,
             status: status.into(),
-            counters: Counters::default(),
-            pos_err: None,
             energy_drift: Some(-0.5),
-            t_min: None,
-            step: None,
-            timings: 1,
+            ..ParticleRecord::for_tests(method, knob, eps, strain)
         }
     }
 

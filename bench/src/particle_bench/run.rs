@@ -184,6 +184,57 @@ impl ParticleRecord {
     }
 }
 
+/// A run not yet made: no frame, nothing measured (`NaN`), no status.
+impl Default for ParticleRecord {
+    fn default() -> Self {
+        ParticleRecord {
+            scene: String::new(),
+            variant: String::new(),
+            size: 0,
+            param: f64::NAN,
+            method: String::new(),
+            knob: String::new(),
+            eps: None,
+            worst_strain: f64::NAN,
+            ms_mean: f64::NAN,
+            ms_max: f64::NAN,
+            frames: 0,
+            frames_total: 0,
+            status: String::new(),
+            counters: Counters::default(),
+            pos_err: None,
+            energy_drift: None,
+            t_min: None,
+            step: None,
+            timings: 1,
+        }
+    }
+}
+
+#[cfg(test)]
+impl ParticleRecord {
+    /// A run for the tests: `method` at `knob` on C1 N=10 r=1, complete (300 of 300
+    /// frames, `ok`) at 1 ms per frame; a test sets what else it looks at.
+    pub(crate) fn for_tests(method: &str, knob: &str, eps: Option<f64>, worst_strain: f64) -> Self {
+        ParticleRecord {
+            scene: "C1".into(),
+            variant: "N=10 r=1".into(),
+            size: 10,
+            param: 1.0,
+            method: method.into(),
+            knob: knob.into(),
+            eps,
+            worst_strain,
+            ms_mean: 1.0,
+            ms_max: 1.0,
+            frames: 300,
+            frames_total: 300,
+            status: "ok".into(),
+            ..ParticleRecord::default()
+        }
+    }
+}
+
 /// What [`drive_scene`] observes at each frame: the frame number and positions.
 pub type FrameObserver<'a> = &'a mut dyn FnMut(u64, &[[f64; 3]]);
 
@@ -684,17 +735,7 @@ fn blank(scene: &ParticleScene, spec: &MethodSpec) -> ParticleRecord {
         method: spec.method(),
         knob: spec.knob(),
         eps: spec.eps(),
-        worst_strain: f64::NAN,
-        ms_mean: f64::NAN,
-        ms_max: f64::NAN,
-        frames: 0,
         frames_total: (scene.duration / FRAME).round() as u64,
-        status: String::new(),
-        counters: Counters::default(),
-        pos_err: None,
-        energy_drift: None,
-        t_min: None,
-        step: None,
-        timings: 1,
+        ..ParticleRecord::default()
     }
 }

@@ -67,29 +67,12 @@ pub fn run_series<S>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use dae_particles::Counters;
 
     fn rec(knob: &str, eps: Option<f64>, status: &str, worst: f64) -> ParticleRecord {
         ParticleRecord {
-            scene: "C1".into(),
-            variant: "N=10 r=1e2".into(),
-            size: 10,
-            param: 1e2,
-            method: "xpbd-substeps".into(),
-            knob: knob.into(),
-            eps,
-            worst_strain: worst,
-            ms_mean: 1.0,
-            ms_max: 1.0,
-            frames: if status == "ok" { 300 } else { 20 },
-            frames_total: 300,
             status: status.into(),
-            counters: Counters::default(),
-            pos_err: None,
-            energy_drift: None,
-            t_min: None,
-            step: None,
-            timings: 1,
+            frames: if status == "ok" { 300 } else { 20 },
+            ..ParticleRecord::for_tests("xpbd-substeps", knob, eps, worst)
         }
     }
 

@@ -303,7 +303,6 @@ fn exponent_target(records: &[ParticleRecord]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use dae_particles::Counters;
 
     #[allow(clippy::too_many_arguments)]
     fn rec(
@@ -322,21 +321,9 @@ mod tests {
             variant: variant.into(),
             size,
             param,
-            method: method.into(),
-            knob: knob.into(),
-            eps,
-            worst_strain: strain,
             ms_mean: ms,
             ms_max: 1.5 * ms,
-            frames: 300,
-            frames_total: 300,
-            status: "ok".into(),
-            counters: Counters::default(),
-            pos_err: None,
-            energy_drift: None,
-            t_min: None,
-            step: None,
-            timings: 1,
+            ..ParticleRecord::for_tests(method, knob, eps, strain)
         }
     }
 
