@@ -137,11 +137,17 @@ pub struct ParticleModel {
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
+/// The six states of particle `k` (position, velocity): one index check for the six.
+fn states(x: &[f64], k: usize) -> &[f64; 6] {
+    x[6 * k..6 * k + 6].try_into().expect("a range of six")
+}
+fn states_mut(x: &mut [f64], k: usize) -> &mut [f64; 6] {
+    (&mut x[6 * k..6 * k + 6])
+        .try_into()
+        .expect("a range of six")
+}
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn get3(x: &[f64], i: usize) -> [f64; 3] {
-    [x[i], x[i + 1], x[i + 2]]
 }
 
 impl ParticleModel {
@@ -299,15 +305,15 @@ impl ParticleModel {
                 [0.0; 3]
             };
         }
-        for (l, &(a, b)) in self.ends.iter().enumerate() {
-            let d = sub(get3(x, 6 * b), get3(x, 6 * a));
+        for ((l, &(a, b)), g) in self.ends.iter().enumerate().zip(geo.iter_mut()) {
+            let (pa, pb) = (states(x, a), states(x, b));
+            let d = [pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]];
             let len = dot(d, d).sqrt();
             let u = [d[0] / len, d[1] / len, d[2] / len];
-            let g = &mut geo[l];
             g.u = u;
             g.l = len;
             if full {
-                let e = sub(get3(x, 6 * b + 3), get3(x, 6 * a + 3));
+                let e = [pb[3] - pa[3], pb[4] - pa[4], pb[5] - pa[5]];
                 g.e = e;
                 g.p = dot(u, e);
                 g.q = dot(e, e);
@@ -366,23 +372,32 @@ impl Model for ParticleModel {
     }
 
     fn rhs(&self, t: f64, x: &[f64], z: &[f64], dx: &mut [f64]) {
-        // The accelerations accumulate directly in dx: no scratch on the hot path.
-        for k in 0..self.mass.len() {
-            let g = if self.inv_mass[k] > 0.0 {
+        // The accelerations accumulate directly in dx: no scratch on the hot path. A
+        // particle's six states are one array: one index check per particle, not per
+        // coordinate.
+        let n = 6 * self.mass.len();
+        debug_assert_eq!(z.len(), self.ends.len(), "one tension per link");
+        let particles = dx[..n].chunks_exact_mut(6).zip(x[..n].chunks_exact(6));
+        for ((dk, xk), &inv_mass) in particles.zip(&self.inv_mass) {
+            let g = if inv_mass > 0.0 {
                 self.gravity
             } else {
                 [0.0; 3]
             };
-            dx[6 * k..6 * k + 3].copy_from_slice(&x[6 * k + 3..6 * k + 6]);
-            dx[6 * k + 3..6 * k + 6].copy_from_slice(&g);
+            dk.copy_from_slice(&[xk[3], xk[4], xk[5], g[0], g[1], g[2]]);
         }
-        for (l, &(a, b)) in self.ends.iter().enumerate() {
-            let d = sub(get3(x, 6 * b), get3(x, 6 * a));
-            let c = z[l] / dot(d, d).sqrt();
+        for (&(a, b), &zl) in self.ends.iter().zip(z) {
+            let (pa, pb) = (states(x, a), states(x, b));
+            let d = [pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]];
+            let c = zl / dot(d, d).sqrt();
             let (fa, fb) = (c * self.inv_mass[a], c * self.inv_mass[b]);
+            let da = states_mut(dx, a);
             for i in 0..3 {
-                dx[6 * a + 3 + i] += fa * d[i];
-                dx[6 * b + 3 + i] -= fb * d[i];
+                da[3 + i] += fa * d[i];
+            }
+            let db = states_mut(dx, b);
+            for i in 0..3 {
+                db[3 + i] -= fb * d[i];
             }
         }
         for &k in &self.pinned {
@@ -424,10 +439,11 @@ impl Model for ParticleModel {
 
     fn jacobian(&self, _: f64, x: &[f64], _: &[f64], values: &mut [f64]) {
         let mut sc = self.scratch.borrow_mut();
-        for (l, &(a, b)) in self.ends.iter().enumerate() {
-            let d = sub(get3(x, 6 * b), get3(x, 6 * a));
+        for (&(a, b), g) in self.ends.iter().zip(sc.geo.iter_mut()) {
+            let (pa, pb) = (states(x, a), states(x, b));
+            let d = [pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]];
             let len = dot(d, d).sqrt();
-            sc.geo[l].u = [d[0] / len, d[1] / len, d[2] / len];
+            g.u = [d[0] / len, d[1] / len, d[2] / len];
         }
         for ((v, &(l, k)), &(c, sign)) in values.iter_mut().zip(&self.pattern).zip(&self.entry) {
             *v = if c == usize::MAX {
