@@ -59,9 +59,8 @@ fn main() {
             "--ramp" => ramp = true,
             "--generated" => generated = true,
             "--jobs" => {
-                let v = given.next().unwrap_or_default();
-                jobs = v.parse().ok().filter(|&n| n > 0).unwrap_or_else(|| {
-                    eprintln!("whole_scenes: --jobs `{v}`: not a positive whole number");
+                jobs = dae_bench::parse_workers(given.next().as_deref()).unwrap_or_else(|e| {
+                    eprintln!("whole_scenes: {e}");
                     std::process::exit(2);
                 });
             }

@@ -101,15 +101,7 @@ fn options() -> Result<Options, String> {
                     .map_err(|_| format!("--budget {v}: not a number"))?;
                 o.budget = Duration::from_secs_f64(s);
             }
-            "--jobs" => {
-                let v = args
-                    .next()
-                    .ok_or("--jobs needs a number of runs at a time")?;
-                o.jobs = match v.parse::<usize>() {
-                    Ok(n) if n > 0 => n,
-                    _ => return Err(format!("--jobs {v}: not a positive whole number")),
-                };
-            }
+            "--jobs" => o.jobs = dae_bench::parse_workers(args.next().as_deref())?,
             "--only" => o.only = Some(args.next().ok_or("--only needs a text")?),
             "--method" => o.method = Some(args.next().ok_or("--method needs a text")?),
             "--slack" => {

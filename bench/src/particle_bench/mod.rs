@@ -13,7 +13,7 @@ mod targets;
 
 pub use charts::{Line, loglog, ratio_chart, strain_chart};
 pub use pictures::{Capture, strain_colour, write_pictures};
-pub use pool::{default_workers, parallel_map};
+pub use pool::{default_workers, parallel_map, parse_workers};
 pub use report::{
     CSV_COLUMNS, bound_held, cheapest, cheapest_table, dbsmc_runs_table, fitted_exponent,
     kept_both, left_a_guarantee, scene_groups, scene_title, stability_table, write_particles_csv,

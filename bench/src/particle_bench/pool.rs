@@ -60,6 +60,15 @@ pub fn default_workers() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
+/// The value of a `--jobs N` option: a positive whole number of runs at a time.
+pub fn parse_workers(value: Option<&str>) -> Result<usize, String> {
+    let v = value.ok_or("--jobs needs a number of runs at a time")?;
+    match v.parse::<usize>() {
+        Ok(n) if n > 0 => Ok(n),
+        _ => Err(format!("--jobs {v}: not a positive whole number")),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -87,6 +96,16 @@ mod tests {
             std::thread::sleep(std::time::Duration::from_millis(20));
         });
         assert_eq!(ids.into_inner().unwrap().len(), 2);
+    }
+
+    #[test]
+    fn jobs_are_a_positive_whole_number() {
+        assert_eq!(parse_workers(Some("3")), Ok(3));
+        for bad in ["0", "-1", "two", "1.5", ""] {
+            let e = parse_workers(Some(bad)).unwrap_err();
+            assert!(e.contains("not a positive whole number"), "{bad}: {e}");
+        }
+        assert!(parse_workers(None).unwrap_err().contains("needs a number"));
     }
 
     #[test]
