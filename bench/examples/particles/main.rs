@@ -14,7 +14,9 @@
 //! sweep, `dbsmc-dp`. The settings of XPBD and the index-1 method run as a series,
 //! cheapest first, until one runs out of its budget or holds 1e-4 over the whole scene:
 //! the costlier ones are not run, and the tables' notes name them. Every DBSMC setting
-//! runs (each eps is a bound to check). `--budget` is the wall-clock budget of one
+//! runs (each eps is a bound to check). On the chains, XPBD's small steps are bisected
+//! between the grid's last failing and first holding k of each level, to within a
+//! sixteenth (the third target compares DBSMC with XPBD tuned to a worst strain). `--budget` is the wall-clock budget of one
 //! run (default 6 s): a run whose projected time exceeds it stops after a tenth of it
 //! and is recorded as `budget` with the frames it ran (its cost per frame is measured,
 //! its worst strain covers those frames only; runs on the small C4, W = 8, get at least
@@ -38,10 +40,11 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use dae_bench::{
-    Capture, MethodSpec, ParticleRecord, ParticleScene, PilotBounds, c1, c2, c3_with_slack,
-    c4_with_slack, cheapest, cheapest_table, drive_scene, index_one, kept_both, parallel_map,
-    particle_pilot, ratio_chart, run_particle_method, run_series, scene_groups, scene_title,
-    stability_table, strain_chart, timed_repeatedly, write_particles_csv, write_pictures,
+    Capture, MethodSpec, ParticleRecord, ParticleScene, PilotBounds, bisect_least_holding, c1, c2,
+    c3_with_slack, c4_with_slack, cheapest, cheapest_table, drive_scene, holding_brackets,
+    index_one, kept_both, parallel_map, particle_pilot, ratio_chart, run_particle_method,
+    run_series, scene_groups, scene_title, stability_table, strain_chart, timed_repeatedly,
+    write_particles_csv, write_pictures,
 };
 use dae_particles::{FAR_EDGE_SLACK, GridPins};
 use dae_runtime::{Integrator, SolverChoice};
@@ -335,6 +338,36 @@ fn needs_pilot(spec: &MethodSpec) -> bool {
     )
 }
 
+/// XPBD's small steps on the chains, where issue 13's third target compares DBSMC with
+/// XPBD tuned to a worst strain: the grid of k by 2x can put the least holding k up to
+/// 2x too high, so between the grid's last failing and first holding k of each level
+/// bisection runs more settings (`dae_bench::bisect_least_holding`, to within a
+/// sixteenth). `first` is the series' first setting (its method); `runs` its records.
+fn bisect_small_steps(
+    first: &MethodSpec,
+    runs: &[ParticleRecord],
+    mut run: impl FnMut(&MethodSpec) -> ParticleRecord,
+) -> Vec<ParticleRecord> {
+    let make: fn(u32) -> MethodSpec = match first {
+        MethodSpec::XpbdSubsteps(_) => MethodSpec::XpbdSubsteps,
+        MethodSpec::XpbdColoured(_) => MethodSpec::XpbdColoured,
+        _ => return Vec::new(),
+    };
+    // A k asked for by two levels runs once.
+    let mut made: Vec<(u32, ParticleRecord)> = Vec::new();
+    for (level, fail, hold) in holding_brackets(runs) {
+        bisect_least_holding(fail, hold, level, |k| {
+            if let Some((_, r)) = made.iter().find(|(m, _)| *m == k) {
+                return r.clone();
+            }
+            let r = run(&make(k));
+            made.push((k, r.clone()));
+            r
+        });
+    }
+    made.into_iter().map(|(_, r)| r).collect()
+}
+
 /// The wall-clock budget of one run on `scene`. The small C4 is there to show the grab
 /// and the release: its runs get at least SMALL_C4_BUDGET so that those that cost up to
 /// about 100 ms per frame get there.
@@ -431,9 +464,15 @@ fn main() {
     let mut done: Vec<Option<_>> = (0..series.len()).map(|_| None).collect();
     let ran = parallel_map(order.len(), o.jobs, |k| {
         let (i, specs) = &series[order[k]];
-        run_series(specs, MethodSpec::knob, |spec| {
-            run(kept[*i], &prepared[*i], spec, &o)
-        })
+        let (scene, prep) = (kept[*i], &prepared[*i]);
+        let (mut runs, left) =
+            run_series(specs, MethodSpec::knob, |spec| run(scene, prep, spec, &o));
+        if scene.id == "C1" {
+            runs.extend(bisect_small_steps(&specs[0], &runs, |spec| {
+                run(scene, prep, spec, &o)
+            }));
+        }
+        (runs, left)
     });
     for (&j, r) in order.iter().zip(ran) {
         done[j] = Some(r);

@@ -26,5 +26,7 @@ pub use run::{
     run_relaxed_with,
 };
 pub use scenes::{Grab, ParticleScene, SceneShape, c1, c2, c3, c3_with_slack, c4, c4_with_slack};
-pub use series::{NotRun, STRAIN_LEVELS, ends_series, run_series};
+pub use series::{
+    NotRun, STRAIN_LEVELS, bisect_least_holding, ends_series, holding_brackets, run_series,
+};
 pub use targets::targets_section;
