@@ -443,8 +443,9 @@ fn main() {
     // Every series of every scene (a method's settings, cheapest first), in the
     // scenes' and the sweeps' order. A series runs on one worker until a run ends it
     // (`run_series`: a run of XPBD or the index-1 method out of its budget, or holding
-    // the tightest level whole; a DBSMC series runs every eps). The small C4's series, whose runs have the longest budget, are
-    // handed out first, so that none of them is the last to end.
+    // the tightest level whole; a DBSMC series runs every eps). The small C4's series,
+    // whose runs have the longest budget, are handed out first, so that none of them is
+    // the last to end.
     let opts = &o;
     let series: Vec<(usize, Vec<MethodSpec>)> = kept
         .iter()

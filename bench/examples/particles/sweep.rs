@@ -40,49 +40,27 @@ pub fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Option
                 .to_vec(),
         ),
     ];
-    let mut specs = vec![
-        MethodSpec::XpbdSubsteps(64),
-        MethodSpec::XpbdSubsteps(256),
-        MethodSpec::XpbdSubsteps(1024),
-        MethodSpec::XpbdColoured(64),
-        MethodSpec::XpbdColoured(256),
-        MethodSpec::XpbdColoured(1024),
-        // One setting of the index-1 method: at 256 steps per frame it fitted the same
-        // exponents (0.97 on chains, 1.31 on cloth against 1.32, run of f5e06e2) and was
-        // the sweep's longest job (52 s, 45 of them the 64 x 64 cloth).
-        MethodSpec::IndexOne(64),
-        MethodSpec::DbsmcRelaxed {
-            eps: 1e-2,
-            gain: 4.0,
-        },
-        MethodSpec::DbsmcRelaxed {
-            eps: 1e-2,
-            gain: 32.0,
-        },
-        MethodSpec::DbsmcRamped {
-            eps: 1e-2,
-            gain: 4.0,
-        },
-        MethodSpec::DbsmcRamped {
-            eps: 1e-2,
-            gain: 32.0,
-        },
-        MethodSpec::DbsmcRampGenerated {
-            eps: 1e-2,
-            gain: 4.0,
-        },
-    ];
+    let mut specs: Vec<MethodSpec> = Vec::new();
+    specs.extend([64, 256, 1024].map(MethodSpec::XpbdSubsteps));
+    specs.extend([64, 256, 1024].map(MethodSpec::XpbdColoured));
+    // One setting of the index-1 method: at 256 steps per frame it fitted the same
+    // exponents (0.97 on chains, 1.31 on cloth against 1.32, run of f5e06e2) and was
+    // the sweep's longest job (52 s, 45 of them the 64 x 64 cloth).
+    specs.push(MethodSpec::IndexOne(64));
     // The pilot-based design (`--studies`), from a pilot of the same frames.
     if o.studies {
-        specs.insert(
-            7,
-            MethodSpec::Dbsmc {
-                eps: 1e-2,
-                solver: SolverChoice::Auto,
-                integrator: Integrator::DormandPrince,
-            },
-        );
+        specs.push(MethodSpec::Dbsmc {
+            eps: 1e-2,
+            solver: SolverChoice::Auto,
+            integrator: Integrator::DormandPrince,
+        });
     }
+    specs.extend([4.0, 32.0].map(|gain| MethodSpec::DbsmcRelaxed { eps: 1e-2, gain }));
+    specs.extend([4.0, 32.0].map(|gain| MethodSpec::DbsmcRamped { eps: 1e-2, gain }));
+    specs.push(MethodSpec::DbsmcRampGenerated {
+        eps: 1e-2,
+        gain: 4.0,
+    });
     let mut md = format!(
         "\n## Cost against size (every size over its first {SWEEP_FRAMES} frames)\n\n\
          Mean cost per frame (ms) at each size, control updates per frame (DBSMC), and the\n\

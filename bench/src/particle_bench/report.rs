@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use std::io::{self, Write};
 
 use super::run::ParticleRecord;
-use super::series::STRAIN_LEVELS;
+use super::series::{STRAIN_LEVELS, held_whole};
 
 /// The CSV's columns, in order (the first eight are the ones issue 13 asks for).
 pub const CSV_COLUMNS: [&str; 26] = [
@@ -173,7 +173,7 @@ pub(super) fn cheapest_of<'a>(
     runs: impl Iterator<Item = &'a ParticleRecord>,
     target: f64,
 ) -> Option<&'a ParticleRecord> {
-    runs.filter(|r| r.complete() && r.worst_strain <= target)
+    runs.filter(|r| held_whole(r, target))
         .filter(|r| r.counters.layer_lost_at.is_none())
         .min_by(|a, b| a.ms_mean.total_cmp(&b.ms_mean))
 }

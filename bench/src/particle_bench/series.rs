@@ -14,6 +14,11 @@ use super::run::ParticleRecord;
 /// The worst strains the tables ask the cheapest holding setting of (relative strain).
 pub const STRAIN_LEVELS: [f64; 3] = [1e-2, 1e-3, 1e-4];
 
+/// Whether `r` held worst strain `level` over its whole scene (a complete run).
+pub(super) fn held_whole(r: &ParticleRecord, level: f64) -> bool {
+    r.complete() && r.worst_strain <= level
+}
+
 /// Why a series ends after `r` (the costlier settings are not run), or `None`.
 pub fn ends_series(r: &ParticleRecord) -> Option<String> {
     let tightest = STRAIN_LEVELS[STRAIN_LEVELS.len() - 1];
@@ -24,7 +29,7 @@ pub fn ends_series(r: &ParticleRecord) -> Option<String> {
             "{} ran out of its budget after {} of {} frames",
             r.knob, r.frames, r.frames_total
         ))
-    } else if r.complete() && r.worst_strain <= tightest {
+    } else if held_whole(r, tightest) {
         Some(format!(
             "{} held worst strain {tightest:e} over the whole scene ({:.2e})",
             r.knob, r.worst_strain
@@ -84,7 +89,7 @@ pub fn bisect_least_holding(
     while hi - lo > 1 && (hi - lo) * 16 > lo {
         let mid = lo + (hi - lo) / 2;
         let r = run(mid);
-        let held = r.complete() && r.worst_strain <= level;
+        let held = held_whole(&r, level);
         made.push(r);
         if held {
             hi = mid;

@@ -55,19 +55,22 @@ impl Tape {
             o => o,
         };
         for instr in &self.instrs {
-            let new = match *instr {
-                Instr::Binary(BinaryOp::Div, a, b)
-                    if key(b).is_some_and(|k| uses.get(&k).is_some_and(|&n| n >= 2)) =>
-                {
-                    let (a, b_new) = (at(a, &moved), at(b, &moved));
-                    let k = key(b).expect("a shared divisor is not a literal");
+            let shared = match *instr {
+                Instr::Binary(BinaryOp::Div, _, b) => {
+                    key(b).filter(|k| uses.get(k).is_some_and(|&n| n >= 2))
+                }
+                _ => None,
+            };
+            let new = match (*instr, shared) {
+                (Instr::Binary(_, a, b), Some(k)) => {
+                    let (a, b) = (at(a, &moved), at(b, &moved));
                     let r = *reciprocal.entry(k).or_insert_with(|| {
-                        out.push(Instr::Binary(BinaryOp::Div, Operand::Const(1.0), b_new))
+                        out.push(Instr::Binary(BinaryOp::Div, Operand::Const(1.0), b))
                     });
                     out.push(Instr::Binary(BinaryOp::Mul, a, r))
                 }
-                Instr::Unary(op, a) => out.push(Instr::Unary(op, at(a, &moved))),
-                Instr::Binary(op, a, b) => {
+                (Instr::Unary(op, a), _) => out.push(Instr::Unary(op, at(a, &moved))),
+                (Instr::Binary(op, a, b), None) => {
                     out.push(Instr::Binary(op, at(a, &moved), at(b, &moved)))
                 }
             };
