@@ -5,7 +5,7 @@
 //! (issue 13's first target), and at what cost per frame.
 //!
 //! ```text
-//! cargo run --release -p dae-bench --example whole_scenes [-- [--ramp | --generated] [--jobs N] EPS C BUDGET [TEXT]]
+//! cargo run --release -p dae-bench --example whole_scenes [-- [--ramp | --generated] [--jobs N] [--pictures DIR] EPS C BUDGET [TEXT]]
 //! ```
 //!
 //! `--ramp` runs the design with `v` ramped against the drift between updates
@@ -20,12 +20,20 @@
 //! The scenes run one per core at a time (`--jobs N` runs N at a time, 1 for one at a
 //! time); each scene's run is one thread's, and the table lists them in order when all
 //! have ended (a line on stderr as each ends).
+//!
+//! `--pictures DIR` draws each scene that ran whole with its strain and its layer kept
+//! (`<scene>_<method>_t{0.00,1.00,2.50,5.00}.png` and `<scene>_<method>.gif`, every
+//! fifth frame, links coloured by strain relative to `EPS`, as the benchmark's
+//! pictures): the benchmark's 6 s budget stops every DBSMC run on the hair and the
+//! cloths after a few frames, so its own pictures of those scenes are XPBD's only. A
+//! scene stopped by the budget, or that left a bound, is not drawn (the table says which).
 
+use std::path::PathBuf;
 use std::time::Duration;
 
 use dae_bench::{
-    MethodSpec, ParticleScene, c1, c2, c3, c4, default_workers, left_a_guarantee, parallel_map,
-    run_particle_method,
+    CAPTURE_EVERY, Capture, GIF_DELAY_MS, MethodSpec, PNG_FRAMES, ParticleScene, c1, c2, c3, c4,
+    default_workers, left_a_guarantee, parallel_map, run_particle_method, write_pictures,
 };
 use dae_particles::GridPins;
 
@@ -52,6 +60,7 @@ fn main() {
     let mut ramp = false;
     let mut generated = false;
     let mut jobs = default_workers();
+    let mut pictures: Option<PathBuf> = None;
     let mut args: Vec<String> = Vec::new();
     let mut given = std::env::args();
     while let Some(a) = given.next() {
@@ -64,15 +73,28 @@ fn main() {
                     std::process::exit(2);
                 });
             }
+            "--pictures" => match given.next() {
+                Some(dir) => pictures = Some(PathBuf::from(dir)),
+                None => {
+                    eprintln!("whole_scenes: --pictures needs a folder");
+                    std::process::exit(2);
+                }
+            },
             _ => args.push(a),
         }
+    }
+    if let Some(dir) = &pictures
+        && let Err(e) = std::fs::create_dir_all(dir)
+    {
+        eprintln!("whole_scenes: {}: {e}", dir.display());
+        std::process::exit(1);
     }
     let arg = |i: usize, default: f64| -> f64 {
         match args.get(i) {
             None => default,
             Some(a) => a.parse().unwrap_or_else(|_| {
                 eprintln!(
-                    "whole_scenes: `{a}` is not a number (usage: whole_scenes [--ramp | --generated] [--jobs N] [EPS C BUDGET [TEXT]])"
+                    "whole_scenes: `{a}` is not a number (usage: whole_scenes [--ramp | --generated] [--jobs N] [--pictures DIR] [EPS C BUDGET [TEXT]])"
                 );
                 std::process::exit(2);
             }),
@@ -98,18 +120,52 @@ fn main() {
     );
     println!("|---|---|---|---|---|---|---|---|---|");
     let runs = parallel_map(scenes.len(), jobs, |i| {
-        let r = run_particle_method(&scenes[i], &spec, None, budget, None, None);
+        let scene = &scenes[i];
+        // Every fifth frame, only when pictures are asked for (the hair's 61 frames are
+        // about 5 MB).
+        let mut capture: Capture = Vec::new();
+        let mut keep = |f: u64, p: &[[f64; 3]]| {
+            if f % CAPTURE_EVERY == 0 {
+                capture.push((f, p.to_vec()));
+            }
+        };
+        let observe: Option<dae_bench::FrameObserver<'_>> = pictures
+            .as_ref()
+            .map(|_| &mut keep as dae_bench::FrameObserver<'_>);
+        let r = run_particle_method(scene, &spec, None, budget, None, observe);
         eprintln!(
             "{}: {} ({}/{} frames)",
-            scenes[i].title(),
+            scene.title(),
             r.status,
             r.frames,
             r.frames_total
         );
-        r
+        let mut picture_error = None;
+        if let Some(dir) = &pictures {
+            let stem = format!("{}_{}", scene.stem(), spec.method());
+            if r.complete() && !left_a_guarantee(&r) {
+                match write_pictures(
+                    dir,
+                    &stem,
+                    scene.system.links(),
+                    &capture,
+                    &PNG_FRAMES,
+                    GIF_DELAY_MS,
+                    eps,
+                ) {
+                    Ok(files) => eprintln!("  pictures: {}", files.join(", ")),
+                    Err(e) => picture_error = Some(format!("pictures {stem}: {e}")),
+                }
+            } else {
+                eprintln!("  pictures {stem}: not drawn (the run is not whole, or left a bound)");
+            }
+        }
+        (r, picture_error)
     });
     let (mut lost, mut short) = (0, 0);
-    for (scene, r) in scenes.iter().zip(runs) {
+    let mut picture_errors = Vec::new();
+    for (scene, (r, picture_error)) in scenes.iter().zip(runs) {
+        picture_errors.extend(picture_error);
         let layer = match (r.counters.layer_lost_at, r.counters.layer_worst_ratio) {
             (Some(t), Some(q)) => format!("{t:.3} s, {q:.3} eps"),
             _ => "-".into(),
@@ -145,7 +201,10 @@ fn main() {
         spec.method(),
         spec.knob()
     );
-    if lost > 0 {
+    for e in &picture_errors {
+        eprintln!("whole_scenes: {e}");
+    }
+    if lost > 0 || !picture_errors.is_empty() {
         std::process::exit(1);
     }
 }

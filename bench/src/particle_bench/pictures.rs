@@ -12,6 +12,13 @@ pub type Capture = Vec<(u64, Vec<[f64; 3]>)>;
 /// Picture size (pixels).
 const SIZE: u32 = 320;
 
+/// Frames a run keeps for its pictures: every fifth (12 per second of the scene's 60).
+pub const CAPTURE_EVERY: u64 = 5;
+/// The frames written as PNG: the start, 1 s, 2.5 s and 5 s.
+pub const PNG_FRAMES: [u64; 4] = [0, 60, 150, 300];
+/// The GIF's delay per picture (ms): five frames of 1/60 s, about real time.
+pub const GIF_DELAY_MS: u32 = 83;
+
 /// The oblique view: `x` to the right, `z` up, `y` into the picture (shifted left and
 /// up), so that chains in the `x`-`z` plane are seen side on and cloth at an angle.
 fn project(p: [f64; 3]) -> (f64, f64) {

@@ -178,6 +178,18 @@ pub(super) fn cheapest_of<'a>(
         .min_by(|a, b| a.ms_mean.total_cmp(&b.ms_mean))
 }
 
+/// Where no run holds `target` over the whole scene: the cheapest run that held it (and
+/// its `s`-layer) over the frames its budget allowed. A large scene's table cell then says
+/// "not known over the whole scene" rather than "none held".
+fn cheapest_until_budget<'a>(
+    runs: impl Iterator<Item = &'a ParticleRecord>,
+    target: f64,
+) -> Option<&'a ParticleRecord> {
+    runs.filter(|r| r.status == "budget" && r.frames > 0 && r.worst_strain <= target)
+        .filter(|r| r.counters.layer_lost_at.is_none())
+        .min_by(|a, b| a.ms_mean.total_cmp(&b.ms_mean))
+}
+
 /// Least-squares slope of `ln y` against `ln x` (the fitted exponent), `None` with
 /// fewer than two points.
 pub fn fitted_exponent(points: &[(f64, f64)]) -> Option<f64> {
@@ -211,9 +223,17 @@ pub fn cheapest_table(records: &[ParticleRecord], methods: &[String]) -> String 
             let Some((_, runs)) = by_method.iter().find(|(k, _)| k == m) else {
                 continue;
             };
-            let cell = |target: f64| match cheapest_of(runs.iter().copied(), target) {
-                Some(r) => format!("{} ({:.3} ms)", r.knob, r.ms_mean),
-                None => "none".into(),
+            let cell = |target: f64| {
+                if let Some(r) = cheapest_of(runs.iter().copied(), target) {
+                    format!("{} ({:.3} ms)", r.knob, r.ms_mean)
+                } else if let Some(r) = cheapest_until_budget(runs.iter().copied(), target) {
+                    format!(
+                        "not whole: {} held it over the first {} of {} frames ({:.3} ms)",
+                        r.knob, r.frames, r.frames_total, r.ms_mean
+                    )
+                } else {
+                    "none".into()
+                }
             };
             let [a, b, c] = STRAIN_LEVELS.map(cell);
             let _ = writeln!(s, "| {t} | {m} | {a} | {b} | {c} |");
@@ -414,6 +434,38 @@ mod tests {
                 "| C1 N=100 r=1 | a | none | none | none |",
                 "| C1 N=100 r=1 | b | k=1 (2.000 ms) | k=1 (2.000 ms) | none |",
                 "| C1 N=10 r=1 | a | k=2 (1.000 ms) | k=2 (1.000 ms) | k=2 (1.000 ms) |",
+            ]
+        );
+    }
+
+    #[test]
+    fn a_cell_without_a_whole_run_names_the_cheapest_run_that_held_until_its_budget() {
+        let stopped = |knob: &str, strain: f64, ms: f64, frames: u64| ParticleRecord {
+            frames,
+            ..rec("m", knob, None, strain, ms, "budget")
+        };
+        let mut lost = stopped("lost", 1e-5, 0.1, 40);
+        lost.counters.layer_lost_at = Some(0.2);
+        let records = vec![
+            // Complete, but holds only 1e-2.
+            rec("m", "whole", None, 5e-3, 9.0, "ok"),
+            // Stopped by the budget: the cheaper one holds 1e-3 over 12 frames, the
+            // costlier one 1e-4 over 8; one that left its layer holds nothing.
+            stopped("k=1", 5e-4, 3.0, 12),
+            stopped("k=2", 5e-5, 4.0, 8),
+            lost,
+            // Stopped before its first frame: no strain to speak of.
+            stopped("k=0", 0.0, 0.0, 0),
+        ];
+        let rows: Vec<String> = cheapest_table(&records, &["m".into()])
+            .lines()
+            .skip(2)
+            .map(String::from)
+            .collect();
+        assert_eq!(
+            rows,
+            [
+                "| C1 N=10 r=1 | m | whole (9.000 ms) | not whole: k=1 held it over the first 12 of 300 frames (3.000 ms) | not whole: k=2 held it over the first 8 of 300 frames (4.000 ms) |"
             ]
         );
     }
