@@ -19,35 +19,10 @@
 //! (6.9, 3.4, 1.9, 1.9), rounded).
 
 use std::hint::black_box;
-use std::time::Instant;
 
-use dae_bench::{generated_chain, generated_grid};
+use dae_bench::{best_time, generated_chain, generated_grid};
 use dae_particles::{FAR_EDGE_SLACK, GridPins, ParticleModel, System};
 use dae_runtime::Model;
-
-/// Best time per call of `f` in seconds: batches of calls lasting at least 20 ms.
-fn best_time(mut f: impl FnMut()) -> f64 {
-    let mut calls = 1usize;
-    loop {
-        let t = Instant::now();
-        for _ in 0..calls {
-            f();
-        }
-        if t.elapsed().as_secs_f64() >= 0.02 {
-            break;
-        }
-        calls *= 2;
-    }
-    (0..5)
-        .map(|_| {
-            let t = Instant::now();
-            for _ in 0..calls {
-                f();
-            }
-            t.elapsed().as_secs_f64() / calls as f64
-        })
-        .fold(f64::INFINITY, f64::min)
-}
 
 /// Seconds per evaluation of rhs, sliding, jacobian and beta at the initial point.
 fn times(m: &dyn Model) -> [f64; 4] {

@@ -12,32 +12,8 @@
 use std::hint::black_box;
 use std::time::Instant;
 
-use dae_bench::{Lcg, Particles};
+use dae_bench::{Lcg, Particles, best_time};
 use dae_runtime::{DENSE_MAX, LinearSolver, Solver, SolverChoice, mul_js};
-
-/// Best time per call of `f` in seconds: batches of calls lasting at least 20 ms.
-fn best_time(mut f: impl FnMut()) -> f64 {
-    let mut calls = 1usize;
-    loop {
-        let t = Instant::now();
-        for _ in 0..calls {
-            f();
-        }
-        if t.elapsed().as_secs_f64() >= 0.02 {
-            break;
-        }
-        calls *= 2;
-    }
-    let mut best = f64::INFINITY;
-    for _ in 0..5 {
-        let t = Instant::now();
-        for _ in 0..calls {
-            f();
-        }
-        best = best.min(t.elapsed().as_secs_f64() / calls as f64);
-    }
-    best
-}
 
 struct Row {
     family: &'static str,

@@ -92,6 +92,7 @@ mod particles;
 mod scenes;
 mod stability;
 mod standin;
+mod timing;
 mod truth;
 
 pub use baseline::*;
@@ -123,6 +124,7 @@ pub use stability::{
     largest_step_row, stability_row, with_step, write_table,
 };
 pub use standin::{MAX_LINKS, PlanarChainDae};
+pub use timing::best_time;
 pub use truth::{
     ChainWork, Extrapolation, PlanarChain, Reference, TruthError, TruthStats, reference,
 };
