@@ -32,8 +32,8 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use dae_bench::{
-    CAPTURE_EVERY, Capture, GIF_DELAY_MS, MethodSpec, PNG_FRAMES, ParticleScene, c1, c2, c3, c4,
-    default_workers, left_a_guarantee, parallel_map, run_particle_method, write_pictures,
+    Capture, MethodSpec, ParticleScene, c1, c2, c3, c4, capture_frame, default_workers,
+    left_a_guarantee, parallel_map, run_particle_method, write_pictures,
 };
 use dae_particles::GridPins;
 
@@ -124,11 +124,7 @@ fn main() {
         // Every fifth frame, only when pictures are asked for (the hair's 61 frames are
         // about 5 MB).
         let mut capture: Capture = Vec::new();
-        let mut keep = |f: u64, p: &[[f64; 3]]| {
-            if f % CAPTURE_EVERY == 0 {
-                capture.push((f, p.to_vec()));
-            }
-        };
+        let mut keep = |f: u64, p: &[[f64; 3]]| capture_frame(&mut capture, f, p);
         let observe: Option<dae_bench::FrameObserver<'_>> = pictures
             .as_ref()
             .map(|_| &mut keep as dae_bench::FrameObserver<'_>);
@@ -144,15 +140,7 @@ fn main() {
         if let Some(dir) = &pictures {
             let stem = format!("{}_{}", scene.stem(), spec.method());
             if r.complete() && !left_a_guarantee(&r) {
-                match write_pictures(
-                    dir,
-                    &stem,
-                    scene.system.links(),
-                    &capture,
-                    &PNG_FRAMES,
-                    GIF_DELAY_MS,
-                    eps,
-                ) {
+                match write_pictures(dir, &stem, scene.system.links(), &capture, eps) {
                     Ok(files) => eprintln!("  pictures: {}", files.join(", ")),
                     Err(e) => picture_error = Some(format!("pictures {stem}: {e}")),
                 }

@@ -102,16 +102,16 @@ pub use harness::{
     designed_bounds, pilot_beta_bound, run_method, step_rule, write_csv,
 };
 pub use particle_bench::{
-    CAPTURE_EVERY, CSV_COLUMNS, Capture, FrameObserver, GIF_DELAY_MS, Grab, Line, MAX_TIMINGS,
-    MethodSpec, NotRun, PILOT_SAFETY, PNG_FRAMES, ParticleRecord, ParticleScene,
-    RELAXED_DRIFT_SAFETY, RELAXED_GRAZE_PER_MU, RELAXED_MU_PER_FRAME, RELAXED_STEP_PER_MU,
-    RELAXED_TOLERANCE_PER_EPS, RETIME_BELOW_MS, STRAIN_LEVELS, SceneShape, bisect_least_holding,
-    bound_held, c1, c2, c3, c3_with_slack, c4, c4_with_slack, cheapest, cheapest_table,
-    dbsmc_runs_table, dbsmc_settings, default_workers, drive_scene, ends_series, fitted_exponent,
-    holding_brackets, index_one, kept_both, left_a_guarantee, loglog, parallel_map, parse_workers,
-    particle_pilot, ratio_chart, relaxed_settings, run_particle_method, run_relaxed_with,
-    run_series, scene_groups, scene_title, stability_table, strain_chart, strain_colour,
-    targets_section, timed_repeatedly, write_particles_csv, write_pictures,
+    CSV_COLUMNS, Capture, FrameObserver, Grab, Line, MAX_TIMINGS, MethodSpec, NotRun, PILOT_SAFETY,
+    ParticleRecord, ParticleScene, RELAXED_DRIFT_SAFETY, RELAXED_GRAZE_PER_MU,
+    RELAXED_MU_PER_FRAME, RELAXED_STEP_PER_MU, RELAXED_TOLERANCE_PER_EPS, RETIME_BELOW_MS,
+    STRAIN_LEVELS, SceneShape, bisect_least_holding, bound_held, c1, c2, c3, c3_with_slack, c4,
+    c4_with_slack, capture_frame, cheapest, cheapest_table, dbsmc_runs_table, dbsmc_settings,
+    default_workers, drive_scene, ends_series, fitted_exponent, holding_brackets, index_one,
+    kept_both, left_a_guarantee, loglog, parallel_map, parse_workers, particle_pilot, ratio_chart,
+    relaxed_settings, run_particle_method, run_relaxed_with, run_series, scene_groups, scene_title,
+    stability_table, strain_chart, strain_colour, targets_section, timed_repeatedly,
+    write_particles_csv, write_pictures,
 };
 pub use particle_methods::{
     ChainKernels, ClothKernels, FamilyParticles, HairKernels, IndexOneParticles, PilotBounds,

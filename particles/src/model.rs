@@ -141,6 +141,11 @@ fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 fn states(x: &[f64], k: usize) -> &[f64; 6] {
     x[6 * k..6 * k + 6].try_into().expect("a range of six")
 }
+/// `b - a` over the three coordinates from `at` of two particles' states (0: positions,
+/// 3: velocities).
+fn diff3(a: &[f64; 6], b: &[f64; 6], at: usize) -> [f64; 3] {
+    [b[at] - a[at], b[at + 1] - a[at + 1], b[at + 2] - a[at + 2]]
+}
 fn states_mut(x: &mut [f64], k: usize) -> &mut [f64; 6] {
     (&mut x[6 * k..6 * k + 6])
         .try_into()
@@ -307,13 +312,13 @@ impl ParticleModel {
         }
         for ((l, &(a, b)), g) in self.ends.iter().enumerate().zip(geo.iter_mut()) {
             let (pa, pb) = (states(x, a), states(x, b));
-            let d = [pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]];
+            let d = diff3(pa, pb, 0);
             let len = dot(d, d).sqrt();
             let u = [d[0] / len, d[1] / len, d[2] / len];
             g.u = u;
             g.l = len;
             if full {
-                let e = [pb[3] - pa[3], pb[4] - pa[4], pb[5] - pa[5]];
+                let e = diff3(pa, pb, 3);
                 g.e = e;
                 g.p = dot(u, e);
                 g.q = dot(e, e);
@@ -388,7 +393,7 @@ impl Model for ParticleModel {
         }
         for (&(a, b), &zl) in self.ends.iter().zip(z) {
             let (pa, pb) = (states(x, a), states(x, b));
-            let d = [pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]];
+            let d = diff3(pa, pb, 0);
             let c = zl / dot(d, d).sqrt();
             let (fa, fb) = (c * self.inv_mass[a], c * self.inv_mass[b]);
             let da = states_mut(dx, a);
@@ -441,7 +446,7 @@ impl Model for ParticleModel {
         let mut sc = self.scratch.borrow_mut();
         for (&(a, b), g) in self.ends.iter().zip(sc.geo.iter_mut()) {
             let (pa, pb) = (states(x, a), states(x, b));
-            let d = [pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]];
+            let d = diff3(pa, pb, 0);
             let len = dot(d, d).sqrt();
             g.u = [d[0] / len, d[1] / len, d[2] / len];
         }

@@ -42,11 +42,11 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use dae_bench::{
-    CAPTURE_EVERY, Capture, GIF_DELAY_MS, MethodSpec, PNG_FRAMES, ParticleRecord, ParticleScene,
-    PilotBounds, bisect_least_holding, c1, c2, c3_with_slack, c4_with_slack, cheapest,
-    cheapest_table, drive_scene, holding_brackets, index_one, kept_both, parallel_map,
-    particle_pilot, ratio_chart, run_particle_method, run_series, scene_groups, scene_title,
-    stability_table, strain_chart, timed_repeatedly, write_particles_csv, write_pictures,
+    Capture, MethodSpec, ParticleRecord, ParticleScene, PilotBounds, bisect_least_holding, c1, c2,
+    c3_with_slack, c4_with_slack, capture_frame, cheapest, cheapest_table, drive_scene,
+    holding_brackets, index_one, kept_both, parallel_map, particle_pilot, ratio_chart,
+    run_particle_method, run_series, scene_groups, scene_title, stability_table, strain_chart,
+    timed_repeatedly, write_particles_csv, write_pictures,
 };
 use dae_particles::{FAR_EDGE_SLACK, GridPins};
 use dae_runtime::{Integrator, SolverChoice};
@@ -465,7 +465,6 @@ fn main() {
         .collect();
     let mut order: Vec<usize> = (0..series.len()).collect();
     order.sort_by_key(|&j| std::cmp::Reverse(run_budget(kept[series[j].0], &o)));
-    let mut done: Vec<Option<_>> = (0..series.len()).map(|_| None).collect();
     let ran = parallel_map(order.len(), o.jobs, |k| {
         let (i, specs) = &series[order[k]];
         let (scene, prep) = (kept[*i], &prepared[*i]);
@@ -476,12 +475,11 @@ fn main() {
         }));
         (runs, left)
     });
-    for (&j, r) in order.iter().zip(ran) {
-        done[j] = Some(r);
-    }
+    // Back in the series' order.
+    let mut ran: Vec<(usize, _)> = order.into_iter().zip(ran).collect();
+    ran.sort_by_key(|&(j, _)| j);
     let mut not_run = 0;
-    for ((i, specs), r) in series.iter().zip(done) {
-        let (runs, left) = r.expect("every series was run");
+    for ((i, specs), (_, (runs, left))) in series.iter().zip(ran) {
         records.extend(runs);
         if let Some(left) = left {
             not_run += left.knobs.len();
@@ -633,11 +631,7 @@ fn draw_pictures(
     shots.push((MethodSpec::XpbdColoured(16), 1e-2));
     for (spec, scale) in shots {
         let mut capture: Capture = Vec::new();
-        let mut obs = |f: u64, p: &[[f64; 3]]| {
-            if f % CAPTURE_EVERY == 0 {
-                capture.push((f, p.to_vec()));
-            }
-        };
+        let mut obs = |f: u64, p: &[[f64; 3]]| capture_frame(&mut capture, f, p);
         let r = run_particle_method(
             scene,
             &spec,
@@ -647,15 +641,7 @@ fn draw_pictures(
             Some(&mut obs),
         );
         let stem = format!("{}_{}", scene.stem(), spec.method());
-        match write_pictures(
-            pictures,
-            &stem,
-            scene.system.links(),
-            &capture,
-            &PNG_FRAMES,
-            GIF_DELAY_MS,
-            scale,
-        ) {
+        match write_pictures(pictures, &stem, scene.system.links(), &capture, scale) {
             Ok(files) => println!("  pictures {} ({}): {}", stem, r.status, files.join(", ")),
             Err(e) => println!("  pictures {stem}: {e}"),
         }

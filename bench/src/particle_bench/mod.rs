@@ -12,9 +12,7 @@ mod series;
 mod targets;
 
 pub use charts::{Line, loglog, ratio_chart, strain_chart};
-pub use pictures::{
-    CAPTURE_EVERY, Capture, GIF_DELAY_MS, PNG_FRAMES, strain_colour, write_pictures,
-};
+pub use pictures::{Capture, capture_frame, strain_colour, write_pictures};
 pub use pool::{default_workers, parallel_map, parse_workers};
 pub use report::{
     CSV_COLUMNS, bound_held, cheapest, cheapest_table, dbsmc_runs_table, fitted_exponent,

@@ -13,11 +13,19 @@ pub type Capture = Vec<(u64, Vec<[f64; 3]>)>;
 const SIZE: u32 = 320;
 
 /// Frames a run keeps for its pictures: every fifth (12 per second of the scene's 60).
-pub const CAPTURE_EVERY: u64 = 5;
+const CAPTURE_EVERY: u64 = 5;
 /// The frames written as PNG: the start, 1 s, 2.5 s and 5 s.
-pub const PNG_FRAMES: [u64; 4] = [0, 60, 150, 300];
+const PNG_FRAMES: [u64; 4] = [0, 60, 150, 300];
 /// The GIF's delay per picture (ms): five frames of 1/60 s, about real time.
-pub const GIF_DELAY_MS: u32 = 83;
+const GIF_DELAY_MS: u32 = 83;
+
+/// Keeps `frame` in `capture` if the pictures use it (every fifth frame): call it from a
+/// run's [`FrameObserver`](super::FrameObserver).
+pub fn capture_frame(capture: &mut Capture, frame: u64, positions: &[[f64; 3]]) {
+    if frame % CAPTURE_EVERY == 0 {
+        capture.push((frame, positions.to_vec()));
+    }
+}
 
 /// The oblique view: `x` to the right, `z` up, `y` into the picture (shifted left and
 /// up), so that chains in the `x`-`z` plane are seen side on and cloth at an angle.
@@ -94,21 +102,19 @@ where
     Ok(())
 }
 
-/// Write `stem_t<time>.png` for the captured frames in `png_frames`, and `stem.gif` of
-/// all captured frames (`delay_ms` per picture), links coloured by strain relative to
-/// `scale` (e.g. the layer `eps`).
+/// Write `stem_t<time>.png` for the captured frames at 0, 1, 2.5 and 5 s, and
+/// `stem.gif` of all captured frames ([`capture_frame`]) at about real time, links
+/// coloured by strain relative to `scale` (e.g. the layer `eps`).
 pub fn write_pictures(
     dir: &Path,
     stem: &str,
     links: &[Link],
     capture: &Capture,
-    png_frames: &[u64],
-    delay_ms: u32,
     scale: f64,
 ) -> Result<Vec<String>, String> {
     let view = window(capture);
     let mut written = Vec::new();
-    for (f, ps) in capture.iter().filter(|(f, _)| png_frames.contains(f)) {
+    for (f, ps) in capture.iter().filter(|(f, _)| PNG_FRAMES.contains(f)) {
         let mut buf = vec![255u8; (SIZE * SIZE * 3) as usize];
         {
             let area = BitMapBackend::with_buffer(&mut buf, (SIZE, SIZE)).into_drawing_area();
@@ -126,7 +132,7 @@ pub fn write_pictures(
         written.push(name);
     }
     let name = format!("{stem}.gif");
-    let area = BitMapBackend::gif(dir.join(&name), (SIZE, SIZE), delay_ms)
+    let area = BitMapBackend::gif(dir.join(&name), (SIZE, SIZE), GIF_DELAY_MS)
         .map_err(|e| format!("{name}: {e}"))?
         .into_drawing_area();
     for (_, ps) in capture {

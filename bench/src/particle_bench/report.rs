@@ -173,9 +173,7 @@ pub(super) fn cheapest_of<'a>(
     runs: impl Iterator<Item = &'a ParticleRecord>,
     target: f64,
 ) -> Option<&'a ParticleRecord> {
-    runs.filter(|r| held_whole(r, target))
-        .filter(|r| r.counters.layer_lost_at.is_none())
-        .min_by(|a, b| a.ms_mean.total_cmp(&b.ms_mean))
+    cheapest_kept(runs, |r| held_whole(r, target))
 }
 
 /// Where no run holds `target` over the whole scene: the cheapest run that held it (and
@@ -185,8 +183,18 @@ fn cheapest_until_budget<'a>(
     runs: impl Iterator<Item = &'a ParticleRecord>,
     target: f64,
 ) -> Option<&'a ParticleRecord> {
-    runs.filter(|r| r.status == "budget" && r.frames > 0 && r.worst_strain <= target)
-        .filter(|r| r.counters.layer_lost_at.is_none())
+    cheapest_kept(runs, |r| {
+        r.status == "budget" && r.frames > 0 && r.worst_strain <= target
+    })
+}
+
+/// The cheapest of `runs` that `held` and kept its `s`-layer (a run that left it holds
+/// nothing).
+fn cheapest_kept<'a>(
+    runs: impl Iterator<Item = &'a ParticleRecord>,
+    held: impl Fn(&ParticleRecord) -> bool,
+) -> Option<&'a ParticleRecord> {
+    runs.filter(|r| held(r) && r.counters.layer_lost_at.is_none())
         .min_by(|a, b| a.ms_mean.total_cmp(&b.ms_mean))
 }
 
