@@ -43,7 +43,8 @@
 //!   per instruction, as for version 1). Inside a loop a family variable is read at
 //!   `offset + stride * e` (offsets read from the instance's layout before the loops,
 //!   strides literals of the declarations, checked against the layout once per
-//!   instance), a gather at `inst.maps[m][e]`, a sum is a scatter-add
+//!   instance; the components of a `vec3` element read or written together as one
+//!   `[f64; 3]`, under one bounds check), a gather at `inst.maps[m][e]`, a sum is a scatter-add
 //!   `a[m[e]] += ...` into an accumulator set to zero first, and the values of `J_Omega`
 //!   are entry loops over the instance's `[entry, l, k]` lists, one per coupling. The
 //!   intermediate arrays live in a scratch type (`ChainScratch`: one `[Vec<f64>; n]` per
@@ -90,6 +91,7 @@ mod expand;
 mod family;
 mod rust;
 mod tokens;
+mod vectors;
 
 pub use expand::{compile_file_to_out_dir, expand_dae, expand_dae_file};
 pub use rust::{emit_rust, generate, rust_ident};

@@ -14,12 +14,18 @@ mod generated {
     dae_runtime::dae_file!("../examples/models/cloth.dae");
     dae_runtime::dae_file!("../examples/models/double_pendulum_family.dae");
     dae_runtime::dae_file!("../examples/models/hair.dae");
+    dae_runtime::dae_file!("models/yz_chain.dae");
 }
 
 /// The compiled family model of an example file.
 fn compiled(stem: &str) -> FamilyModel {
-    let path = dae_tests::models_dir().join(format!("{stem}.dae"));
-    let src = std::fs::read_to_string(&path).expect("example file");
+    compiled_at(&dae_tests::models_dir().join(format!("{stem}.dae")))
+}
+
+/// The compiled family model of a file.
+fn compiled_at(path: &std::path::Path) -> FamilyModel {
+    let stem = path.file_stem().expect("a file").to_string_lossy();
+    let src = std::fs::read_to_string(path).expect("model file");
     let mut models = dae_lang::compile_source(&src).unwrap_or_else(|e| panic!("{stem}: {e:?}"));
     *models.remove(0).family.expect("a family model")
 }
@@ -110,7 +116,17 @@ fn generated<K: Kernels>(k: &K, inst: &Instance, v: &Values<'_>) -> Vec<(&'stati
 
 /// Generated against interpreted at `points` random points of each size.
 fn agree<K: Kernels>(stem: &str, kernels: &K, sizes: &[Vec<(&str, i64)>], points: usize) {
-    let f = compiled(stem);
+    agree_on(stem, &compiled(stem), kernels, sizes, points);
+}
+
+/// The same for the compiled model `f`.
+fn agree_on<K: Kernels>(
+    stem: &str,
+    f: &FamilyModel,
+    kernels: &K,
+    sizes: &[Vec<(&str, i64)>],
+    points: usize,
+) {
     // As text: a per-element parameter's default is NaN, which `==` never equals.
     assert!(
         format!("{:?}", kernels.construction()) == format!("{:?}", f.construction),
@@ -127,7 +143,7 @@ fn agree<K: Kernels>(stem: &str, kernels: &K, sizes: &[Vec<(&str, i64)>], points
         for _ in 0..points {
             let p = Point::random(&inst, &mut rng);
             let v = p.values();
-            let want = interpreted(&f, &inst, &v);
+            let want = interpreted(f, &inst, &v);
             let got = generated(kernels, &inst, &v);
             for ((name, a), (_, b)) in want.iter().zip(&got) {
                 assert_eq!(a.len(), b.len(), "{stem} {size:?} {name}: lengths");
@@ -179,6 +195,22 @@ fn hair_kernels_agree_with_the_interpreter() {
     sizes.extend((1..=6).map(|s| vec![("S", s), ("N", 3)]));
     sizes.push(vec![("S", 20), ("N", 16)]);
     agree("hair", &generated::Hair::kernels(), &sizes, 3);
+}
+
+/// A model that reads only the second and third components of a vector family (the
+/// generated code takes them as one array starting a component before the first one
+/// read) and writes a vector's derivatives in two loops, partly in each.
+#[test]
+fn yz_chain_kernels_that_read_from_the_second_component_agree_with_the_interpreter() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/yz_chain.dae");
+    let f = compiled_at(&path);
+    agree_on(
+        "yz_chain",
+        &f,
+        &generated::YzChain::kernels(),
+        &sizes("N", 300),
+        3,
+    );
 }
 
 #[test]
