@@ -174,7 +174,7 @@ fn cloth_cost_target(records: &[ParticleRecord]) -> String {
             .min_by(|a, b| a.ms_mean.total_cmp(&b.ms_mean))
             .map_or("none".to_string(), |r| {
                 format!(
-                    "{} {} {:.1} ms ({:.0}x the target)",
+                    "{} {} {:.1} ms ({:.1}x the target)",
                     r.method,
                     r.knob,
                     r.ms_mean,
@@ -529,7 +529,7 @@ mod tests {
         assert!(missed.contains("Verdict: missed"), "{missed}");
         assert!(
             missed.contains(
-                "cheapest complete run of another method: index1-rk4 k 900.0 ms (56x the target)"
+                "cheapest complete run of another method: index1-rk4 k 900.0 ms (56.2x the target)"
             ),
             "{missed}"
         );
