@@ -18,24 +18,10 @@
 
 use std::time::Duration;
 
-use dae_bench::{ParticleScene, c1, c3, left_a_guarantee, run_relaxed_with};
-use dae_particles::GridPins;
+use dae_bench::{left_a_guarantee, run_relaxed_with, scene_of_spec};
 
 /// The longest step's distances from the design's, as factors.
 const NUDGES: [f64; 9] = [0.96, 0.97, 0.98, 0.99, 1.0, 1.01, 1.02, 1.03, 1.04];
-
-fn scene(spec: &str) -> Result<ParticleScene, String> {
-    let p: Vec<&str> = spec.split(':').collect();
-    let num = |s: &str| -> Result<f64, String> {
-        s.parse()
-            .map_err(|_| format!("`{s}` in `{spec}` is not a number"))
-    };
-    match p.as_slice() {
-        ["c1", n, r] => c1(num(n)? as usize, num(r)?).map_err(|e| e.to_string()),
-        ["c3", w] => c3(num(w)? as usize, GridPins::Corners, false).map_err(|e| e.to_string()),
-        _ => Err(format!("`{spec}`: a scene is c1:N:RATIO or c3:W")),
-    }
-}
 
 /// One draw: its counts and cost per frame, whether it left its layer or its strain
 /// bound, and whether it ran the whole scene.
@@ -60,7 +46,7 @@ fn spread(mut values: Vec<f64>) -> (f64, f64, f64) {
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let get = |i: usize, d: &str| args.get(i).cloned().unwrap_or_else(|| d.to_string());
-    let parsed = scene(&get(0, "c1:10:1e4")).and_then(|s| {
+    let parsed = scene_of_spec(&get(0, "c1:10:1e4")).and_then(|s| {
         let eps: f64 = get(1, "1e-3").parse().map_err(|_| "EPS is not a number")?;
         let gain: f64 = get(2, "4").parse().map_err(|_| "C is not a number")?;
         let ramp = match get(3, "ramp").as_str() {

@@ -109,9 +109,9 @@ pub use particle_bench::{
     c4_with_slack, capture_frame, cheapest, cheapest_table, dbsmc_runs_table, dbsmc_settings,
     default_workers, drive_scene, ends_series, fitted_exponent, holding_brackets, index_one,
     kept_both, left_a_guarantee, loglog, parallel_map, parse_workers, particle_pilot, ratio_chart,
-    relaxed_settings, run_particle_method, run_relaxed_with, run_series, scene_groups, scene_title,
-    stability_table, strain_chart, strain_colour, targets_section, timed_repeatedly,
-    write_particles_csv, write_pictures,
+    relaxed_settings, relaxed_settings_at, run_particle_method, run_relaxed_at, run_relaxed_with,
+    run_series, scene_groups, scene_of_spec, scene_title, stability_table, strain_chart,
+    strain_colour, targets_section, timed_repeatedly, write_particles_csv, write_pictures,
 };
 pub use particle_methods::{
     ChainKernels, ClothKernels, FamilyParticles, HairKernels, IndexOneParticles, PilotBounds,

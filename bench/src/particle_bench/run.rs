@@ -489,8 +489,20 @@ pub const RELAXED_GRAZE_PER_MU: f64 = 0.125;
 /// sent across its layer at the full gain: 1.1-3.2x fewer updates per frame on the five
 /// runs of `relaxed_design` (its rows "design with sgn(s)" against "design").
 pub fn relaxed_settings<M: ParticleDae>(model: &M, eps: f64, gain: f64) -> Settings {
+    relaxed_settings_at(model, eps, gain, RELAXED_MU_PER_FRAME)
+}
+
+/// [`relaxed_settings`] with `mu` another fraction of the frame than
+/// [`RELAXED_MU_PER_FRAME`] (the gains, the longest step and the grazing return follow
+/// `mu`): a study of how the design's cost depends on it (`examples/mu_sweep.rs`).
+pub fn relaxed_settings_at<M: ParticleDae>(
+    model: &M,
+    eps: f64,
+    gain: f64,
+    mu_per_frame: f64,
+) -> Settings {
     let m = model.n_constraints();
-    let mu = RELAXED_MU_PER_FRAME * FRAME;
+    let mu = mu_per_frame * FRAME;
     let e: Vec<f64> = (0..m).map(|i| eps * model.rest_length(i)).collect();
     let k: Vec<f64> = e.iter().map(|e| gain * e / mu).collect();
     let tol = RELAXED_TOLERANCE_PER_EPS * e.iter().copied().fold(f64::INFINITY, f64::min);
@@ -515,11 +527,24 @@ pub fn run_relaxed_with(
     budget: Duration,
     adjust: impl FnOnce(Settings) -> Settings,
 ) -> ParticleRecord {
+    run_relaxed_at(scene, eps, gain, RELAXED_MU_PER_FRAME, budget, adjust)
+}
+
+/// [`run_relaxed_with`] with `mu` at `mu_per_frame` of the frame
+/// ([`relaxed_settings_at`]).
+pub fn run_relaxed_at(
+    scene: &ParticleScene,
+    eps: f64,
+    gain: f64,
+    mu_per_frame: f64,
+    budget: Duration,
+    adjust: impl FnOnce(Settings) -> Settings,
+) -> ParticleRecord {
     let spec = MethodSpec::DbsmcRelaxed { eps, gain };
     let backend = ParticleModel::new(&scene.system)
         .map_err(|e| e.to_string())
         .and_then(|model| {
-            let settings = adjust(relaxed_settings(&model, eps, gain));
+            let settings = adjust(relaxed_settings_at(&model, eps, gain, mu_per_frame));
             Dbsmc::new(model, settings, "relaxed").map_err(|e| e.to_string())
         });
     match backend {

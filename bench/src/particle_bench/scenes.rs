@@ -209,3 +209,46 @@ fn slack_tag(pins: GridPins, slack: f64) -> String {
         format!(" slack={slack}")
     }
 }
+
+/// A scene from the command line's spelling: `c1:N:RATIO` (C1, `N` links, end-mass
+/// ratio `RATIO`) or `c3:W` (C3 (a), `W` x `W`), as the study examples take it.
+pub fn scene_of_spec(spec: &str) -> Result<ParticleScene, String> {
+    let parts: Vec<&str> = spec.split(':').collect();
+    let num = |s: &str| -> Result<f64, String> {
+        s.parse()
+            .map_err(|_| format!("`{s}` in `{spec}` is not a number"))
+    };
+    let size = |s: &str| -> Result<usize, String> {
+        s.parse()
+            .map_err(|_| format!("`{s}` in `{spec}` is not a size"))
+    };
+    match parts.as_slice() {
+        ["c1", n, r] => c1(size(n)?, num(r)?).map_err(|e| e.to_string()),
+        ["c3", w] => c3(size(w)?, GridPins::Corners, false).map_err(|e| e.to_string()),
+        _ => Err(format!("`{spec}`: a scene is c1:N:RATIO or c3:W")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_scene_spec_names_a_chain_or_a_cloth_or_says_what_is_wrong() {
+        let chain = scene_of_spec("c1:10:1e2").expect("a chain");
+        assert_eq!(
+            (chain.title().as_str(), chain.size()),
+            ("C1 N=10 r=1e2", 10)
+        );
+        let cloth = scene_of_spec("c3:8").expect("a cloth");
+        assert_eq!(cloth.title(), "C3 W=8 (a)");
+        let Err(bad) = scene_of_spec("c1:ten:1") else {
+            panic!("`ten` is not a size")
+        };
+        assert!(bad.contains("`ten` in `c1:ten:1` is not a size"), "{bad}");
+        let Err(bad) = scene_of_spec("c2:3") else {
+            panic!("c2 is not a scene of the study examples")
+        };
+        assert!(bad.contains("c1:N:RATIO or c3:W"), "{bad}");
+    }
+}
