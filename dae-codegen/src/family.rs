@@ -527,15 +527,7 @@ fn program_body(p: &Program, c: &Construction, outs: &[TokenStream]) -> TokenStr
                     Sink::Out(d) => {
                         let out = &outs[d.output()];
                         let id = DestSlot::of(d).ident();
-                        // `id` is the slot of component `j` for a state, of `w^(0)` for `w`.
-                        let start = |j: usize| match d {
-                            Dest::Rhs(_) if j > 0 => {
-                                let j = usize_lit(j);
-                                quote!((#id - #j))
-                            }
-                            _ => quote!(#id),
-                        };
-                        let val = writes.take(g, d, c, out, start, val)?;
+                        let val = writes.take(g, d, c, out, &id, val)?;
                         let j = match d {
                             Dest::W(_, j) if j > 0 => {
                                 let j = usize_lit(j as usize);

@@ -216,15 +216,16 @@ impl VectorWrites {
         VectorWrites { writes }
     }
 
-    /// Takes `value` for output `d` if it goes out in an array (`start`: where the
-    /// element's array starts, less `dim * e`); gives it back otherwise.
+    /// Takes `value` for output `d` if it goes out in an array; gives it back otherwise.
+    /// `slot` is the local holding `d`'s slot of element 0: a state component's own
+    /// (the array starts `j` before it), `w^(0)`'s for any `w^(j)`.
     pub(crate) fn take(
         &mut self,
         g: &Group,
         d: Dest,
         c: &Construction,
         out: &TokenStream,
-        start: impl FnOnce(usize) -> TokenStream,
+        slot: &Ident,
         value: TokenStream,
     ) -> Option<TokenStream> {
         let Some((key, j, dim)) = Self::place(g, d, c) else {
@@ -236,7 +237,13 @@ impl VectorWrites {
         if w.values.is_empty() {
             w.dim = dim;
             w.out = out.clone();
-            w.start = start(j);
+            w.start = match d {
+                Dest::Rhs(_) if j > 0 => {
+                    let j = usize_lit(j);
+                    quote!((#slot - #j))
+                }
+                _ => quote!(#slot),
+            };
         }
         w.values.insert(j, value);
         None

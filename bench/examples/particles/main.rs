@@ -44,11 +44,11 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use dae_bench::{
-    Capture, MethodSpec, ParticleRecord, ParticleScene, PilotBounds, bisect_least_holding, c1, c2,
-    c3_with_slack, c4_with_slack, capture_frame, cheapest, cheapest_table, drive_scene,
-    holding_brackets, index_one, kept_both, parallel_map, particle_pilot, ratio_chart,
-    run_particle_method, run_series, scene_groups, scene_title, stability_table, strain_chart,
-    timed_repeatedly, write_particles_csv, write_pictures,
+    Capture, MethodSpec, ParticleRecord, ParticleScene, PilotBounds, STRAIN_LEVELS,
+    bisect_least_holding, c1, c2, c3_with_slack, c4_with_slack, capture_frame, cheapest,
+    cheapest_table, drive_scene, holding_brackets, index_one, kept_both, parallel_map,
+    particle_pilot, ratio_chart, run_particle_method, run_series, scene_groups, scene_title,
+    stability_table, strain_chart, timed_repeatedly, write_particles_csv, write_pictures,
 };
 use dae_particles::{FAR_EDGE_SLACK, GridPins};
 use dae_runtime::{Integrator, SolverChoice};
@@ -347,10 +347,12 @@ fn needs_pilot(spec: &MethodSpec) -> bool {
 /// 2x (4x on the cloths, the hair and the grabs) can put the least holding k up to 2x (4x)
 /// too high, so between the grid's last failing and first holding k of each level
 /// bisection runs more settings (`dae_bench::bisect_least_holding`, to within a
-/// sixteenth). `first` is the series' first setting (its method); `runs` its records.
+/// sixteenth). `first` is the series' first setting (its method); `runs` its records;
+/// `levels` the worst strains to bisect for (the size sweep asks for 1e-2 only).
 fn bisect_small_steps(
     first: &MethodSpec,
     runs: &[ParticleRecord],
+    levels: &[f64],
     mut run: impl FnMut(&MethodSpec) -> ParticleRecord,
 ) -> Vec<ParticleRecord> {
     let make: fn(u32) -> MethodSpec = match first {
@@ -360,7 +362,8 @@ fn bisect_small_steps(
     };
     // A k asked for by two levels runs once.
     let mut made: Vec<(u32, ParticleRecord)> = Vec::new();
-    for (level, fail, hold) in holding_brackets(runs) {
+    let brackets = holding_brackets(runs).into_iter();
+    for (level, fail, hold) in brackets.filter(|(level, _, _)| levels.contains(level)) {
         bisect_least_holding(fail, hold, level, |k| {
             if let Some((_, r)) = made.iter().find(|(m, _)| *m == k) {
                 return r.clone();
@@ -472,9 +475,12 @@ fn main() {
         let (scene, prep) = (kept[*i], &prepared[*i]);
         let (mut runs, left) =
             run_series(specs, MethodSpec::knob, |spec| run(scene, prep, spec, &o));
-        runs.extend(bisect_small_steps(&specs[0], &runs, |spec| {
-            run(scene, prep, spec, &o)
-        }));
+        runs.extend(bisect_small_steps(
+            &specs[0],
+            &runs,
+            &STRAIN_LEVELS,
+            |spec| run(scene, prep, spec, &o),
+        ));
         (runs, left)
     });
     // Back in the series' order.

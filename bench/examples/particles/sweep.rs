@@ -4,14 +4,13 @@ use std::path::Path;
 use std::time::Duration;
 
 use dae_bench::{
-    MethodSpec, ParticleRecord, ParticleScene, bisect_least_holding, c1, c3_with_slack, cheapest,
-    holding_brackets, parallel_map, particle_pilot, run_particle_method, scene_title,
-    timed_repeatedly,
+    MethodSpec, ParticleRecord, ParticleScene, c1, c3_with_slack, cheapest, parallel_map,
+    particle_pilot, run_particle_method, scene_title, timed_repeatedly,
 };
 use dae_particles::GridPins;
 use dae_runtime::{Integrator, SolverChoice};
 
-use super::{Options, print};
+use super::{Options, bisect_small_steps, print};
 
 /// Frames every size of the size sweep runs: the same part of the motion at every size.
 const SWEEP_FRAMES: u64 = 12;
@@ -237,51 +236,39 @@ pub fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Option
     md
 }
 
-/// XPBD's setting of `k` substeps, in one sweep order.
-type MakeXpbd = fn(u32) -> MethodSpec;
-
 /// The worst strain the sweep's cheapest-setting table and target 2 read.
 const SWEEP_LEVEL: f64 = 1e-2;
 
-/// XPBD's substeps at each size, bisected between the grid's last `k` that did not hold
-/// [`SWEEP_LEVEL`] over the sweep's frames and its first that did (to within a
-/// sixteenth, `dae_bench::bisect_least_holding`, as on the whole scenes): the grid of
-/// `k` by 4x can put XPBD's cheapest holding setting up to 4x too high, and target 2
-/// reads XPBD's cost on the 64 x 64 cloth from here. The runs made, for the CSV and the
-/// tables (not the chart, whose lines are one setting at every size).
+/// XPBD's substeps at each size, bisected for [`SWEEP_LEVEL`] over the sweep's frames as
+/// the whole scenes are for every level (`super::bisect_small_steps`): the grid of `k` by
+/// 4x can put XPBD's cheapest holding setting up to 4x too high, and target 2 reads
+/// XPBD's cost on the 64 x 64 cloth from here. The runs made, for the CSV and the tables
+/// (not the chart, whose lines are one setting at every size).
 fn bisect_xpbd(
     scenes: &[ParticleScene],
     records: &[ParticleRecord],
     o: &Options,
 ) -> Vec<ParticleRecord> {
-    let makers: [MakeXpbd; 2] = [MethodSpec::XpbdSubsteps, MethodSpec::XpbdColoured];
-    // A scene, a sweep order, and the bracket `(k_fail, k_hold)` to bisect.
-    let mut jobs: Vec<(&ParticleScene, MakeXpbd, u32, u32)> = Vec::new();
+    // Each scene with each sweep order, and the sweep's runs of it.
+    let mut jobs: Vec<(&ParticleScene, MethodSpec, Vec<ParticleRecord>)> = Vec::new();
     for sc in scenes {
-        for make in makers {
-            if !o.keeps(&make(1)) {
+        for first in [MethodSpec::XpbdSubsteps(1), MethodSpec::XpbdColoured(1)] {
+            if !o.keeps(&first) {
                 continue;
             }
-            let method = make(1).method();
-            let runs: Vec<ParticleRecord> = records
+            let runs = records
                 .iter()
-                .filter(|r| scene_title(r) == sc.title() && r.method == method)
+                .filter(|r| scene_title(r) == sc.title() && r.method == first.method())
                 .cloned()
                 .collect();
-            let bracket = holding_brackets(&runs)
-                .into_iter()
-                .find(|&(level, _, _)| level == SWEEP_LEVEL);
-            if let Some((_, fail, hold)) = bracket {
-                jobs.push((sc, make, fail, hold));
-            }
+            jobs.push((sc, first, runs));
         }
     }
     parallel_map(jobs.len(), o.jobs, |j| {
-        let (sc, make, fail, hold) = jobs[j];
-        bisect_least_holding(fail, hold, SWEEP_LEVEL, |k| {
-            let r = timed_repeatedly(|| {
-                run_particle_method(sc, &make(k), None, SWEEP_BUDGET, None, None)
-            });
+        let (sc, first, runs) = &jobs[j];
+        bisect_small_steps(first, runs, &[SWEEP_LEVEL], |spec| {
+            let r =
+                timed_repeatedly(|| run_particle_method(sc, spec, None, SWEEP_BUDGET, None, None));
             print(&r);
             r
         })
