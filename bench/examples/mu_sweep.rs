@@ -18,7 +18,30 @@
 
 use std::time::Duration;
 
-use dae_bench::{default_workers, left_a_guarantee, parallel_map, run_relaxed_at, scene_of_spec};
+use dae_bench::{
+    RELAXED_MU_PER_FRAME, default_workers, left_a_guarantee, parallel_map, run_relaxed_at,
+    scene_of_spec,
+};
+use dae_particles::AdaptiveMu;
+
+/// One run's `mu`: a fixed fraction of the frame, or searched for from a start.
+#[derive(Clone, Copy)]
+enum Mu {
+    Fixed(f64),
+    Search(f64),
+}
+
+/// `0.25`, `1/4`, `search` (from a quarter of the frame) or `search:1/8`.
+fn mu_of(s: &str) -> Result<Mu, String> {
+    match s.strip_prefix("search") {
+        Some("") => Ok(Mu::Search(RELAXED_MU_PER_FRAME)),
+        Some(rest) => match rest.strip_prefix(':') {
+            Some(start) => fraction(start).map(Mu::Search),
+            None => Err(format!("`{s}` is not `search` or `search:FRACTION`")),
+        },
+        None => fraction(s).map(Mu::Fixed),
+    }
+}
 
 /// `0.25` or `1/4`.
 fn fraction(s: &str) -> Result<f64, String> {
@@ -44,13 +67,15 @@ fn main() {
         let eps: f64 = get(1, "1e-3").parse().map_err(|_| "EPS is not a number")?;
         let gain: f64 = get(2, "4").parse().map_err(|_| "C is not a number")?;
         let budget: f64 = get(3, "60").parse().map_err(|_| "BUDGET is not a number")?;
-        let mus: Vec<f64> = if args.len() > 4 {
+        let mus: Vec<Mu> = if args.len() > 4 {
             args[4..]
                 .iter()
-                .map(|s| fraction(s))
+                .map(|s| mu_of(s))
                 .collect::<Result<_, _>>()?
         } else {
-            vec![0.25, 0.125, 0.0625, 0.03125, 0.015625]
+            [0.25, 0.125, 0.0625, 0.03125, 0.015625]
+                .map(Mu::Fixed)
+                .to_vec()
         };
         Ok((scene, eps, gain, budget, mus))
     });
@@ -67,11 +92,16 @@ fn main() {
     );
     println!("|---|---|---|---|---|---|---|");
     let runs = parallel_map(mus.len(), default_workers(), |i| {
+        let (start, search) = match mus[i] {
+            Mu::Fixed(f) => (f, None),
+            Mu::Search(f) => (f, Some(AdaptiveMu::default())),
+        };
         run_relaxed_at(
             &scene,
             eps,
             gain,
-            mus[i],
+            start,
+            search,
             Duration::from_secs_f64(budget),
             |s| s.ramp_against_drift(),
         )
@@ -81,9 +111,12 @@ fn main() {
         let f = r.frames.max(1) as f64;
         let left = left_a_guarantee(r);
         lost |= left;
+        let label = match mu {
+            Mu::Fixed(f) => format!("1/{:.0}", 1.0 / f),
+            Mu::Search(f) => format!("searched from 1/{:.0}", 1.0 / f),
+        };
         println!(
-            "| 1/{:.0} | {:.3} | {:.1} | {:.1} | {:.3} | {}/{} {} | {} |",
-            1.0 / mu,
+            "| {label} | {:.3} | {:.1} | {:.1} | {:.3} | {}/{} {} | {} |",
             r.ms_mean,
             r.counters.updates as f64 / f,
             r.counters.steps as f64 / f,

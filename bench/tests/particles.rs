@@ -695,3 +695,55 @@ fn runs_on_two_threads_end_as_they_do_one_at_a_time() {
         assert_eq!(a.worst_strain.to_bits(), b.worst_strain.to_bits(), "{what}");
     }
 }
+
+/// `mu` searched for during the run (`Dbsmc::adapt_mu`, the benchmark's `dbsmc-adapt`):
+/// on a 30-link chain whose free end whips, and on the grab of an 8 x 8 cloth (a pin
+/// moved and released while `mu` moves), every move keeps `s` continuous, and the runs
+/// keep their layers and their strain; the search asks for a move at the end of every
+/// window of 4 frames, and the simulator makes most of them (on the grab it refused one
+/// growth, measured).
+#[test]
+fn a_searched_mu_moves_and_keeps_every_layer_and_the_strain() {
+    let mut chain = c1(30, 1.0).unwrap();
+    chain.duration = 3.0;
+    let grab = dae_bench::c4(8).unwrap();
+    for (scene, eps) in [(&chain, 1e-3), (&grab, 1e-2)] {
+        let what = scene.title();
+        let model = ParticleModel::new(&scene.system).unwrap();
+        let settings = relaxed_settings(&model, eps, 4.0).ramp_against_drift();
+        let mut backend = Dbsmc::new(model, settings, "adaptive")
+            .unwrap()
+            .adapt_mu(dae_particles::AdaptiveMu::default())
+            .unwrap()
+            .keep_going_after_bound_loss();
+        let spec = MethodSpec::DbsmcAdaptive { eps, gain: 4.0 };
+        let r = drive_scene(
+            scene,
+            &spec,
+            &mut backend,
+            Duration::from_secs(300),
+            None,
+            None,
+        );
+        assert_held(&r, eps, &what);
+        let (made, refused) = backend.mu_moves();
+        eprintln!(
+            "{what}: {made} moves, {refused} refused, mu ends at {} of the start's",
+            backend.mu_scale()
+        );
+        let windows = r.frames / 4;
+        assert_eq!(made + refused, windows, "{what}: one move asked per window");
+        assert!(made >= windows / 2, "{what}: {made} of {windows}");
+    }
+    // An invalid search is an error that names its field.
+    let model = ParticleModel::new(&chain.system).unwrap();
+    let settings = relaxed_settings(&model, 1e-3, 4.0);
+    let err = Dbsmc::new(model, settings, "adaptive")
+        .unwrap()
+        .adapt_mu(dae_particles::AdaptiveMu {
+            step: 0.5,
+            ..Default::default()
+        })
+        .unwrap_err();
+    assert!(err.reason.contains("step"), "{}", err.reason);
+}

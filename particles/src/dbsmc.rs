@@ -13,6 +13,7 @@ use std::io;
 
 use dae_runtime::{Layout, Model, Sample, Settings, SimError, Simulator, Sink};
 
+use crate::adaptive_mu::{AdaptiveMu, Searcher};
 use crate::backend::{Backend, BackendError, Counters};
 use crate::model::ParticleDae;
 use crate::motion::{Kinematics, Pin};
@@ -136,6 +137,12 @@ pub struct Dbsmc<M: ParticleDae> {
     /// Go on after a layer was left (recorded in the counters) instead of failing.
     keep_going: bool,
     layer_lost_at: Option<f64>,
+    /// The search for `mu` ([`Dbsmc::adapt_mu`]), and the work counted up to the end
+    /// of the last frame.
+    search: Option<Searcher>,
+    work_before: u64,
+    /// Moves of `mu` made and refused.
+    mu_moves: (u64, u64),
 }
 
 impl<M: ParticleDae> std::fmt::Debug for Dbsmc<M> {
@@ -198,7 +205,67 @@ impl<M: ParticleDae> Dbsmc<M> {
             failed: None,
             keep_going: false,
             layer_lost_at: None,
+            search: None,
+            work_before: 0,
+            mu_moves: (0, 0),
         })
+    }
+
+    /// Search for the `mu` at which the run costs least while it runs ([`AdaptiveMu`]):
+    /// at the end of each window of frames `mu` moves by a step
+    /// ([`Simulator::rescale_mu`], which keeps `s` continuous and refuses a growth
+    /// from which the filter would leave the layer), and the gains, the longest step
+    /// and the grazing return tied to it move with it. An error if `how` cannot search.
+    pub fn adapt_mu(mut self, how: AdaptiveMu) -> Result<Self, BackendError> {
+        how.check().map_err(|reason| BackendError {
+            method: self.name.clone(),
+            t: self.sim.time(),
+            reason,
+            deadline: false,
+        })?;
+        self.search = Some(Searcher::new(how));
+        self.work_before = self.work();
+        Ok(self)
+    }
+
+    /// `mu` now as a multiple of the one the run started with (1 without a search).
+    pub fn mu_scale(&self) -> f64 {
+        self.search.as_ref().map_or(1.0, Searcher::scale)
+    }
+
+    /// The moves of `mu` the search made so far, and those the simulator refused (a
+    /// growth from which the filter would have left the layer).
+    pub fn mu_moves(&self) -> (u64, u64) {
+        self.mu_moves
+    }
+
+    /// The work the search weighs: right-hand side evaluations and factorisations.
+    fn work(&self) -> u64 {
+        self.sim.model().rhs_calls.get() + self.sim.solver_stats().factorisations
+    }
+
+    /// The search's move at the end of a frame, if one is due.
+    fn follow_search(&mut self) -> Result<(), BackendError> {
+        let work = self.work();
+        let frame = work - self.work_before;
+        self.work_before = work;
+        let Some(factor) = self.search.as_mut().and_then(|s| s.after_frame(frame)) else {
+            return Ok(());
+        };
+        match self.sim.rescale_mu(factor) {
+            Ok(true) => {
+                self.mu_moves.0 += 1;
+                Ok(())
+            }
+            Ok(false) => {
+                self.mu_moves.1 += 1;
+                if let Some(s) = self.search.as_mut() {
+                    s.refused(factor);
+                }
+                Ok(())
+            }
+            Err(e) => Err(self.failure(self.sim.time(), &e)),
+        }
     }
 
     /// Do not stop when a layer is left after reaching: record the first time in
@@ -264,12 +331,12 @@ impl<M: ParticleDae> Backend for Dbsmc<M> {
         // loudly, instead of going on as if it held (the simulator itself would only
         // say so in the summary of `finish`, which a frame-driven run never reaches).
         if self.layer_lost_at.is_some() {
-            return Ok(());
+            return self.follow_search();
         }
         if let Some(loss) = self.sim.bound_loss() {
             self.layer_lost_at = Some(loss.first_time);
             if self.keep_going {
-                return Ok(());
+                return self.follow_search();
             }
             let e = BackendError {
                 method: self.name.clone(),
@@ -287,7 +354,7 @@ impl<M: ParticleDae> Backend for Dbsmc<M> {
             self.failed = Some(e.clone());
             return Err(e);
         }
-        Ok(())
+        self.follow_search()
     }
     fn set_deadline(&mut self, deadline: Option<std::time::Instant>) {
         self.sim.set_deadline(deadline);

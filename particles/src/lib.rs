@@ -75,6 +75,7 @@
 //! and the oracle such a model is tested against.
 #![warn(missing_docs)]
 
+mod adaptive_mu;
 mod backend;
 mod builders;
 mod dbsmc;
@@ -83,6 +84,7 @@ mod motion;
 mod scene;
 mod system;
 
+pub use adaptive_mu::AdaptiveMu;
 pub use backend::{Backend, BackendError, Counters};
 pub use builders::{
     FAR_EDGE_SLACK, GridPins, HEAD_RADIUS, STRAND_LENGTH, STRAND_PARTICLE_MASS, chain, grid,

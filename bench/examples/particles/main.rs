@@ -217,10 +217,16 @@ fn sweeps(fine_k: bool, studies: bool) -> Vec<Vec<MethodSpec>> {
                 .to_vec(),
         );
     }
-    // The same design with `v` ramped against the drift between updates.
+    // The same design with `v` ramped against the drift between updates, and with
+    // `mu` searched for during the run besides.
     sweeps.push(
         [1e-2, 1e-3, 1e-4]
             .map(|eps| MethodSpec::DbsmcRamped { eps, gain: 4.0 })
+            .to_vec(),
+    );
+    sweeps.push(
+        [1e-2, 1e-3, 1e-4]
+            .map(|eps| MethodSpec::DbsmcAdaptive { eps, gain: 4.0 })
             .to_vec(),
     );
     // The scene's generated family model (chain.dae, c2_hair.dae, c3_cloth.dae), with
@@ -522,6 +528,7 @@ fn main() {
         "dbsmc-generated",
         "dbsmc-relaxed",
         "dbsmc-ramp",
+        "dbsmc-adapt",
         "dbsmc-ramp-generated",
         "index1-rk4",
         "xpbd-substeps",

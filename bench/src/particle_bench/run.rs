@@ -4,7 +4,9 @@
 
 use std::time::{Duration, Instant};
 
-use dae_particles::{Backend, Counters, Dbsmc, FRAME, ParticleDae, ParticleModel, Scene};
+use dae_particles::{
+    AdaptiveMu, Backend, Counters, Dbsmc, FRAME, ParticleDae, ParticleModel, Scene,
+};
 use dae_runtime::{
     AlphaChoice, ConstraintSpec, GainChoice, Integrator, LayerBound, MuSearch, Settings,
     SolverChoice, design,
@@ -46,6 +48,15 @@ pub enum MethodSpec {
     /// The frame-tied design of [`relaxed_settings`] with `v` ramping between updates
     /// against the drift of `s'` ([`Settings::ramp_against_drift`]).
     DbsmcRamped {
+        /// Relative layer (strain bound).
+        eps: f64,
+        /// The gain in units of `eps_i / mu`.
+        gain: f64,
+    },
+    /// The frame-tied design with `v` ramped ([`MethodSpec::DbsmcRamped`]) and `mu`
+    /// searched for during the run from a quarter of the frame ([`Dbsmc::adapt_mu`],
+    /// [`AdaptiveMu::default`]).
+    DbsmcAdaptive {
         /// Relative layer (strain bound).
         eps: f64,
         /// The gain in units of `eps_i / mu`.
@@ -95,6 +106,7 @@ impl MethodSpec {
             },
             MethodSpec::DbsmcRelaxed { .. } => "dbsmc-relaxed".into(),
             MethodSpec::DbsmcRamped { .. } => "dbsmc-ramp".into(),
+            MethodSpec::DbsmcAdaptive { .. } => "dbsmc-adapt".into(),
             MethodSpec::DbsmcRampGenerated { .. } => "dbsmc-ramp-generated".into(),
             MethodSpec::XpbdSubsteps(_) => "xpbd-substeps".into(),
             MethodSpec::XpbdColoured(_) => "xpbd-coloured".into(),
@@ -110,6 +122,7 @@ impl MethodSpec {
             | MethodSpec::DbsmcGenerated { eps, .. }
             | MethodSpec::DbsmcRelaxed { eps, .. }
             | MethodSpec::DbsmcRamped { eps, .. }
+            | MethodSpec::DbsmcAdaptive { eps, .. }
             | MethodSpec::DbsmcRampGenerated { eps, .. } => Some(eps),
             MethodSpec::XpbdSubsteps(_)
             | MethodSpec::XpbdColoured(_)
@@ -125,6 +138,7 @@ impl MethodSpec {
             }
             MethodSpec::DbsmcRelaxed { eps, gain }
             | MethodSpec::DbsmcRamped { eps, gain }
+            | MethodSpec::DbsmcAdaptive { eps, gain }
             | MethodSpec::DbsmcRampGenerated { eps, gain } => format!("eps={eps:e} c={gain}"),
             MethodSpec::XpbdSubsteps(k) | MethodSpec::XpbdColoured(k) => format!("k={k}"),
             MethodSpec::XpbdIterations(n) => format!("n={n}"),
@@ -527,16 +541,18 @@ pub fn run_relaxed_with(
     budget: Duration,
     adjust: impl FnOnce(Settings) -> Settings,
 ) -> ParticleRecord {
-    run_relaxed_at(scene, eps, gain, RELAXED_MU_PER_FRAME, budget, adjust)
+    run_relaxed_at(scene, eps, gain, RELAXED_MU_PER_FRAME, None, budget, adjust)
 }
 
 /// [`run_relaxed_with`] with `mu` at `mu_per_frame` of the frame
-/// ([`relaxed_settings_at`]).
+/// ([`relaxed_settings_at`]), from there searched for during the run if `search` is
+/// given ([`Dbsmc::adapt_mu`]).
 pub fn run_relaxed_at(
     scene: &ParticleScene,
     eps: f64,
     gain: f64,
     mu_per_frame: f64,
+    search: Option<AdaptiveMu>,
     budget: Duration,
     adjust: impl FnOnce(Settings) -> Settings,
 ) -> ParticleRecord {
@@ -545,7 +561,11 @@ pub fn run_relaxed_at(
         .map_err(|e| e.to_string())
         .and_then(|model| {
             let settings = adjust(relaxed_settings_at(&model, eps, gain, mu_per_frame));
-            Dbsmc::new(model, settings, "relaxed").map_err(|e| e.to_string())
+            let b = Dbsmc::new(model, settings, "relaxed").map_err(|e| e.to_string())?;
+            match search {
+                Some(how) => b.adapt_mu(how).map_err(|e| e.to_string()),
+                None => Ok(b),
+            }
         });
     match backend {
         Ok(b) => drive_scene(
@@ -580,7 +600,13 @@ pub fn run_particle_method(
     };
     // The pilot-based designs need the bounds; `None` without them.
     let pilot = bounds.map(Design::Pilot);
-    let relaxed = |gain, ramp| Some(Design::Relaxed { gain, ramp });
+    let relaxed = |gain, ramp| {
+        Some(Design::Relaxed {
+            gain,
+            ramp,
+            adapt: false,
+        })
+    };
     let dp = Integrator::DormandPrince;
     // The other methods run here; for DBSMC: the design, the solver and integrator, and
     // whether the model is generated.
@@ -623,6 +649,14 @@ pub fn run_particle_method(
         MethodSpec::DbsmcRamped { eps, gain } => {
             (relaxed(gain, true), eps, SolverChoice::Auto, dp, false)
         }
+        MethodSpec::DbsmcAdaptive { eps, gain } => {
+            let adaptive = Design::Relaxed {
+                gain,
+                ramp: true,
+                adapt: true,
+            };
+            (Some(adaptive), eps, SolverChoice::Auto, dp, false)
+        }
         MethodSpec::DbsmcRampGenerated { eps, gain } => {
             (relaxed(gain, true), eps, SolverChoice::Auto, dp, true)
         }
@@ -652,8 +686,9 @@ pub fn run_particle_method(
 enum Design<'a> {
     /// [`dbsmc_settings`] from these pilot bounds.
     Pilot(&'a PilotBounds),
-    /// [`relaxed_settings`] with this gain, `v` ramped against the drift or held.
-    Relaxed { gain: f64, ramp: bool },
+    /// [`relaxed_settings`] with this gain, `v` ramped against the drift or held, `mu`
+    /// searched for during the run ([`Dbsmc::adapt_mu`]) or fixed.
+    Relaxed { gain: f64, ramp: bool, adapt: bool },
 }
 
 /// A DBSMC run of a scene, whichever particle model it is given.
@@ -718,7 +753,7 @@ impl RunDbsmc<'_, '_> {
                 })
             }
             // No guaranteed period: the design assumes its drift (see relaxed_settings).
-            Design::Relaxed { gain, ramp } => {
+            Design::Relaxed { gain, ramp, .. } => {
                 let settings = relaxed_settings(&model, self.eps, gain);
                 Ok((Settings { ramp, ..settings }, None))
             }
@@ -732,7 +767,15 @@ impl RunDbsmc<'_, '_> {
         };
         let step = settings.step;
         let name = format!("{} {}", self.spec.method(), self.spec.knob());
-        match Dbsmc::new(model, settings, &name) {
+        let adapt = matches!(self.design, Design::Relaxed { adapt: true, .. });
+        let backend = Dbsmc::new(model, settings, &name).and_then(|b| {
+            if adapt {
+                b.adapt_mu(AdaptiveMu::default())
+            } else {
+                Ok(b)
+            }
+        });
+        match backend {
             Ok(b) => {
                 r = drive_scene(
                     self.scene,

@@ -24,7 +24,7 @@ fn is_dbsmc(r: &ParticleRecord) -> bool {
 fn is_frame_tied(r: &ParticleRecord) -> bool {
     matches!(
         r.method.as_str(),
-        "dbsmc-relaxed" | "dbsmc-ramp" | "dbsmc-ramp-generated"
+        "dbsmc-relaxed" | "dbsmc-ramp" | "dbsmc-adapt" | "dbsmc-ramp-generated"
     )
 }
 
@@ -120,7 +120,7 @@ fn bound_target(records: &[ParticleRecord]) -> String {
     let _ = writeln!(
         s,
         "\nVerdict: {} of {} DBSMC runs that ran a frame kept both (strain and s-layer) over the frames they ran; \
-         the frame-tied designs (`dbsmc-relaxed`, `dbsmc-ramp`, `dbsmc-ramp-generated`): {} of {}, of which {} ran their whole scene (the size sweep's runs cover its first frames).",
+         the frame-tied designs (`dbsmc-relaxed`, `dbsmc-ramp`, `dbsmc-adapt`, `dbsmc-ramp-generated`): {} of {}, of which {} ran their whole scene (the size sweep's runs cover its first frames).",
         started.clone().filter(|r| kept_both(r)).count(),
         started.count(),
         frame_tied.iter().filter(|r| kept_both(r)).count(),
@@ -417,7 +417,7 @@ mod tests {
         assert!(!s.contains("xpbd"), "{s}");
         assert!(s.contains("2 of 4 DBSMC runs that ran a frame"), "{s}");
         assert!(
-            s.contains("(`dbsmc-relaxed`, `dbsmc-ramp`, `dbsmc-ramp-generated`): 2 of 2, of which 1 ran their whole scene"),
+            s.contains("(`dbsmc-relaxed`, `dbsmc-ramp`, `dbsmc-adapt`, `dbsmc-ramp-generated`): 2 of 2, of which 1 ran their whole scene"),
             "{s}"
         );
     }

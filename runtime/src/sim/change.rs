@@ -44,4 +44,133 @@ impl<M: Model> Simulator<M> {
         self.run.update_requested = true;
         Ok(out)
     }
+
+    /// Scale every `mu_i` by `factor` during a run, without a jump of the sliding
+    /// variables, and with `mu` what a design ties to it: the configured gains by
+    /// `1 / factor` (a floor `k_i = g eps_i / mu_i` keeps its `g`), the longest step and
+    /// the grazing return ([`Settings::graze`]) by `factor`. Returns whether the change
+    /// was made.
+    ///
+    /// `s_i = (mu_i d/dt + 1)^(r_i - 1) w_i` keeps `|w_i| <= eps_i` while `|s_i| <=
+    /// eps_i` only from states inside a set that depends on `mu_i`: with `c_k = (mu_i
+    /// d/dt + 1)^k w_i`, the free response of the filter is `e^(-t/mu) sum_k c_k
+    /// (t/mu)^k / k!`, so `|c_k| <= eps_i` for `k = 0 .. r_i - 2` suffices (and for `r_i =
+    /// 3`, where it reads `|w_i| <= eps_i`, `|w_i + mu_i w_i'| <= eps_i`, is also
+    /// necessary). The change is refused (`Ok(false)`, nothing changed) if some `|c_k|`
+    /// at the new `mu` would exceed the largest of `eps_i` and the `|c_k|` at the old
+    /// `mu`: for `r_i <= 3` a shrinking `mu` always passes (`w + f mu w'` lies between
+    /// `w` and `w + mu w'` for `0 < f < 1`), a growing one only where the state allows
+    /// it.
+    ///
+    /// `s` is kept where it was by moving `z` (the part of `s` that depends on it is
+    /// `mu_i^(r_i - 1) Omega_i`), as [`change_model`](Self::change_model) does: one
+    /// exact factorisation, and a control update before the next step. The drift
+    /// estimates of [`Settings::follow_drift`] are scaled by `factor^(r_i - 1)` where `mu`
+    /// grows (the highest term of `s'` grows so) and kept where it shrinks (its lower
+    /// terms do not shrink), so that the next gains err high.
+    ///
+    /// Before [`start`](Self::start) this changes the settings the run will start with.
+    /// Errors: a `factor` that is not finite and positive, a `mu_i^(r_i - 1)` that
+    /// overflows or underflows, and a singular `J_Omega` at the current point (the run
+    /// cannot continue from there).
+    pub fn rescale_mu(&mut self, factor: f64) -> Result<bool, SimError> {
+        let bad = |reason: String| SimError::Settings {
+            field: "mu",
+            reason,
+        };
+        if !(factor.is_finite() && factor > 0.0) {
+            return Err(bad(format!(
+                "rescale_mu: factor {factor:e} must be finite and > 0"
+            )));
+        }
+        let indices = self.model.indices().to_vec();
+        let new_mu: Vec<f64> = self.set.mu.iter().map(|m| m * factor).collect();
+        if let Some(i) = (0..new_mu.len()).find(|&i| {
+            let p = new_mu[i].powi(indices[i] as i32 - 1);
+            !(p.is_finite() && p > 0.0)
+        }) {
+            return Err(bad(format!(
+                "rescale_mu by {factor:e}: mu = {:e} for constraint `{}` of index {} is not a usable scale",
+                new_mu[i],
+                self.model.constraint_name(i),
+                indices[i]
+            )));
+        }
+        let running = self.run.phase == Phase::Running;
+        let t = self.t;
+        if running {
+            self.ctl.sliding(&self.model, t, &self.x, &self.z);
+            let offs = &self.ctl.offs;
+            let admitted = (0..new_mu.len()).all(|i| {
+                let w = &self.ctl.w[offs[i]..offs[i + 1]];
+                let stages = 0..w.len().saturating_sub(1);
+                let bound = stages
+                    .clone()
+                    .map(|k| filter_stage(w, self.set.mu[i], k).abs())
+                    .fold(self.set.eps[i], f64::max);
+                { stages }.all(|k| filter_stage(w, new_mu[i], k).abs() <= bound)
+            });
+            if !admitted {
+                return Ok(false);
+            }
+            // The `Omega` that gives `s` its present value at the new `mu`.
+            for (i, (target, &mu)) in self.omega_before.iter_mut().zip(&new_mu).enumerate() {
+                let w = &self.ctl.w[self.ctl.offs[i]..self.ctl.offs[i + 1]];
+                let top = w.len() - 1;
+                *target = (self.ctl.s[i] - filter_terms(w, mu, top)) / mu.powi(top as i32);
+            }
+        }
+        for (i, m) in self.set.mu.iter_mut().enumerate() {
+            *m = new_mu[i];
+            if factor > 1.0 {
+                self.drift[i] *= factor.powi(indices[i] as i32 - 1);
+            }
+        }
+        for k in &mut self.set.gains {
+            *k /= factor;
+        }
+        self.set.max_step *= factor;
+        if let Some(g) = &mut self.set.graze {
+            *g *= factor;
+        }
+        self.mu_min *= factor;
+        self.ctl.set_mu(&self.set.mu, &self.set.gains);
+        if !running {
+            return Ok(true);
+        }
+        self.ctl.sliding(&self.model, t, &self.x, &self.z);
+        self.ctl.eval_jacobian(&self.model, t, &self.x, &self.z);
+        self.run.j_current = false;
+        self.run.dirty = true;
+        self.ctl
+            .carry_omega(&self.model, t, &self.omega_before, &mut self.z)?;
+        self.ctl.sliding(&self.model, t, &self.x, &self.z);
+        self.zb.copy_from_slice(&self.z);
+        self.tb = t;
+        self.va.fill(0.0);
+        self.run.update_requested = true;
+        Ok(true)
+    }
+}
+
+/// `sum_{j < terms} C(k, j) mu^j w^(j)`: the first `terms` terms of `(mu d/dt + 1)^k w`
+/// from `w = [w, w', ...]`.
+fn binomial_sum(w: &[f64], mu: f64, k: usize, terms: usize) -> f64 {
+    let (mut c, mut p, mut sum) = (1.0, 1.0, 0.0);
+    for (j, wj) in w.iter().enumerate().take(terms.min(k + 1)) {
+        sum += c * p * wj;
+        c *= (k - j) as f64 / (j + 1) as f64;
+        p *= mu;
+    }
+    sum
+}
+
+/// `(mu d/dt + 1)^k w`, the `k`-th stage of the filter from `w` to `s`.
+fn filter_stage(w: &[f64], mu: f64, k: usize) -> f64 {
+    binomial_sum(w, mu, k, k + 1)
+}
+
+/// `s` at `mu` without its highest term `mu^top Omega` (`top = r - 1`).
+fn filter_terms(w: &[f64], mu: f64, top: usize) -> f64 {
+    binomial_sum(w, mu, top, top)
 }

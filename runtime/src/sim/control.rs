@@ -231,6 +231,30 @@ impl Controller {
         })
     }
 
+    /// New `mu` and configured gains ([`Simulator::rescale_mu`](super::Simulator::rescale_mu),
+    /// which checked that `mu^(r-1)` is usable); `J_s` must be factored again.
+    pub(crate) fn set_mu(&mut self, mu: &[f64], gains: &[f64]) {
+        let r = w_offsets_to_indices(&self.offs);
+        // The pivots of `J_s` scale with its rows: the history that the least pivot is
+        // compared with scales by the least row factor, so that a smaller `mu` is not
+        // taken for a nearly singular `J_Omega`.
+        let mut least = f64::INFINITY;
+        for (i, ((m, p), ri)) in self.mu.iter_mut().zip(&mut self.mu_pow).zip(r).enumerate() {
+            *m = mu[i];
+            let new = mu[i].powi(ri as i32 - 1);
+            least = least.min(new / *p);
+            *p = new;
+        }
+        if least.is_finite() {
+            self.pivot_max *= least;
+        }
+        self.gains.copy_from_slice(gains);
+        for (l, k) in self.gain_limit.iter_mut().zip(gains) {
+            *l = GAIN_RAISE_LIMIT * k;
+        }
+        self.factored = false;
+    }
+
     /// Reset counters and the configured gains for a new run.
     pub(crate) fn reset(&mut self, gains: &[f64]) {
         self.sliding_evals = 0;
@@ -584,4 +608,9 @@ fn cap(gains: &mut [f64], limit: &[f64]) {
     for (k, l) in gains.iter_mut().zip(limit) {
         *k = k.min(*l);
     }
+}
+
+/// The indices `r_i` back from the offsets of the w-derivatives (`r_i = offs[i+1] - offs[i]`).
+fn w_offsets_to_indices(offs: &[usize]) -> impl Iterator<Item = usize> + '_ {
+    offs.windows(2).map(|w| w[1] - w[0])
 }
