@@ -5,12 +5,14 @@
 //! (issue 13's first target), and at what cost per frame.
 //!
 //! ```text
-//! cargo run --release -p dae-bench --example whole_scenes [-- [--ramp | --generated] [--jobs N] [--pictures DIR] EPS C BUDGET [TEXT]]
+//! cargo run --release -p dae-bench --example whole_scenes [-- [--ramp | --adapt | --generated] [--jobs N] [--pictures DIR] EPS C BUDGET [TEXT]]
 //! ```
 //!
 //! `--ramp` runs the design with `v` ramped against the drift between updates
 //! (`dbsmc-ramp`, `Settings::ramp_against_drift`) instead of held; `--generated` runs
-//! it ramped on the scenes' generated family models (`dbsmc-ramp-generated`).
+//! it ramped on the scenes' generated family models (`dbsmc-ramp-generated`); `--adapt`
+//! runs it ramped with `mu` searched for during the run (`dbsmc-adapt`,
+//! `dae_particles::AdaptiveMu`).
 //! `EPS` (default 1e-2), `C` (the floor gain `c eps / mu`, default 8) and `BUDGET`, the
 //! wall-clock seconds one scene may take (default 120; the harness stops a run that
 //! has spent it, or a tenth of it while its projected total is over it, and the table
@@ -59,6 +61,7 @@ fn scenes() -> Result<Vec<ParticleScene>, String> {
 fn main() {
     let mut ramp = false;
     let mut generated = false;
+    let mut adapt = false;
     let mut jobs = default_workers();
     let mut pictures: Option<PathBuf> = None;
     let mut args: Vec<String> = Vec::new();
@@ -67,6 +70,7 @@ fn main() {
         match a.as_str() {
             "--ramp" => ramp = true,
             "--generated" => generated = true,
+            "--adapt" => adapt = true,
             "--jobs" => {
                 jobs = dae_bench::parse_workers(given.next().as_deref()).unwrap_or_else(|e| {
                     eprintln!("whole_scenes: {e}");
@@ -94,7 +98,7 @@ fn main() {
             None => default,
             Some(a) => a.parse().unwrap_or_else(|_| {
                 eprintln!(
-                    "whole_scenes: `{a}` is not a number (usage: whole_scenes [--ramp | --generated] [--jobs N] [--pictures DIR] [EPS C BUDGET [TEXT]])"
+                    "whole_scenes: `{a}` is not a number (usage: whole_scenes [--ramp | --adapt | --generated] [--jobs N] [--pictures DIR] [EPS C BUDGET [TEXT]])"
                 );
                 std::process::exit(2);
             }),
@@ -110,6 +114,8 @@ fn main() {
     scenes.retain(|s| only.as_ref().is_none_or(|t| s.title().contains(t.as_str())));
     let spec = if generated {
         MethodSpec::DbsmcRampGenerated { eps, gain }
+    } else if adapt {
+        MethodSpec::DbsmcAdaptive { eps, gain }
     } else if ramp {
         MethodSpec::DbsmcRamped { eps, gain }
     } else {
