@@ -701,7 +701,8 @@ fn runs_on_two_threads_end_as_they_do_one_at_a_time() {
 /// moved and released while `mu` moves), every move keeps `s` continuous, and the runs
 /// keep their layers and their strain; the search asks for a move at the end of a
 /// window of 4 frames (not when its pair of `mu` moved onto the one in use), and the
-/// simulator makes most of them (on the grab it refused one growth, measured).
+/// simulator makes at least half of them (measured: 40 on the chain, 74 on the grab,
+/// none refused).
 #[test]
 fn a_searched_mu_moves_and_keeps_every_layer_and_the_strain() {
     let mut chain = c1(30, 1.0).unwrap();
@@ -732,7 +733,10 @@ fn a_searched_mu_moves_and_keeps_every_layer_and_the_strain() {
             backend.mu_scale()
         );
         let windows = r.frames / 4;
-        assert!(made + refused <= windows, "{what}: at most one move a window");
+        assert!(
+            made + refused <= windows,
+            "{what}: at most one move a window"
+        );
         assert!(made >= windows / 2, "{what}: {made} of {windows}");
     }
     // An invalid search is an error that names its field.

@@ -215,7 +215,9 @@ impl<M: ParticleDae> Dbsmc<M> {
     /// at the end of each window of frames `mu` moves by a step
     /// ([`Simulator::rescale_mu`], which keeps `s` continuous and refuses a growth
     /// from which the filter would leave the layer), and the gains, the longest step
-    /// and the grazing return tied to it move with it. An error if `how` cannot search.
+    /// and the grazing return tied to it move with it. A window counts calls of
+    /// [`Backend::advance_to`], one per frame as [`crate::Scene`] and the benchmark's
+    /// runner drive it. An error if `how` cannot search.
     pub fn adapt_mu(mut self, how: AdaptiveMu) -> Result<Self, BackendError> {
         how.check().map_err(|reason| BackendError {
             method: self.name.clone(),

@@ -207,6 +207,13 @@
 //! strain of 0.17 (170 layers); through `change_model` every frame stays within the bound
 //! (`bench/tests/generated_particles.rs`).
 //!
+//! [`Simulator::rescale_mu`] changes `mu` itself between pieces, the same way: `s` kept
+//! where it was by moving `z`, the configured gains, the longest step and the grazing
+//! return scaled with `mu`, and a growth refused (`Ok(false)`) where the new filter
+//! `(mu d/dt + 1)^(r-1) w = s` could not keep `|w| <= eps` from the present state
+//! (docs/method.md, section 2). `dae_particles::AdaptiveMu` uses it to search for the
+//! cheapest `mu` during a run.
+//!
 //! # When the bound is not kept
 //!
 //! A run does not stop when a layer is left after reaching: the trace goes on to the
