@@ -4,7 +4,7 @@
 //! design at `mu` = a quarter of the frame only (`RELAXED_MU_PER_FRAME`).
 //!
 //! ```text
-//! cargo run --release -p dae-bench --example mu_sweep [-- SCENE EPS C BUDGET [MU ...]]
+//! cargo run --release -p dae-bench --example mu_sweep [-- [--held] SCENE EPS C BUDGET [MU ...]]
 //! ```
 //!
 //! `SCENE` is `c1:N:RATIO` or `c3:W` (default `c1:100:1e2`, the medium 100-link chain of
@@ -15,6 +15,9 @@
 //! frame, about `sqrt(drift / eps)`, with `mu`), and the longest step is `mu / 2` (so the
 //! steps per frame grow as `mu` shrinks). The runs go one per core at a time, each one
 //! thread's; the exit status is 1 if any run left its layer or its strain bound.
+//! `--held` holds `v` between updates (the benchmark's `dbsmc-relaxed`) instead of
+//! ramping it, and a `MU` of `search` (or `search:1/8`) searches for `mu` during the run
+//! from a quarter of the frame (or the fraction given; `dae_particles::AdaptiveMu`).
 
 use std::time::Duration;
 
@@ -61,7 +64,10 @@ fn fraction(s: &str) -> Result<f64, String> {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    // `--held`: `v` held between updates (`dbsmc-relaxed`) instead of ramped.
+    let held = args.iter().any(|a| a == "--held");
+    args.retain(|a| a != "--held");
     let get = |i: usize, d: &str| args.get(i).cloned().unwrap_or_else(|| d.to_string());
     let parsed = scene_of_spec(&get(0, "c1:100:1e2")).and_then(|scene| {
         let eps: f64 = get(1, "1e-3").parse().map_err(|_| "EPS is not a number")?;
@@ -80,12 +86,13 @@ fn main() {
         Ok((scene, eps, gain, budget, mus))
     });
     let (scene, eps, gain, budget, mus) = parsed.unwrap_or_else(|e| {
-        eprintln!("mu_sweep: {e} (usage: mu_sweep [SCENE EPS C BUDGET [MU ...]])");
+        eprintln!("mu_sweep: {e} (usage: mu_sweep [--held] [SCENE EPS C BUDGET [MU ...]])");
         std::process::exit(2);
     });
     println!(
-        "{}, eps = {eps:e}, c = {gain}, v ramped, {budget} s per run\n",
-        scene.title()
+        "{}, eps = {eps:e}, c = {gain}, v {}, {budget} s per run\n",
+        scene.title(),
+        if held { "held" } else { "ramped" }
     );
     println!(
         "| mu / frame | ms / frame | updates / frame | steps / frame | worst strain / eps | frames | left a bound |"
@@ -103,7 +110,7 @@ fn main() {
             start,
             search,
             Duration::from_secs_f64(budget),
-            |s| s.ramp_against_drift(),
+            |s| if held { s } else { s.ramp_against_drift() },
         )
     });
     let mut lost = false;
