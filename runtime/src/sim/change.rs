@@ -32,6 +32,16 @@ impl<M: Model> Simulator<M> {
         self.ctl.sliding(&self.model, t, &self.x, &self.z);
         self.ctl.omega(&mut self.omega_before);
         let out = change(&mut self.model);
+        self.carry_to_omega_before()?;
+        Ok(out)
+    }
+
+    /// Move `z` so that `Omega` takes the values in `omega_before` at the current point
+    /// (one exact factorisation of the current `J_Omega`), restart the ramp of `z` there,
+    /// and ask for an update before the next step; the quantities cached at the point
+    /// are evaluated again then.
+    fn carry_to_omega_before(&mut self) -> Result<(), SimError> {
+        let t = self.t;
         self.ctl.sliding(&self.model, t, &self.x, &self.z);
         self.ctl.eval_jacobian(&self.model, t, &self.x, &self.z);
         self.run.j_current = false;
@@ -42,7 +52,7 @@ impl<M: Model> Simulator<M> {
         self.tb = t;
         self.va.fill(0.0);
         self.run.update_requested = true;
-        Ok(out)
+        Ok(())
     }
 
     /// Scale every `mu_i` by `factor` during a run, without a jump of the sliding
@@ -135,20 +145,9 @@ impl<M: Model> Simulator<M> {
         }
         self.mu_min *= factor;
         self.ctl.set_mu(&self.set.mu, &self.set.gains);
-        if !running {
-            return Ok(true);
+        if running {
+            self.carry_to_omega_before()?;
         }
-        self.ctl.sliding(&self.model, t, &self.x, &self.z);
-        self.ctl.eval_jacobian(&self.model, t, &self.x, &self.z);
-        self.run.j_current = false;
-        self.run.dirty = true;
-        self.ctl
-            .carry_omega(&self.model, t, &self.omega_before, &mut self.z)?;
-        self.ctl.sliding(&self.model, t, &self.x, &self.z);
-        self.zb.copy_from_slice(&self.z);
-        self.tb = t;
-        self.va.fill(0.0);
-        self.run.update_requested = true;
         Ok(true)
     }
 }
