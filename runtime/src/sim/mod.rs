@@ -81,8 +81,9 @@ pub struct Simulator<M: Model> {
     set: Settings,
     /// Wall-clock time after which a piece stops ([`Simulator::set_deadline`]).
     deadline: Option<Instant>,
-    /// The smallest `mu_i` of the settings (fixed for the run): the progress guard's
-    /// reference and the ramp's finite-difference step read it every step or update.
+    /// The smallest `mu_i` of the settings (changed only by [`Simulator::rescale_mu`]):
+    /// the progress guard's reference and the ramp's finite-difference step read it
+    /// every step or update.
     mu_min: f64,
     layout: Layout,
     ctl: Controller,
