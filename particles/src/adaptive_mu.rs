@@ -73,6 +73,13 @@ impl AdaptiveMu {
                 self.max_scale
             ));
         }
+        if self.max_scale < self.step * self.min_scale * (1.0 - 1e-9) {
+            return Err(format!(
+                "mu search: max_scale / min_scale = {} leaves no room for two values a step {} apart",
+                self.max_scale / self.min_scale,
+                self.step
+            ));
+        }
         Ok(())
     }
 }
@@ -95,12 +102,15 @@ pub(crate) struct Searcher {
 impl Searcher {
     /// A search whose first window is the start's `mu` as the upper of the pair: the
     /// second tries `mu / step` (the frame-tied design starts from a `mu` that the calm
-    /// first frames favour, and the scenes that whip favour a smaller one).
+    /// first frames favour, and the scenes that whip favour a smaller one). Where
+    /// `min_scale` leaves no room below the start, the start is the lower of the pair
+    /// and the second window tries `mu * step`.
     pub(crate) fn new(how: AdaptiveMu) -> Self {
+        let below = 1.0 / how.step >= how.min_scale * (1.0 - 1e-9);
         Self {
             how,
-            low: 1.0 / how.step,
-            upper: true,
+            low: if below { 1.0 / how.step } else { 1.0 },
+            upper: below,
             frames: 0,
             work: 0,
             rates: Vec::with_capacity(3),
@@ -256,6 +266,21 @@ mod tests {
     }
 
     #[test]
+    fn a_search_that_may_not_shrink_below_the_start_tries_a_larger_mu_first() {
+        let mut s = Searcher::new(AdaptiveMu {
+            min_scale: 1.0,
+            ..how(1)
+        });
+        assert_eq!(s.scale(), 1.0);
+        assert_eq!(s.after_frame(10), Some(2.0));
+        // Cheaper above: the pair cannot move past max_scale = 2, so it dithers.
+        for _ in 0..6 {
+            s.after_frame(if s.scale() > 1.0 { 5 } else { 10 });
+            assert!((1.0..=2.0).contains(&s.scale()), "{}", s.scale());
+        }
+    }
+
+    #[test]
     fn a_refused_move_leaves_the_search_at_the_mu_the_run_kept() {
         let mut s = Searcher::new(how(1));
         let f = s.after_frame(10).unwrap();
@@ -318,6 +343,14 @@ mod tests {
                     ..ok
                 },
                 "max_scale",
+            ),
+            (
+                AdaptiveMu {
+                    min_scale: 1.0,
+                    max_scale: 1.5,
+                    ..ok
+                },
+                "no room",
             ),
         ] {
             let e = bad.check().unwrap_err();
