@@ -97,6 +97,9 @@ pub(crate) struct Searcher {
     work: u64,
     /// Work per frame of the windows at the present pair, oldest first.
     rates: Vec<f64>,
+    /// Moves asked for, and of those refused by the simulator.
+    asked: u64,
+    refused: u64,
 }
 
 impl Searcher {
@@ -114,16 +117,19 @@ impl Searcher {
             frames: 0,
             work: 0,
             rates: Vec::with_capacity(3),
+            asked: 0,
+            refused: 0,
         }
     }
 
     /// `mu` now, as a multiple of the start's.
     pub(crate) fn scale(&self) -> f64 {
-        if self.upper {
-            self.low * self.how.step
-        } else {
-            self.low
-        }
+        self.scale_of(self.upper)
+    }
+
+    /// The moves made so far, and those refused.
+    pub(crate) fn moves(&self) -> (u64, u64) {
+        (self.asked - self.refused, self.refused)
     }
 
     /// After a frame that cost `work`: the factor to move `mu` by, at the end of a
@@ -164,12 +170,15 @@ impl Searcher {
         }
         self.upper = !self.upper;
         let factor = self.scale() / before;
-        ((factor - 1.0).abs() > 1e-9).then_some(factor)
+        let asks = (factor - 1.0).abs() > 1e-9;
+        self.asked += u64::from(asks);
+        asks.then_some(factor)
     }
 
     /// The move asked for by [`Self::after_frame`] was refused: `mu` stays where it
     /// was, and the search starts its measurement again from there.
     pub(crate) fn refused(&mut self, factor: f64) {
+        self.refused += 1;
         let now = self.scale() / factor;
         self.upper = (now - self.low * self.how.step).abs() < (now - self.low).abs();
         if (now / self.scale_of(self.upper) - 1.0).abs() > 1e-9 {

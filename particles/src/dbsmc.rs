@@ -141,8 +141,6 @@ pub struct Dbsmc<M: ParticleDae> {
     /// of the last frame.
     search: Option<Searcher>,
     work_before: u64,
-    /// Moves of `mu` made and refused.
-    mu_moves: (u64, u64),
 }
 
 impl<M: ParticleDae> std::fmt::Debug for Dbsmc<M> {
@@ -207,7 +205,6 @@ impl<M: ParticleDae> Dbsmc<M> {
             layer_lost_at: None,
             search: None,
             work_before: 0,
-            mu_moves: (0, 0),
         })
     }
 
@@ -238,7 +235,7 @@ impl<M: ParticleDae> Dbsmc<M> {
     /// The moves of `mu` the search made so far, and those the simulator refused (a
     /// growth from which the filter would have left the layer).
     pub fn mu_moves(&self) -> (u64, u64) {
-        self.mu_moves
+        self.search.as_ref().map_or((0, 0), Searcher::moves)
     }
 
     /// The work the search weighs: right-hand side evaluations and factorisations.
@@ -255,12 +252,8 @@ impl<M: ParticleDae> Dbsmc<M> {
             return Ok(());
         };
         match self.sim.rescale_mu(factor) {
-            Ok(true) => {
-                self.mu_moves.0 += 1;
-                Ok(())
-            }
+            Ok(true) => Ok(()),
             Ok(false) => {
-                self.mu_moves.1 += 1;
                 if let Some(s) = self.search.as_mut() {
                     s.refused(factor);
                 }

@@ -5,7 +5,7 @@
 use std::time::{Duration, Instant};
 
 use dae_particles::{
-    AdaptiveMu, Backend, Counters, Dbsmc, FRAME, ParticleDae, ParticleModel, Scene,
+    AdaptiveMu, Backend, BackendError, Counters, Dbsmc, FRAME, ParticleDae, ParticleModel, Scene,
 };
 use dae_runtime::{
     AlphaChoice, ConstraintSpec, GainChoice, Integrator, LayerBound, MuSearch, Settings,
@@ -561,11 +561,9 @@ pub fn run_relaxed_at(
         .map_err(|e| e.to_string())
         .and_then(|model| {
             let settings = adjust(relaxed_settings_at(&model, eps, gain, mu_per_frame));
-            let b = Dbsmc::new(model, settings, "relaxed").map_err(|e| e.to_string())?;
-            match search {
-                Some(how) => b.adapt_mu(how).map_err(|e| e.to_string()),
-                None => Ok(b),
-            }
+            Dbsmc::new(model, settings, "relaxed")
+                .and_then(|b| searching(b, search))
+                .map_err(|e| e.to_string())
         });
     match backend {
         Ok(b) => drive_scene(
@@ -600,13 +598,7 @@ pub fn run_particle_method(
     };
     // The pilot-based designs need the bounds; `None` without them.
     let pilot = bounds.map(Design::Pilot);
-    let relaxed = |gain, ramp| {
-        Some(Design::Relaxed {
-            gain,
-            ramp,
-            adapt: false,
-        })
-    };
+    let relaxed = |gain, ramp, search| Some(Design::Relaxed { gain, ramp, search });
     let dp = Integrator::DormandPrince;
     // The other methods run here; for DBSMC: the design, the solver and integrator, and
     // whether the model is generated.
@@ -643,22 +635,32 @@ pub fn run_particle_method(
         MethodSpec::DbsmcGenerated { eps, integrator } => {
             (pilot, eps, SolverChoice::Auto, integrator, true)
         }
-        MethodSpec::DbsmcRelaxed { eps, gain } => {
-            (relaxed(gain, false), eps, SolverChoice::Auto, dp, false)
-        }
-        MethodSpec::DbsmcRamped { eps, gain } => {
-            (relaxed(gain, true), eps, SolverChoice::Auto, dp, false)
-        }
+        MethodSpec::DbsmcRelaxed { eps, gain } => (
+            relaxed(gain, false, None),
+            eps,
+            SolverChoice::Auto,
+            dp,
+            false,
+        ),
+        MethodSpec::DbsmcRamped { eps, gain } => (
+            relaxed(gain, true, None),
+            eps,
+            SolverChoice::Auto,
+            dp,
+            false,
+        ),
         MethodSpec::DbsmcAdaptive { eps, gain } => {
-            let adaptive = Design::Relaxed {
-                gain,
-                ramp: true,
-                adapt: true,
-            };
-            (Some(adaptive), eps, SolverChoice::Auto, dp, false)
+            let search = Some(AdaptiveMu::default());
+            (
+                relaxed(gain, true, search),
+                eps,
+                SolverChoice::Auto,
+                dp,
+                false,
+            )
         }
         MethodSpec::DbsmcRampGenerated { eps, gain } => {
-            (relaxed(gain, true), eps, SolverChoice::Auto, dp, true)
+            (relaxed(gain, true, None), eps, SolverChoice::Auto, dp, true)
         }
     };
     let Some(design) = design else {
@@ -688,7 +690,22 @@ enum Design<'a> {
     Pilot(&'a PilotBounds),
     /// [`relaxed_settings`] with this gain, `v` ramped against the drift or held, `mu`
     /// searched for during the run ([`Dbsmc::adapt_mu`]) or fixed.
-    Relaxed { gain: f64, ramp: bool, adapt: bool },
+    Relaxed {
+        gain: f64,
+        ramp: bool,
+        search: Option<AdaptiveMu>,
+    },
+}
+
+/// `backend` with `mu` searched for during the run, if `search` says how.
+fn searching<M: ParticleDae>(
+    backend: Dbsmc<M>,
+    search: Option<AdaptiveMu>,
+) -> Result<Dbsmc<M>, BackendError> {
+    match search {
+        Some(how) => backend.adapt_mu(how),
+        None => Ok(backend),
+    }
 }
 
 /// A DBSMC run of a scene, whichever particle model it is given.
@@ -767,15 +784,11 @@ impl RunDbsmc<'_, '_> {
         };
         let step = settings.step;
         let name = format!("{} {}", self.spec.method(), self.spec.knob());
-        let adapt = matches!(self.design, Design::Relaxed { adapt: true, .. });
-        let backend = Dbsmc::new(model, settings, &name).and_then(|b| {
-            if adapt {
-                b.adapt_mu(AdaptiveMu::default())
-            } else {
-                Ok(b)
-            }
-        });
-        match backend {
+        let search = match self.design {
+            Design::Relaxed { search, .. } => search,
+            Design::Pilot(_) => None,
+        };
+        match Dbsmc::new(model, settings, &name).and_then(|b| searching(b, search)) {
             Ok(b) => {
                 r = drive_scene(
                     self.scene,

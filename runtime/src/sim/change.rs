@@ -1,5 +1,6 @@
 //! A change of the model during a run that keeps the sliding variables continuous.
 
+use super::control::mu_powers;
 use super::{Phase, Simulator};
 use crate::{Model, SimError};
 
@@ -84,28 +85,14 @@ impl<M: Model> Simulator<M> {
     /// overflows or underflows, and a singular `J_Omega` at the current point (the run
     /// cannot continue from there).
     pub fn rescale_mu(&mut self, factor: f64) -> Result<bool, SimError> {
-        let bad = |reason: String| SimError::Settings {
-            field: "mu",
-            reason,
-        };
         if !(factor.is_finite() && factor > 0.0) {
-            return Err(bad(format!(
-                "rescale_mu: factor {factor:e} must be finite and > 0"
-            )));
+            return Err(SimError::Settings {
+                field: "mu",
+                reason: format!("rescale_mu: factor {factor:e} must be finite and > 0"),
+            });
         }
-        let indices = self.model.indices().to_vec();
         let new_mu: Vec<f64> = self.set.mu.iter().map(|m| m * factor).collect();
-        if let Some(i) = (0..new_mu.len()).find(|&i| {
-            let p = new_mu[i].powi(indices[i] as i32 - 1);
-            !(p.is_finite() && p > 0.0)
-        }) {
-            return Err(bad(format!(
-                "rescale_mu by {factor:e}: mu = {:e} for constraint `{}` of index {} is not a usable scale",
-                new_mu[i],
-                self.model.constraint_name(i),
-                indices[i]
-            )));
-        }
+        let mu_pow = mu_powers(&self.model, &new_mu)?;
         let running = self.run.phase == Phase::Running;
         let t = self.t;
         if running {
@@ -130,12 +117,12 @@ impl<M: Model> Simulator<M> {
                 *target = (self.ctl.s[i] - filter_terms(w, mu, top)) / mu.powi(top as i32);
             }
         }
-        for (i, m) in self.set.mu.iter_mut().enumerate() {
-            *m = new_mu[i];
-            if factor > 1.0 {
-                self.drift[i] *= factor.powi(indices[i] as i32 - 1);
+        if factor > 1.0 {
+            for (d, &r) in self.drift.iter_mut().zip(self.model.indices()) {
+                *d *= factor.powi(r as i32 - 1);
             }
         }
+        self.set.mu.copy_from_slice(&new_mu);
         for k in &mut self.set.gains {
             *k /= factor;
         }
@@ -144,7 +131,7 @@ impl<M: Model> Simulator<M> {
             *g *= factor;
         }
         self.mu_min *= factor;
-        self.ctl.set_mu(&self.set.mu, &self.set.gains);
+        self.ctl.set_mu(&self.set.mu, mu_pow, &self.set.gains);
         if running {
             self.carry_to_omega_before()?;
         }

@@ -170,23 +170,7 @@ impl Controller {
         })?;
         let zsolver = Solver::new(m, &pattern, SolverChoice::Auto).map_err(bad_pattern)?;
         let offs = w_offsets(r);
-        let mu_pow: Vec<f64> = r
-            .iter()
-            .zip(mu)
-            .map(|(&ri, &mi)| mi.powi(ri as i32 - 1))
-            .collect();
-        if let Some(i) = (0..m).find(|&i| !(mu_pow[i].is_finite() && mu_pow[i] > 0.0)) {
-            return Err(SimError::Settings {
-                field: "mu",
-                reason: format!(
-                    "{:e} for constraint `{}` of index {}: mu^(r-1) = {:e} is not a usable scale (overflow or underflow)",
-                    mu[i],
-                    model.constraint_name(i),
-                    r[i],
-                    mu_pow[i]
-                ),
-            });
-        }
+        let mu_pow = mu_powers(model, mu)?;
         let vm = || vec![0.0; m];
         let elsewhere = Elsewhere {
             w: vec![0.0; offs[m]],
@@ -231,20 +215,20 @@ impl Controller {
         })
     }
 
-    /// New `mu` and configured gains ([`Simulator::rescale_mu`](super::Simulator::rescale_mu),
-    /// which checked that `mu^(r-1)` is usable); `J_s` must be factored again.
-    pub(crate) fn set_mu(&mut self, mu: &[f64], gains: &[f64]) {
-        let r = w_offsets_to_indices(&self.offs);
+    /// New `mu`, its row scaling `mu_pow` ([`mu_powers`]) and configured gains
+    /// ([`Simulator::rescale_mu`](super::Simulator::rescale_mu)); `J_s` must be factored
+    /// again.
+    pub(crate) fn set_mu(&mut self, mu: &[f64], mu_pow: Vec<f64>, gains: &[f64]) {
         // The pivots of `J_s` scale with its rows: the history that the least pivot is
         // compared with scales by the least row factor, so that a smaller `mu` is not
         // taken for a nearly singular `J_Omega`.
-        let mut least = f64::INFINITY;
-        for (i, ((m, p), ri)) in self.mu.iter_mut().zip(&mut self.mu_pow).zip(r).enumerate() {
-            *m = mu[i];
-            let new = mu[i].powi(ri as i32 - 1);
-            least = least.min(new / *p);
-            *p = new;
-        }
+        let least = mu_pow
+            .iter()
+            .zip(&self.mu_pow)
+            .map(|(new, old)| new / old)
+            .fold(f64::INFINITY, f64::min);
+        self.mu.copy_from_slice(mu);
+        self.mu_pow = mu_pow;
         if least.is_finite() {
             self.pivot_max *= least;
         }
@@ -610,7 +594,26 @@ fn cap(gains: &mut [f64], limit: &[f64]) {
     }
 }
 
-/// The indices `r_i` back from the offsets of the w-derivatives (`r_i = offs[i+1] - offs[i]`).
-fn w_offsets_to_indices(offs: &[usize]) -> impl Iterator<Item = usize> + '_ {
-    offs.windows(2).map(|w| w[1] - w[0])
+/// `mu_i^(r_i - 1)` for every constraint of `model`, the row scaling from `J_Omega` to
+/// `J_s`; an error naming the first constraint whose scale overflows or underflows.
+pub(crate) fn mu_powers<M: Model + ?Sized>(model: &M, mu: &[f64]) -> Result<Vec<f64>, SimError> {
+    let r = model.indices();
+    let mu_pow: Vec<f64> = r
+        .iter()
+        .zip(mu)
+        .map(|(&ri, &mi)| mi.powi(ri as i32 - 1))
+        .collect();
+    match (0..mu_pow.len()).find(|&i| !(mu_pow[i].is_finite() && mu_pow[i] > 0.0)) {
+        Some(i) => Err(SimError::Settings {
+            field: "mu",
+            reason: format!(
+                "{:e} for constraint `{}` of index {}: mu^(r-1) = {:e} is not a usable scale (overflow or underflow)",
+                mu[i],
+                model.constraint_name(i),
+                r[i],
+                mu_pow[i]
+            ),
+        }),
+        None => Ok(mu_pow),
+    }
 }
