@@ -9,11 +9,21 @@
 //! simulator then refines it on the true `s` (see `sim::events`).
 
 /// `p(theta) = a0 + a1 theta + a2 theta^2 + a3 theta^3` on `theta` in `[0, 1]`.
+///
+/// Most variables stay well inside their layers over most steps, and for them the
+/// extrema (a square root and a few divisions per variable and step, about a tenth of
+/// a 10-link chain's step) say nothing the bound [`Cubic::hull`] does not: a cubic built
+/// with [`Cubic::bounded`] finds them only when asked ([`Cubic::resolve`]), and every
+/// query answers from the bound where the bound settles it, exactly as the extrema
+/// would.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Cubic {
     a: [f64; 4],
-    /// `0`, the extrema inside `(0, 1)`, `1` (computed once), and how many; the values
-    /// there.
+    /// An upper bound of `|p|` on `[0, 1]`, above every value the extrema or an
+    /// evaluation can give in floating point.
+    hull: f64,
+    /// `0`, the extrema inside `(0, 1)`, `1`, and how many (`0` until found); the
+    /// values there.
     breaks: [f64; 4],
     n_breaks: usize,
     vals: [f64; 4],
@@ -31,8 +41,16 @@ pub(crate) struct Watch {
 
 impl Cubic {
     /// The Hermite cubic with `p(0) = s0`, `p(1) = s1`, `p'(0) = h ds0`, `p'(1) = h ds1`
-    /// (`ds` are rates in time, `h` the step length).
+    /// (`ds` are rates in time, `h` the step length), its extrema found.
     pub(crate) fn hermite(s0: f64, ds0: f64, s1: f64, ds1: f64, h: f64) -> Self {
+        let mut c = Self::bounded(s0, ds0, s1, ds1, h);
+        c.resolve();
+        c
+    }
+
+    /// The same cubic with its bound only; the extrema are found when a query needs them
+    /// (or by [`Cubic::resolve`], once).
+    pub(crate) fn bounded(s0: f64, ds0: f64, s1: f64, ds1: f64, h: f64) -> Self {
         let (d0, d1) = (h * ds0, h * ds1);
         let a = [
             s0,
@@ -40,17 +58,46 @@ impl Cubic {
             3.0 * (s1 - s0) - 2.0 * d0 - d1,
             2.0 * (s0 - s1) + d0 + d1,
         ];
-        let (breaks, n_breaks) = extrema(&a);
-        let mut c = Cubic {
+        // The cubic lies in the convex hull of its Bernstein coefficients `s0`,
+        // `s0 + d0 / 3`, `s1 - d1 / 3`, `s1`. The margin covers the roundings of those,
+        // of `a` and of evaluating `a` by Horner's rule: each a few ulps of
+        // `sum |a_k| <= 6 (|s0| + |s1| + |d0| + |d1|)`.
+        let (b1, b2) = (s0 + d0 / 3.0, s1 - d1 / 3.0);
+        let size = s0.abs() + s1.abs() + d0.abs() + d1.abs();
+        let hull = s0.abs().max(s1.abs()).max(b1.abs()).max(b2.abs()) + 128.0 * f64::EPSILON * size;
+        Cubic {
             a,
-            breaks,
-            n_breaks,
+            hull,
+            breaks: [0.0; 4],
+            n_breaks: 0,
             vals: [0.0; 4],
-        };
-        for (v, &t) in c.vals.iter_mut().zip(&breaks).take(n_breaks) {
-            *v = eval(&a, t);
         }
-        c
+    }
+
+    /// Find and keep the extrema (for a cubic that will be asked more than once).
+    pub(crate) fn resolve(&mut self) {
+        if self.n_breaks == 0 {
+            (self.breaks, self.n_breaks, self.vals) = self.shape();
+        }
+    }
+
+    /// An upper bound of `|p|` on `[0, 1]` ([`Cubic::max_abs`] never exceeds it).
+    pub(crate) fn hull(&self) -> f64 {
+        self.hull
+    }
+
+    /// The breaks ([`Cubic::breaks`]), how many, and the values there: kept, or found
+    /// now.
+    fn shape(&self) -> ([f64; 4], usize, [f64; 4]) {
+        if self.n_breaks > 0 {
+            return (self.breaks, self.n_breaks, self.vals);
+        }
+        let (breaks, n) = extrema(&self.a);
+        let mut vals = [0.0; 4];
+        for (v, &t) in vals.iter_mut().zip(&breaks).take(n) {
+            *v = eval(&self.a, t);
+        }
+        (breaks, n, vals)
     }
 
     pub(crate) fn eval(&self, t: f64) -> f64 {
@@ -64,7 +111,8 @@ impl Cubic {
 
     /// `0`, the extrema inside `(0, 1)` in increasing order, `1`; and how many.
     pub(crate) fn breaks(&self) -> ([f64; 4], usize) {
-        (self.breaks, self.n_breaks)
+        let (b, n, _) = self.shape();
+        (b, n)
     }
 
     /// The monotone piece `[b_k, b_k+1]` between the cubic's breaks (its ends and
@@ -112,9 +160,11 @@ impl Cubic {
     /// handles the start point, and a variable already moving outward at an update,
     /// because its gain is too small, must not stop the integration).
     pub(crate) fn first_event(&self, watch: Watch) -> Option<f64> {
-        let (b, n) = self.breaks();
         let l = watch.level;
-        let v = &self.vals;
+        if watch.surface_from.is_none() && self.hull < l {
+            return None;
+        }
+        let (b, n, v) = self.shape();
         if watch.surface_from.is_none() && v[..n].iter().all(|p| p.abs() < l) {
             // Inside the layer all along (the extrema and the ends bound the cubic).
             return None;
@@ -158,23 +208,40 @@ impl Cubic {
 
     /// Largest `|p|` on `[0, 1]`.
     pub(crate) fn max_abs(&self) -> f64 {
-        self.vals[..self.n_breaks]
-            .iter()
-            .fold(0.0f64, |m, p| m.max(p.abs()))
+        let (_, n, v) = self.shape();
+        v[..n].iter().fold(0.0f64, |m, p| m.max(p.abs()))
+    }
+
+    /// Whether `|p| <= level` on all of `[0, 1]` ([`Cubic::max_abs`]` <= level`).
+    pub(crate) fn within(&self, level: f64) -> bool {
+        self.hull <= level || self.max_abs() <= level
+    }
+
+    /// [`Cubic::max_abs`] where it exceeds `floor`, and otherwise some value at most
+    /// `floor` (the bound): for a measurement that only a larger value would change.
+    pub(crate) fn max_abs_above(&self, floor: f64) -> f64 {
+        if self.hull <= floor {
+            self.hull
+        } else {
+            self.max_abs()
+        }
     }
 
     /// Largest `|p|` on `[from, 1]`.
     pub(crate) fn max_abs_from(&self, from: f64) -> f64 {
-        let (b, n) = self.breaks();
+        let (b, n, v) = self.shape();
         (0..n)
             .filter(|&k| b[k] > from)
-            .fold(self.eval(from).abs(), |m, k| m.max(self.vals[k].abs()))
+            .fold(self.eval(from).abs(), |m, k| m.max(v[k].abs()))
     }
 
     /// Measure of `{theta in [0, 1] : |p(theta)| > level}`.
     pub(crate) fn time_beyond(&self, level: f64) -> f64 {
-        let (b, n) = self.breaks();
-        if self.max_abs() <= level {
+        if self.hull <= level {
+            return 0.0;
+        }
+        let (b, n, vals) = self.shape();
+        if vals[..n].iter().fold(0.0f64, |m, p| m.max(p.abs())) <= level {
             return 0.0;
         }
         let mut total = 0.0;
@@ -182,7 +249,7 @@ impl Cubic {
             let (ta, tb) = (b[k], b[k + 1]);
             for sign in [1.0, -1.0] {
                 // On a monotone piece, {sign p > level} is an interval at one end.
-                let (qa, qb) = (sign * self.vals[k], sign * self.vals[k + 1]);
+                let (qa, qb) = (sign * vals[k], sign * vals[k + 1]);
                 total += match (qa > level, qb > level) {
                     (true, true) => tb - ta,
                     (false, false) => 0.0,
@@ -395,6 +462,53 @@ mod tests {
             c.max_abs_from(0.99),
             c.eval(0.99).abs().max(c.eval(1.0).abs())
         );
+    }
+
+    #[test]
+    fn the_bound_answers_every_query_as_the_extrema_do() {
+        // Random cubics, many of them near a level of 1 and some exactly on it at an
+        // end, queried through the bound alone and with their extrema found.
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut uniform = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut skipped = 0;
+        for k in 0..20_000 {
+            let mut v = [0.0; 4];
+            for x in &mut v {
+                *x = 2.4 * uniform() - 1.2;
+            }
+            if k % 5 == 0 {
+                v[2] = 1.0f64.copysign(v[2]);
+            }
+            let h = [1.0, 1e-3, 0.37][k % 3];
+            let (s0, ds0, s1, ds1) = (v[0], v[1] / h, v[2], v[3] / h);
+            let lazy = Cubic::bounded(s0, ds0, s1, ds1, h);
+            let exact = Cubic::hermite(s0, ds0, s1, ds1, h);
+            assert!(lazy.hull() >= exact.max_abs(), "{v:?}");
+            for level in [0.5, 0.999, 1.0, 1.2, 2.0] {
+                let w = Watch {
+                    level,
+                    surface_from: None,
+                };
+                assert_eq!(lazy.first_event(w), exact.first_event(w), "{v:?} {level}");
+                assert_eq!(lazy.within(level), exact.max_abs() <= level);
+                assert_eq!(lazy.time_beyond(level), exact.time_beyond(level));
+                // Above the floor the exact maximum; at or below it, a value that a
+                // running maximum of at least the floor ignores.
+                let m = lazy.max_abs_above(level);
+                if exact.max_abs() > level || m > level {
+                    assert_eq!(m, exact.max_abs(), "{v:?} {level}");
+                } else {
+                    skipped += 1;
+                }
+            }
+        }
+        // The bound settles most of the queries below the larger levels.
+        assert!(skipped > 20_000, "{skipped}");
     }
 
     #[test]

@@ -61,10 +61,38 @@ impl<M: Model> Simulator<M> {
     }
 
     /// The cubics of every `s_i` over the current step `[t0, t0 + h]`, from `s` and `s'`
-    /// at both ends, into `self.cubics`.
+    /// at both ends, into `self.cubics`. The extrema are found only for the cubics whose
+    /// bound reaches their watch level or the step's measurement floor
+    /// ([`Self::measure_floor`]); for the others the bound answers every query of the
+    /// step as the extrema would.
     fn build_cubics(&mut self, h: f64) {
-        for (i, c) in self.cubics.iter_mut().enumerate() {
-            *c = Cubic::hermite(self.s0[i], self.ds0[i], self.ctl.s[i], self.ds[i], h);
+        for i in 0..self.cubics.len() {
+            let mut c = Cubic::bounded(self.s0[i], self.ds0[i], self.ctl.s[i], self.ds[i], h);
+            let watch = self.watches[i];
+            let quiet = if watch.surface_from.is_some() {
+                0.0
+            } else {
+                watch.level.min(self.measure_floor(i))
+            };
+            if !(c.hull() < quiet) {
+                c.resolve();
+            }
+            self.cubics[i] = c;
+        }
+    }
+
+    /// The largest `|s_i|` over a step that would change nothing the run measures: the
+    /// largest seen so far, the window's (once it is open) and the bound's. A step whose
+    /// `|s_i|` stays below it needs no exact maximum.
+    fn measure_floor(&self, i: usize) -> f64 {
+        let st = &self.stats;
+        // Just inside the bound, so that `max / eps <= 1 + tol` holds after rounding.
+        let bound = (1.0 + self.set.bound_tol) * self.set.eps[i] * (1.0 - 1e-12);
+        let floor = st.seen_s[i].min(bound);
+        if st.stats_from.is_some() {
+            floor.min(st.max_s[i])
+        } else {
+            floor
         }
     }
 
@@ -72,6 +100,9 @@ impl<M: Model> Simulator<M> {
     /// only), and measure the accepted step on the cubic of each `s_i`.
     pub(super) fn locate(&mut self, t0: f64) {
         let tol = self.crossing_tol();
+        for i in 0..self.watches.len() {
+            self.watches[i] = self.watch(i);
+        }
         self.build_cubics(self.t - t0);
         if self.stalled() {
             // Two steps in a row made (almost) no progress: this one is not cut, and
@@ -89,7 +120,7 @@ impl<M: Model> Simulator<M> {
                 // The tolerance is relative to the layer (to eps for the surface).
                 let scale = match ev.target {
                     Some(0.0) => self.set.eps[ev.i],
-                    _ => self.watch(ev.i).level,
+                    _ => self.watches[ev.i].level,
                 };
                 // The event is the step's end (within the tolerance): for a level, when
                 // nothing of the cubic goes beyond it by more than that (the end's value
@@ -135,7 +166,7 @@ impl<M: Model> Simulator<M> {
         let h = self.t - t0;
         let bound = 1.0 + self.set.bound_tol;
         for (i, c) in self.cubics.iter().enumerate() {
-            self.measure.max_s[i] = c.max_abs();
+            self.measure.max_s[i] = c.max_abs_above(self.measure_floor(i));
             self.measure.time_beyond[i] = c.time_beyond(bound * self.set.eps[i]) * h;
         }
     }
@@ -146,14 +177,13 @@ impl<M: Model> Simulator<M> {
         self.cubics
             .iter()
             .enumerate()
-            .all(|(i, c)| i == skip || c.max_abs() <= self.watch(i).level * (1.0 + tol))
+            .all(|(i, c)| i == skip || c.within(self.watches[i].level * (1.0 + tol)))
     }
 
     /// The earliest event of all sliding variables on the current step.
     fn first_event(&self) -> Option<Event> {
         let mut best: Option<Event> = None;
-        for (i, c) in self.cubics.iter().enumerate() {
-            let watch = self.watch(i);
+        for (i, (c, &watch)) in self.cubics.iter().zip(&self.watches).enumerate() {
             let Some(theta) = c.first_event(watch) else {
                 continue;
             };

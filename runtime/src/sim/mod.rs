@@ -134,8 +134,10 @@ pub struct Simulator<M: Model> {
     sgn_k: Vec<f64>,
     outside_k: Vec<bool>,
     measure: StepMeasure,
-    /// The cubic of each `s_i` over the current step (located crossings).
+    /// The cubic of each `s_i` over the current step (located crossings), and what
+    /// ends the step for each (fixed while the step is located).
     cubics: Vec<crossing::Cubic>,
+    watches: Vec<crossing::Watch>,
     stats: Stats,
     run: RunState,
 }
@@ -239,6 +241,13 @@ impl<M: Model> Simulator<M> {
             outside_k: vec![false; m],
             measure: StepMeasure::new(m),
             cubics: vec![crossing::Cubic::hermite(0.0, 0.0, 0.0, 0.0, 1.0); m],
+            watches: vec![
+                crossing::Watch {
+                    level: 0.0,
+                    surface_from: None,
+                };
+                m
+            ],
             stats: Stats::new(m),
             run: RunState {
                 phase: Phase::Idle,
