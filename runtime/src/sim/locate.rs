@@ -74,7 +74,9 @@ impl<M: Model> Simulator<M> {
             } else {
                 watch.level.min(self.measure_floor(i))
             };
-            if !(c.hull() < quiet) {
+            // (A NaN bound settles nothing.)
+            let settled = c.hull() < quiet;
+            if !settled {
                 c.resolve();
             }
             self.cubics[i] = c;
