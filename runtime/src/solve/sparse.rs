@@ -258,9 +258,13 @@ impl LinearSolver for SparseSolver {
 
     fn factor(&mut self, values: &[f64], row_scale: &[f64]) -> Result<(), SolveError> {
         self.stats.factorisations += 1;
-        check_finite(&self.st, values, row_scale)?;
+        // One pass finds the scale and whether a value is not finite; the check that
+        // names the row runs only then.
         let scale = max_abs(values);
-        self.symmetric_values = self.st.symmetric && self.st.asymmetry(values, scale).is_none();
+        if !scale.is_finite() || row_scale.iter().any(|d| !d.is_finite() || *d == 0.0) {
+            check_finite(&self.st, values, row_scale)?;
+        }
+        self.symmetric_values = self.st.symmetric_values(values, scale);
         self.name = if self.symmetric_values {
             "sparse-ldlt"
         } else {

@@ -24,6 +24,8 @@ pub(crate) struct Structure {
     pub(crate) transpose: Vec<usize>,
     /// Whether every `(i, j)` has a `(j, i)`.
     pub(crate) symmetric: bool,
+    /// The entries `(i, j)`, `i < j`, that have a `(j, i)`, with its entry: `(e, t)`.
+    mirrored: Vec<(u32, u32)>,
     /// Undirected graph of the off-diagonal entries (`(i, j)` or `(j, i)` present):
     /// neighbours of `i` are `adj[adj_ptr[i]..adj_ptr[i+1]]`, ascending.
     pub(crate) adj_ptr: Vec<usize>,
@@ -71,6 +73,12 @@ impl Structure {
         };
         let transpose: Vec<usize> = pattern.iter().map(|&(i, j)| find(j, i)).collect();
         let symmetric = transpose.iter().all(|&t| t != NONE);
+        let mirrored = pattern
+            .iter()
+            .enumerate()
+            .filter(|&(e, &(i, j))| i < j && transpose[e] != NONE)
+            .map(|(e, _)| (e as u32, transpose[e] as u32))
+            .collect();
         // Undirected off-diagonal graph, deduplicated.
         let mut deg = vec![0usize; m + 1];
         for (e, &(i, j)) in pattern.iter().enumerate() {
@@ -105,6 +113,7 @@ impl Structure {
             diag,
             transpose,
             symmetric,
+            mirrored,
             adj_ptr,
             adj,
         })
@@ -152,6 +161,17 @@ impl Structure {
             }
         }
         true
+    }
+
+    /// [`Structure::asymmetry`]`(values, scale).is_none()` for a symmetric pattern, in
+    /// one tight pass over the mirrored pairs (every factorisation asks).
+    pub(crate) fn symmetric_values(&self, values: &[f64], scale: f64) -> bool {
+        let tol = 1e-12 * scale;
+        self.symmetric
+            && self
+                .mirrored
+                .iter()
+                .all(|&(e, t)| (values[e as usize] - values[t as usize]).abs() <= tol)
     }
 
     /// Whether the values are symmetric: `|a_ij - a_ji| <= tol * scale` for every pair

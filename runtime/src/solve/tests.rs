@@ -299,3 +299,33 @@ fn pivot_ranges_bound_the_pivots() {
     s.factor(&[4.0, 0.5], &[1.0, 1.0]).unwrap();
     assert_eq!(s.pivot_range(), None);
 }
+
+#[test]
+fn sparse_reads_symmetry_from_the_values_of_a_symmetric_pattern() {
+    let mut rng = Lcg(5);
+    let (m, pat, vals) = grid(5, &mut rng);
+    let d = vec![1.0; m];
+    let b: Vec<f64> = (0..m).map(|_| rng.next()).collect();
+    let scale = vals.iter().fold(0.0f64, |s, v| s.max(v.abs()));
+    // One entry below the diagonal moved: by rounding (symmetric still), or by more.
+    let below = pat.iter().position(|&(i, j)| i > j).unwrap();
+    for (bump, name) in [(1e-14 * scale, "sparse-ldlt"), (1e-6 * scale, "sparse-lu")] {
+        let mut v = vals.clone();
+        v[below] += bump;
+        let mut s = Solver::new(m, &pat, SolverChoice::Sparse).unwrap();
+        s.factor(&v, &d).unwrap();
+        assert_eq!(s.name(), name, "bump {bump}");
+        let mut x = b.clone();
+        s.solve(&mut x);
+        assert!(residual(m, &dense_of(m, &pat, &v, &d), &x, &b) < 1e-10);
+    }
+    // A value that is not finite is named by its row.
+    let mut v = vals.clone();
+    v[below] = f64::NAN;
+    let mut s = Solver::new(m, &pat, SolverChoice::Sparse).unwrap();
+    let err = s.factor(&v, &d).unwrap_err();
+    assert!(
+        matches!(err, SolveError::NonFinite { row } if row == pat[below].0),
+        "{err}"
+    );
+}
