@@ -168,7 +168,13 @@ impl Controller {
             field: "solver",
             reason: e.to_string(),
         })?;
-        let zsolver = Solver::new(m, &pattern, SolverChoice::Auto).map_err(bad_pattern)?;
+        // The same symbolic analysis where the choices agree (it is most of the set-up
+        // of a large sparse pattern).
+        let zsolver = if solver.choice() == SolverChoice::Auto {
+            solver.clone()
+        } else {
+            Solver::new(m, &pattern, SolverChoice::Auto).map_err(bad_pattern)?
+        };
         let offs = w_offsets(r);
         let mu_pow = mu_powers(model, mu)?;
         let vm = || vec![0.0; m];
