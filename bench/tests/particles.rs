@@ -728,6 +728,10 @@ fn a_searched_mu_moves_and_keeps_every_layer_and_the_strain() {
         );
         assert_held(&r, eps, &what);
         let (made, refused) = backend.mu_moves();
+        // The record (and the CSV) says what the search did.
+        let c = &r.counters;
+        assert_eq!((c.mu_moves, c.mu_refused), (made, refused), "{what}");
+        assert_eq!(c.mu_scale, Some(backend.mu_scale()), "{what}");
         eprintln!(
             "{what}: {made} moves, {refused} refused, mu ends at {} of the start's",
             backend.mu_scale()

@@ -26,6 +26,14 @@ pub struct Counters {
     /// DBSMC, with [`layer_lost_at`](Self::layer_lost_at): the largest `|s_i| / eps_i`
     /// after reaching so far (how far the layer was left, not only when).
     pub layer_worst_ratio: Option<f64>,
+    /// DBSMC searching for `mu` ([`crate::Dbsmc::adapt_mu`]): `mu` now as a multiple of
+    /// the one the run started with (`None` without a search).
+    pub mu_scale: Option<f64>,
+    /// DBSMC searching for `mu`: the moves of `mu` made.
+    pub mu_moves: u64,
+    /// DBSMC searching for `mu`: the moves the simulator refused (a growth from which
+    /// the filter would leave its layer; `mu` stayed where it was).
+    pub mu_refused: u64,
 }
 
 /// A failure inside a backend: when, and why.

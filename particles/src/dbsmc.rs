@@ -416,6 +416,9 @@ impl<M: ParticleDae> Backend for Dbsmc<M> {
             layer_worst_ratio: self
                 .layer_lost_at
                 .and(self.sim.bound_loss().map(|loss| loss.worst_ratio)),
+            mu_scale: self.search.as_ref().map(Searcher::scale),
+            mu_moves: self.mu_moves().0,
+            mu_refused: self.mu_moves().1,
         }
     }
 }

@@ -9,7 +9,7 @@ use super::run::ParticleRecord;
 use super::series::{STRAIN_LEVELS, held_whole};
 
 /// The CSV's columns, in order (the first eight are the ones issue 13 asks for).
-pub const CSV_COLUMNS: [&str; 26] = [
+pub const CSV_COLUMNS: [&str; 29] = [
     "scene",
     "size",
     "method",
@@ -36,6 +36,9 @@ pub const CSV_COLUMNS: [&str; 26] = [
     "s_layer_worst_ratio",
     "links_asking",
     "timings",
+    "mu_scale",
+    "mu_moves",
+    "mu_refused",
 ];
 
 fn num(v: f64) -> String {
@@ -78,6 +81,15 @@ pub fn left_a_guarantee(r: &ParticleRecord) -> bool {
     bound_held(r) == Some(false) || r.counters.layer_lost_at.is_some()
 }
 
+/// A count of the search for `mu`, for the runs that searched (empty otherwise).
+fn searched(r: &ParticleRecord, count: u64) -> String {
+    if r.counters.mu_scale.is_some() {
+        count.to_string()
+    } else {
+        String::new()
+    }
+}
+
 /// Write the records as CSV with [`CSV_COLUMNS`].
 pub fn write_particles_csv<W: Write>(records: &[ParticleRecord], mut out: W) -> io::Result<()> {
     writeln!(out, "{}", CSV_COLUMNS.join(","))?;
@@ -113,6 +125,9 @@ pub fn write_particles_csv<W: Write>(records: &[ParticleRecord], mut out: W) -> 
                 String::new()
             },
             r.timings.to_string(),
+            opt(r.counters.mu_scale),
+            searched(r, r.counters.mu_moves),
+            searched(r, r.counters.mu_refused),
         ];
         let line: Vec<String> = fields.iter().map(|f| quote(f)).collect();
         writeln!(out, "{}", line.join(","))?;
@@ -364,8 +379,12 @@ mod tests {
 
     #[test]
     fn csv_has_the_required_columns_first_and_one_row_per_run() {
+        let mut searched = rec("dbsmc-adapt", "eps=1e-3", Some(1e-3), 9e-4, 0.5, "ok");
+        searched.counters.mu_scale = Some(0.25);
+        (searched.counters.mu_moves, searched.counters.mu_refused) = (5, 1);
         let records = vec![
             rec("dbsmc", "eps=1e-3", Some(1e-3), 9e-4, 0.5, "ok"),
+            searched,
             rec(
                 "xpbd-substeps",
                 "k=16",
@@ -379,7 +398,7 @@ mod tests {
         write_particles_csv(&records, &mut out).unwrap();
         let text = String::from_utf8(out).unwrap();
         let lines: Vec<&str> = text.lines().collect();
-        assert_eq!(lines.len(), 3);
+        assert_eq!(lines.len(), 4);
         assert!(lines[0].starts_with(
             "scene,size,method,knob,eps,worst_strain,ms_per_frame_mean,ms_per_frame_max,"
         ));
@@ -387,9 +406,12 @@ mod tests {
         assert_eq!(head.len(), CSV_COLUMNS.len());
         assert!(lines[1].starts_with("C1,10,dbsmc,eps=1e-3,1e-3,9e-4,5e-1,1e0,"));
         assert!(lines[1].contains(",ok,true,"));
+        // The search for mu: where it ended, its moves and refusals; empty without one.
+        assert!(lines[1].ends_with(",,,"), "{}", lines[1]);
+        assert!(lines[2].ends_with(",2.5e-1,5,1"), "{}", lines[2]);
         // Methods without a bound leave eps and bound_held empty; quoting keeps commas.
-        assert!(lines[2].starts_with("C1,10,xpbd-substeps,k=16,,6e-3,"));
-        assert!(lines[2].contains("\"failed: x, \"\"y\"\"\",,"));
+        assert!(lines[3].starts_with("C1,10,xpbd-substeps,k=16,,6e-3,"));
+        assert!(lines[3].contains("\"failed: x, \"\"y\"\"\",,"));
     }
 
     #[test]
