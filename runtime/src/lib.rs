@@ -259,13 +259,15 @@
 //! graph is chordal, which the link graph of any particle tree is (the links at a
 //! particle form a clique, two cliques share at most one link): branching hair is then
 //! factored with no fill, in time linear in the entries. Other graphs (cloth) get
-//! minimum degree. The sparse and tree solvers pivot on the diagonal (no row
+//! minimum degree, with its ties broken by the rule (multiple elimination in rounds, or
+//! the most recently updated vertex) whose factor costs less. The sparse and tree solvers pivot on the diagonal (no row
 //! exchanges): right for particle systems, where `J_Omega = -G M^-1 G^T` is negative
 //! definite, and diagnosed otherwise ([`SimError::SolverFailed`] says to use `dense`
 //! when a diagonal pivot vanishes on a nonsingular `J_s`). The approximate inverses
 //! are never chosen automatically: they change the dynamics and need the gains of the
 //! next section. Measured costs: `cargo run --release -p dae-bench --example solvers`
-//! (64 x 64 cloth, 8,064 links: about 3 ms exact, 0.1–0.5 ms approximate).
+//! (64 x 64 cloth, 8,064 links: about 2 ms exact numbered row by row, 3 ms numbered at
+//! random, 0.1–0.5 ms approximate).
 //!
 //! **Why our own sparse solver.** Measured on the 64 x 64 cloth (one core): faer 0.24's
 //! supernodal `LL^T` factors in 2.8 ms (solve 0.17 ms) but costs 1 min 46 s of cold

@@ -59,7 +59,7 @@ impl<M: Model> Simulator<M> {
     /// Scale every `mu_i` by `factor` during a run, without a jump of the sliding
     /// variables, and with `mu` what a design ties to it: the configured gains by
     /// `1 / factor` (a floor `k_i = g eps_i / mu_i` keeps its `g`), the longest step and
-    /// the grazing return ([`Settings::graze`]) by `factor`. Returns whether the change
+    /// the grazing return ([`crate::Settings::graze`]) by `factor`. Returns whether the change
     /// was made.
     ///
     /// `s_i = (mu_i d/dt + 1)^(r_i - 1) w_i` keeps `|w_i| <= eps_i` while `|s_i| <=
@@ -76,7 +76,7 @@ impl<M: Model> Simulator<M> {
     /// `s` is kept where it was by moving `z` (the part of `s` that depends on it is
     /// `mu_i^(r_i - 1) Omega_i`), as [`change_model`](Self::change_model) does: one
     /// exact factorisation, and a control update before the next step. The drift
-    /// estimates of [`Settings::follow_drift`] are scaled by `factor^(r_i - 1)` where `mu`
+    /// estimates of [`crate::Settings::follow_drift`] are scaled by `factor^(r_i - 1)` where `mu`
     /// grows (the highest term of `s'` grows so) and kept where it shrinks (its lower
     /// terms do not shrink), so that the next gains err high.
     ///
