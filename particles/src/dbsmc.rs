@@ -399,6 +399,7 @@ impl<M: ParticleDae> Backend for Dbsmc<M> {
     }
     fn counters(&self) -> Counters {
         let model = self.sim.model();
+        let (mu_moves, mu_refused) = self.mu_moves();
         Counters {
             steps: self.sink.steps.get(),
             f_evals: model.rhs_calls.get(),
@@ -417,8 +418,8 @@ impl<M: ParticleDae> Backend for Dbsmc<M> {
                 .layer_lost_at
                 .and(self.sim.bound_loss().map(|loss| loss.worst_ratio)),
             mu_scale: self.search.as_ref().map(Searcher::scale),
-            mu_moves: self.mu_moves().0,
-            mu_refused: self.mu_moves().1,
+            mu_moves,
+            mu_refused,
         }
     }
 }

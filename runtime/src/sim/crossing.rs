@@ -209,7 +209,7 @@ impl Cubic {
     /// Largest `|p|` on `[0, 1]`.
     pub(crate) fn max_abs(&self) -> f64 {
         let (_, n, v) = self.shape();
-        v[..n].iter().fold(0.0f64, |m, p| m.max(p.abs()))
+        largest_abs(&v[..n])
     }
 
     /// Whether `|p| <= level` on all of `[0, 1]` ([`Cubic::max_abs`]` <= level`).
@@ -241,7 +241,7 @@ impl Cubic {
             return 0.0;
         }
         let (b, n, vals) = self.shape();
-        if vals[..n].iter().fold(0.0f64, |m, p| m.max(p.abs())) <= level {
+        if largest_abs(&vals[..n]) <= level {
             return 0.0;
         }
         let mut total = 0.0;
@@ -282,6 +282,11 @@ impl Cubic {
     pub(crate) fn rate(&self, t: f64) -> f64 {
         self.slope(t)
     }
+}
+
+/// Largest `|p|` over the values at the breaks (which bound the cubic).
+fn largest_abs(vals: &[f64]) -> f64 {
+    vals.iter().fold(0.0f64, |m, p| m.max(p.abs()))
 }
 
 /// The cubic with coefficients `a` at `t` (Horner).

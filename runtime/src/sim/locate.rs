@@ -102,9 +102,6 @@ impl<M: Model> Simulator<M> {
     /// only), and measure the accepted step on the cubic of each `s_i`.
     pub(super) fn locate(&mut self, t0: f64) {
         let tol = self.crossing_tol();
-        for i in 0..self.watches.len() {
-            self.watches[i] = self.watch(i);
-        }
         self.build_cubics(self.t - t0);
         if self.stalled() {
             // Two steps in a row made (almost) no progress: this one is not cut, and

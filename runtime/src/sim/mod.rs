@@ -135,7 +135,7 @@ pub struct Simulator<M: Model> {
     outside_k: Vec<bool>,
     measure: StepMeasure,
     /// The cubic of each `s_i` over the current step (located crossings), and what
-    /// ends the step for each (fixed while the step is located).
+    /// ends the step for each (set at the step's start, fixed until it is accepted).
     cubics: Vec<crossing::Cubic>,
     watches: Vec<crossing::Watch>,
     stats: Stats,

@@ -54,6 +54,11 @@ impl<M: Model> Simulator<M> {
         if self.located() {
             self.s0.copy_from_slice(&self.ctl.s);
             self.ds0.copy_from_slice(&self.ds);
+            // What ends the step for each variable, fixed until it is accepted (the
+            // aim at the predicted crossing and the location both read it).
+            for i in 0..self.watches.len() {
+                self.watches[i] = self.watch(i);
+            }
         } else {
             self.s_prev.copy_from_slice(&self.ctl.s);
         }
@@ -457,8 +462,8 @@ impl<M: Model> Simulator<M> {
     /// stayed as it is now (infinite if none moves towards one).
     fn predicted_crossing(&self) -> f64 {
         let mut t = f64::INFINITY;
-        for i in 0..self.s0.len() {
-            let level = self.watch(i).level;
+        for (i, w) in self.watches.iter().enumerate() {
+            let level = w.level;
             let (s, ds) = (self.s0[i], self.ds0[i]);
             let dist = if ds > 0.0 { level - s } else { level + s };
             if dist > 0.0 && ds != 0.0 {

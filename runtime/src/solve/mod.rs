@@ -421,6 +421,21 @@ pub(crate) fn max_abs(values: &[f64]) -> f64 {
     s
 }
 
+/// The largest `|value|` (the pivot tolerance's scale), with the values and the scaling
+/// checked as [`check_finite`] does: one pass over the values, and the check that names
+/// the row only where something is not finite.
+pub(crate) fn checked_scale(
+    st: &Structure,
+    values: &[f64],
+    row_scale: &[f64],
+) -> Result<f64, SolveError> {
+    let scale = max_abs(values);
+    if !scale.is_finite() || row_scale.iter().any(|d| !d.is_finite() || *d == 0.0) {
+        check_finite(st, values, row_scale)?;
+    }
+    Ok(scale)
+}
+
 /// Check values and scaling for NaN/inf, naming the first row that has one.
 pub(crate) fn check_finite(
     st: &Structure,

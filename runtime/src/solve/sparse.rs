@@ -19,7 +19,7 @@ use super::order::{OrderKind, elimination_order};
 use super::structure::NONE;
 use super::supernodal::Supernodal;
 use super::{
-    InverseKind, LinearSolver, PIVOT_TOL, SolveError, SolverStats, Structure, check_finite, max_abs,
+    InverseKind, LinearSolver, PIVOT_TOL, SolveError, SolverStats, Structure, checked_scale,
 };
 
 #[derive(Clone)]
@@ -258,13 +258,8 @@ impl LinearSolver for SparseSolver {
 
     fn factor(&mut self, values: &[f64], row_scale: &[f64]) -> Result<(), SolveError> {
         self.stats.factorisations += 1;
-        // One pass finds the scale and whether a value is not finite; the check that
-        // names the row runs only then.
-        let scale = max_abs(values);
-        if !scale.is_finite() || row_scale.iter().any(|d| !d.is_finite() || *d == 0.0) {
-            check_finite(&self.st, values, row_scale)?;
-        }
-        self.symmetric_values = self.st.symmetric_values(values, scale);
+        let scale = checked_scale(&self.st, values, row_scale)?;
+        self.symmetric_values = self.st.symmetric && self.st.asymmetry(values, scale).is_none();
         self.name = if self.symmetric_values {
             "sparse-ldlt"
         } else {

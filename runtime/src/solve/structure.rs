@@ -24,8 +24,10 @@ pub(crate) struct Structure {
     pub(crate) transpose: Vec<usize>,
     /// Whether every `(i, j)` has a `(j, i)`.
     pub(crate) symmetric: bool,
-    /// The entries `(i, j)`, `i < j`, that have a `(j, i)`, with its entry: `(e, t)`.
-    mirrored: Vec<(u32, u32)>,
+    /// The entries the symmetry check compares, in the pattern's order: `(e, t)` for
+    /// each `(i, j)`, `i < j`, with `t` its mirror's entry (or `NONE`), and `(e, NONE)`
+    /// for each `(i, j)`, `i > j`, without a mirror.
+    symmetry_pairs: Vec<(usize, usize)>,
     /// Undirected graph of the off-diagonal entries (`(i, j)` or `(j, i)` present):
     /// neighbours of `i` are `adj[adj_ptr[i]..adj_ptr[i+1]]`, ascending.
     pub(crate) adj_ptr: Vec<usize>,
@@ -73,11 +75,11 @@ impl Structure {
         };
         let transpose: Vec<usize> = pattern.iter().map(|&(i, j)| find(j, i)).collect();
         let symmetric = transpose.iter().all(|&t| t != NONE);
-        let mirrored = pattern
+        let symmetry_pairs = pattern
             .iter()
             .enumerate()
-            .filter(|&(e, &(i, j))| i < j && transpose[e] != NONE)
-            .map(|(e, _)| (e as u32, transpose[e] as u32))
+            .filter(|&(e, &(i, j))| i < j || (i > j && transpose[e] == NONE))
+            .map(|(e, _)| (e, transpose[e]))
             .collect();
         // Undirected off-diagonal graph, deduplicated.
         let mut deg = vec![0usize; m + 1];
@@ -113,7 +115,7 @@ impl Structure {
             diag,
             transpose,
             symmetric,
-            mirrored,
+            symmetry_pairs,
             adj_ptr,
             adj,
         })
@@ -163,30 +165,16 @@ impl Structure {
         true
     }
 
-    /// [`Structure::asymmetry`]`(values, scale).is_none()` for a symmetric pattern, in
-    /// one tight pass over the mirrored pairs (every factorisation asks).
-    pub(crate) fn symmetric_values(&self, values: &[f64], scale: f64) -> bool {
-        let tol = 1e-12 * scale;
-        self.symmetric
-            && self
-                .mirrored
-                .iter()
-                .all(|&(e, t)| (values[e as usize] - values[t as usize]).abs() <= tol)
-    }
-
     /// Whether the values are symmetric: `|a_ij - a_ji| <= tol * scale` for every pair
     /// (false for an unsymmetric pattern). Returns the first offending entry if not.
     pub(crate) fn asymmetry(&self, values: &[f64], scale: f64) -> Option<(usize, usize)> {
         let tol = 1e-12 * scale;
-        for (e, &(i, j)) in self.entries.iter().enumerate() {
-            if i < j || (i > j && self.transpose[e] == NONE) {
-                let t = self.transpose[e];
+        self.symmetry_pairs
+            .iter()
+            .find(|&&(e, t)| {
                 let other = if t == NONE { 0.0 } else { values[t] };
-                if (values[e] - other).abs() > tol {
-                    return Some((i, j));
-                }
-            }
-        }
-        None
+                (values[e] - other).abs() > tol
+            })
+            .map(|&(e, _)| self.entries[e])
     }
 }

@@ -9,7 +9,7 @@
 use super::diagnose::pivot_failure;
 use super::structure::NONE;
 use super::{
-    InverseKind, LinearSolver, PIVOT_TOL, SolveError, SolverStats, Structure, check_finite, max_abs,
+    InverseKind, LinearSolver, PIVOT_TOL, SolveError, SolverStats, Structure, checked_scale,
 };
 
 #[derive(Clone)]
@@ -137,9 +137,8 @@ impl LinearSolver for TreeSolver {
 
     fn factor(&mut self, values: &[f64], row_scale: &[f64]) -> Result<(), SolveError> {
         self.stats.factorisations += 1;
-        check_finite(&self.st, values, row_scale)?;
+        let tol = PIVOT_TOL * checked_scale(&self.st, values, row_scale)?;
         self.scale.copy_from_slice(row_scale);
-        let tol = PIVOT_TOL * max_abs(values);
         for k in 0..self.st.m {
             self.piv[k] = value(values, self.st.diag[k]);
         }
