@@ -90,6 +90,9 @@ impl<M: ParticleDae> Model for Counted<M> {
     fn beta(&self, t: f64, x: &[f64], z: &[f64], beta: &mut [f64]) {
         self.model.beta(t, x, z, beta)
     }
+    fn omega_rate(&self, t: f64, x: &[f64], z: &[f64], zdot: &[f64], rate: &mut [f64]) -> bool {
+        self.model.omega_rate(t, x, z, zdot, rate)
+    }
 }
 
 /// A sink that records nothing and counts steps and control updates.

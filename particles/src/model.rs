@@ -17,9 +17,13 @@
 //! ```
 //!
 //! `rhat_kj` is the unit vector from particle `k` along link `j` and `z_j > 0` pulls
-//! the two ends together. Everything is evaluated in `O(links + particles)` per call
-//! into buffers allocated once: the tests check `J_Omega`, `beta` and the
-//! w-derivatives against finite differences and the generated scalar chain.
+//! the two ends together. With the tensions moving at `z'`, the jerks gain
+//! `sum_j z_j' rhat_kj / m_k`, and the same passes give `Omega' = beta + J_Omega z'`
+//! ([`Model::omega_rate`]): the simulator reads `s'` at the end of every step from it
+//! and evaluates `J_Omega` (an entry per pair of links sharing a particle) only at the
+//! updates. Everything is evaluated in `O(links + particles)` per call into buffers
+//! allocated once: the tests check `J_Omega`, `beta`, `Omega'` and the w-derivatives
+//! against finite differences and the generated scalar chain.
 
 use std::cell::RefCell;
 
@@ -335,6 +339,65 @@ impl ParticleModel {
             acc[k] = self.pins[k].as_ref().map_or([0.0; 3], |p| p.at(t).acc);
         }
     }
+
+    /// The rate of `w''` along the motion into `out`: `beta` (the tensions held) when
+    /// `zdot` is `None`, `beta + J_Omega zdot` (the tensions moving at `zdot`) otherwise.
+    /// One pass over the links for the accelerations, one for the jerks, one for the
+    /// rates: `zdot` adds `zdot_l u_l / m` to the jerks, which is `J_Omega zdot` without
+    /// `J_Omega`'s entry per pair of links sharing a particle.
+    fn omega_derivative(
+        &self,
+        t: f64,
+        x: &[f64],
+        z: &[f64],
+        zdot: Option<&[f64]>,
+        out: &mut [f64],
+    ) {
+        let mut sc = self.scratch.borrow_mut();
+        let Scratch { geo, acc, jerk } = &mut *sc;
+        self.accelerations(t, x, z, geo, acc, true);
+        jerk.fill([0.0; 3]);
+        for (l, &(a, b)) in self.ends.iter().enumerate() {
+            let g = &geo[l];
+            let (fa, fb) = (z[l] * self.inv_mass[a] / g.l, z[l] * self.inv_mass[b] / g.l);
+            // u' = (e - p u) / l; A_a gains z u'/m_a, A_b loses z u'/m_b.
+            let du = [
+                g.e[0] - g.p * g.u[0],
+                g.e[1] - g.p * g.u[1],
+                g.e[2] - g.p * g.u[2],
+            ];
+            for (i, d) in du.iter().enumerate() {
+                jerk[a][i] += fa * d;
+                jerk[b][i] -= fb * d;
+            }
+            if let Some(zdot) = zdot {
+                // A_a gains z' u/m_a, A_b loses z' u/m_b.
+                let (ra, rb) = (zdot[l] * self.inv_mass[a], zdot[l] * self.inv_mass[b]);
+                for (i, u) in g.u.iter().enumerate() {
+                    jerk[a][i] += ra * u;
+                    jerk[b][i] -= rb * u;
+                }
+            }
+        }
+        for &k in &self.pinned {
+            jerk[k] = self.pins[k].as_ref().map_or([0.0; 3], |p| p.at(t).jerk);
+        }
+        for (l, &(a, b)) in self.ends.iter().enumerate() {
+            let g = &geo[l];
+            let bb = sub(acc[b], acc[a]);
+            let bd = sub(jerk[b], jerk[a]);
+            let qp = g.q - g.p * g.p;
+            let w2 = qp / g.l + dot(g.u, bb);
+            let ud = [
+                (g.e[0] - g.p * g.u[0]) / g.l,
+                (g.e[1] - g.p * g.u[1]) / g.l,
+                (g.e[2] - g.p * g.u[2]) / g.l,
+            ];
+            out[l] = (2.0 * dot(g.e, bb) - 2.0 * g.p * w2) / g.l - qp * g.p / (g.l * g.l)
+                + dot(ud, bb)
+                + dot(g.u, bd);
+        }
+    }
 }
 
 impl Model for ParticleModel {
@@ -461,42 +524,12 @@ impl Model for ParticleModel {
     }
 
     fn beta(&self, t: f64, x: &[f64], z: &[f64], beta: &mut [f64]) {
-        let mut sc = self.scratch.borrow_mut();
-        let Scratch { geo, acc, jerk } = &mut *sc;
-        self.accelerations(t, x, z, geo, acc, true);
-        jerk.fill([0.0; 3]);
-        for (l, &(a, b)) in self.ends.iter().enumerate() {
-            let g = &geo[l];
-            let (fa, fb) = (z[l] * self.inv_mass[a] / g.l, z[l] * self.inv_mass[b] / g.l);
-            // u' = (e - p u) / l; A_a gains z u'/m_a, A_b loses z u'/m_b.
-            let du = [
-                g.e[0] - g.p * g.u[0],
-                g.e[1] - g.p * g.u[1],
-                g.e[2] - g.p * g.u[2],
-            ];
-            for (i, d) in du.iter().enumerate() {
-                jerk[a][i] += fa * d;
-                jerk[b][i] -= fb * d;
-            }
-        }
-        for &k in &self.pinned {
-            jerk[k] = self.pins[k].as_ref().map_or([0.0; 3], |p| p.at(t).jerk);
-        }
-        for (l, &(a, b)) in self.ends.iter().enumerate() {
-            let g = &geo[l];
-            let bb = sub(acc[b], acc[a]);
-            let bd = sub(jerk[b], jerk[a]);
-            let qp = g.q - g.p * g.p;
-            let w2 = qp / g.l + dot(g.u, bb);
-            let ud = [
-                (g.e[0] - g.p * g.u[0]) / g.l,
-                (g.e[1] - g.p * g.u[1]) / g.l,
-                (g.e[2] - g.p * g.u[2]) / g.l,
-            ];
-            beta[l] = (2.0 * dot(g.e, bb) - 2.0 * g.p * w2) / g.l - qp * g.p / (g.l * g.l)
-                + dot(ud, bb)
-                + dot(g.u, bd);
-        }
+        self.omega_derivative(t, x, z, None, beta);
+    }
+
+    fn omega_rate(&self, t: f64, x: &[f64], z: &[f64], zdot: &[f64], rate: &mut [f64]) -> bool {
+        self.omega_derivative(t, x, z, Some(zdot), rate);
+        true
     }
 }
 

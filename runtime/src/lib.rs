@@ -37,7 +37,8 @@
 //! 1. **Dense `s`.** At both ends of a step the simulator knows `s_i` and its exact
 //!    rate `s_i' = (J_s v + alpha)_i = alpha_hat_i + mu_i^(r_i-1) (J_Omega v + beta)_i`
 //!    (one [`Model::jacobian`] and one [`Model::beta`] per step's end, reused by an
-//!    update there). The cubic Hermite through these four numbers is split at its
+//!    update there; or one [`Model::omega_rate`], `beta + J_Omega v` in one pass, where
+//!    the model gives it, and `J_Omega` only at the updates). The cubic Hermite through these four numbers is split at its
 //!    extrema into monotone pieces; on each piece in order a layer boundary can be
 //!    crossed once, so the first outward crossing of `|s_i| = eps_i` is found exactly on
 //!    the cubic (Newton steps safeguarded by bisection), also when `s_i` leaves and
@@ -91,14 +92,16 @@
 //!
 //! **Cost.** Per step: two [`Model::sliding`] at its end (the solution's, which is the
 //! point's, and the embedded solution's, for the test of the step's error in `s`), one
-//! [`Model::jacobian`] and [`Model::beta`] there, and the integrator's `f` evaluations
+//! [`Model::jacobian`] and [`Model::beta`] there (or one [`Model::omega_rate`] where the
+//! model gives it), and the integrator's `f` evaluations
 //! (Euler 1, RK4 4, Bogacki-Shampine 3, Dormand-Prince 6; each reuses its last stage, or
 //! for Euler and RK4 the `f` at the step's end that the test needs, as the next step's
 //! first, which holds across an update because `f` does not depend on `v`, but not
 //! after a cut: one more `f` there). Per located crossing: a few [`Model::sliding`] evaluations along the
 //! dense output, and for the fixed-step integrators one `f` for the end derivative and
-//! the step integrated again to the cut. Per update: one factorisation and one solve
-//! (`J_Omega` and `beta` of the step's end reused). Measured on the double pendulum of
+//! the step integrated again to the cut, and at the cut `J_Omega` and `beta` (an update
+//! usually follows). Per update: one factorisation and one solve (`J_Omega` and `beta`
+//! of the step's end reused where they were evaluated, else evaluated then). Measured on the double pendulum of
 //! `docs/work-precision.md` at `eps = 1e-3` with the designed gains: 7.0 `f`
 //! evaluations per control update with Dormand-Prince against 33.9 with RK4 at the
 //! old rule's step, position error 2.83e-3 against 2.90e-3, `max |s| = 1.0002 eps`

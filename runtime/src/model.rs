@@ -61,6 +61,19 @@ pub trait Model {
     fn jacobian(&self, t: f64, x: &[f64], z: &[f64], values: &mut [f64]);
     /// `beta = dOmega/dt + (dOmega/dx) f`, evaluated with the current `z`.
     fn beta(&self, t: f64, x: &[f64], z: &[f64], beta: &mut [f64]);
+    /// The rate of `Omega` (each constraint's highest w-derivative `w_i^(r_i - 1)`)
+    /// along the motion with `z' = zdot`: `beta + J_Omega zdot`, into `rate`. Returns
+    /// whether the model provides it; the default does not (`false`, `rate` untouched),
+    /// and the simulator then evaluates `J_Omega` and `beta` for it.
+    ///
+    /// With located crossings the simulator needs `s'` at the end of every step, and an
+    /// update only at some: a model that evaluates this in one pass (a particle system:
+    /// one pass over its links, where `J_Omega` has an entry per pair of links sharing
+    /// a particle) spares `J_Omega` at every step that ends without an update.
+    fn omega_rate(&self, t: f64, x: &[f64], z: &[f64], zdot: &[f64], rate: &mut [f64]) -> bool {
+        let _ = (t, x, z, zdot, rate);
+        false
+    }
 }
 
 /// Forwards every method, so that a simulator can borrow its model
@@ -133,6 +146,9 @@ impl<T: Model + ?Sized> Model for &T {
     fn beta(&self, t: f64, x: &[f64], z: &[f64], beta: &mut [f64]) {
         (**self).beta(t, x, z, beta)
     }
+    fn omega_rate(&self, t: f64, x: &[f64], z: &[f64], zdot: &[f64], rate: &mut [f64]) -> bool {
+        (**self).omega_rate(t, x, z, zdot, rate)
+    }
 }
 
 macro_rules! forward_owned {
@@ -173,6 +189,16 @@ macro_rules! forward_owned {
             }
             fn beta(&self, t: f64, x: &[f64], z: &[f64], beta: &mut [f64]) {
                 (**self).beta(t, x, z, beta)
+            }
+            fn omega_rate(
+                &self,
+                t: f64,
+                x: &[f64],
+                z: &[f64],
+                zdot: &[f64],
+                rate: &mut [f64],
+            ) -> bool {
+                (**self).omega_rate(t, x, z, zdot, rate)
             }
         }
     )*};

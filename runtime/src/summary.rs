@@ -155,10 +155,16 @@ pub struct Summary {
     pub sliding_evals: u64,
     /// Evaluations of [`Model::jacobian`](crate::Model::jacobian): at the updates, and
     /// with located crossings at every step's end (for `s'`, reused by an update
-    /// there); also for `z*` at recorded samples.
+    /// there) unless the model gives `Omega`'s rate ([`Self::rate_evals`]); also for
+    /// `z*` at recorded samples.
     pub jacobian_evals: u64,
     /// Evaluations of [`Model::beta`](crate::Model::beta).
     pub beta_evals: u64,
+    /// Evaluations of [`Model::omega_rate`](crate::Model::omega_rate) that the model
+    /// provided: with located crossings `s'` at every step's end and at the updates,
+    /// in place of `J_Omega` and `beta` (0 for a model that does not provide it).
+    #[serde(default)]
+    pub rate_evals: u64,
     /// Wall-clock duration of the run in seconds.
     pub wall_time: f64,
     /// Final states.

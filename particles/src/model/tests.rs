@@ -175,6 +175,53 @@ fn w_derivatives_and_beta_match_finite_differences_along_the_flow() {
 }
 
 #[test]
+fn omega_rate_is_the_derivative_of_w2_along_the_flow_with_the_tensions_moving() {
+    // Against two oracles: the central difference of w'' along (x' = f, z' = zdot),
+    // and beta + J_Omega zdot from the model's own beta and Jacobian.
+    let model = test_model();
+    let m = model.n_constraints();
+    let mu = vec![0.1; m];
+    let h = 1e-6;
+    for seed in 21..25 {
+        let (x, z) = random_point(&model, seed);
+        let zdot: Vec<f64> = {
+            let mut rng = Lcg(seed + 100);
+            (0..m).map(|_| 3.0 * rng.next()).collect()
+        };
+        let t = 0.27;
+        let e = eval(&model, t, &x, &z, &mu);
+        let along = |tau: f64| -> Eval {
+            let xs: Vec<f64> = x.iter().zip(&e.f).map(|(x, f)| x + tau * f).collect();
+            let zs: Vec<f64> = z.iter().zip(&zdot).map(|(z, d)| z + tau * d).collect();
+            eval(&model, t + tau, &xs, &zs, &mu)
+        };
+        let (ep, em) = (along(h), along(-h));
+        let mut rate = vec![f64::NAN; m];
+        assert!(model.omega_rate(t, &x, &z, &zdot, &mut rate));
+        let mut beta = vec![0.0; m];
+        model.beta(t, &x, &z, &mut beta);
+        let j = dense_jacobian(&model, t, &x);
+        for l in 0..m {
+            let fd = (ep.w[3 * l + 2] - em.w[3 * l + 2]) / (2.0 * h);
+            assert!(
+                (fd - rate[l]).abs() < 1e-5 * (1.0 + fd.abs()),
+                "link {l}: omega_rate {} vs fd {fd}",
+                rate[l]
+            );
+            let composed = beta[l] + (0..m).map(|k| j[l * m + k] * zdot[k]).sum::<f64>();
+            assert!(
+                (composed - rate[l]).abs() < 1e-12 * (1.0 + composed.abs()),
+                "link {l}: omega_rate {} vs beta + J zdot {composed}",
+                rate[l]
+            );
+        }
+        // With the tensions held it is beta, to the bit.
+        model.omega_rate(t, &x, &z, &vec![0.0; m], &mut rate);
+        assert_eq!(rate, beta);
+    }
+}
+
+#[test]
 fn pinned_particles_follow_their_motion_and_feel_no_tension() {
     let model = test_model();
     let (x, z) = random_point(&model, 11);

@@ -93,9 +93,15 @@ pub(crate) struct Controller {
     robust: Robustness,
     /// Evaluations at a point other than the current one (see [`Self::s_rate_at`]).
     elsewhere: Elsewhere,
+    /// Whether the model gives `Omega`'s rate in one pass ([`Model::omega_rate`]):
+    /// assumed until its first call says otherwise.
+    model_rate: bool,
+    /// `Omega`'s rate from the model, the buffer of [`Self::rate_from_model`].
+    omega_rate: Vec<f64>,
     pub(crate) sliding_evals: u64,
     pub(crate) jacobian_evals: u64,
     pub(crate) beta_evals: u64,
+    pub(crate) rate_evals: u64,
     pub(crate) gain_raises: u64,
 }
 
@@ -126,6 +132,13 @@ fn rate(
     }
     for ((o, d), ah) in out.iter_mut().zip(mu_pow).zip(ah) {
         *o = ah + d * *o;
+    }
+}
+
+/// `s' = alpha_hat + mu^(r-1) Omega'` from `Omega`'s rate, into `out`.
+fn combine_rate(ah: &[f64], mu_pow: &[f64], omega_rate: &[f64], out: &mut [f64]) {
+    for (((o, ah), d), r) in out.iter_mut().zip(ah).zip(mu_pow).zip(omega_rate) {
+        *o = ah + d * r;
     }
 }
 
@@ -214,9 +227,12 @@ impl Controller {
             min_pivot_ratio: None,
             robust: Robustness::new(structure),
             elsewhere,
+            model_rate: true,
+            omega_rate: vm(),
             sliding_evals: 0,
             jacobian_evals: 0,
             beta_evals: 0,
+            rate_evals: 0,
             gain_raises: 0,
         })
     }
@@ -250,6 +266,7 @@ impl Controller {
         self.sliding_evals = 0;
         self.jacobian_evals = 0;
         self.beta_evals = 0;
+        self.rate_evals = 0;
         self.gain_raises = 0;
         self.gains.copy_from_slice(gains);
         self.solver.reset_stats();
@@ -338,9 +355,42 @@ impl Controller {
         );
     }
 
-    /// `s'` at another point `(t, x, z)` with the rate `v`, into `out`: `sliding`,
-    /// `J_Omega` and `beta` evaluated there into buffers of their own, so that the
-    /// current point's `s`, `J_Omega` and `beta` stay as they are.
+    /// `s' = alpha_hat + mu^(r-1) Omega'` at `(t, x, z)` with the rate `v`, into `out`,
+    /// from the last `sliding` call (there) and the model's [`Model::omega_rate`] in one
+    /// pass. Returns `false` (`out` untouched) if the model does not provide that rate:
+    /// `s'` then needs `J_Omega` and `beta` ([`Self::s_rate`]).
+    pub(crate) fn rate_from_model<M: Model + ?Sized>(
+        &mut self,
+        model: &M,
+        t: f64,
+        x: &[f64],
+        z: &[f64],
+        v: &[f64],
+        out: &mut [f64],
+    ) -> bool {
+        if !(self.model_rate && model.omega_rate(t, x, z, v, &mut self.omega_rate)) {
+            self.model_rate = false;
+            return false;
+        }
+        self.rate_evals += 1;
+        combine_rate(&self.ah, &self.mu_pow, &self.omega_rate, out);
+        true
+    }
+
+    /// Whether the model may give `Omega`'s rate in one pass (until its first call
+    /// says it does not): the step's end then needs neither `J_Omega` nor `beta`.
+    pub(crate) fn model_rate(&self) -> bool {
+        self.model_rate
+    }
+
+    /// Whether [`Self::law`] with this `check` evaluates `beta` (if not ready).
+    pub(crate) fn law_needs_beta(&self, check: Check) -> bool {
+        self.exact_alpha || check.evaluate
+    }
+
+    /// `s'` at another point `(t, x, z)` with the rate `v`, into `out`: `sliding` and
+    /// `Omega`'s rate (or `J_Omega` and `beta`) evaluated there into buffers of their
+    /// own, so that the current point's `s`, `J_Omega` and `beta` stay as they are.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn s_rate_at<M: Model + ?Sized>(
         &mut self,
@@ -353,9 +403,15 @@ impl Controller {
     ) {
         let e = &mut self.elsewhere;
         model.sliding(t, x, z, &self.mu, &mut e.w, &mut e.s, &mut e.ah);
+        self.sliding_evals += 1;
+        if self.model_rate && model.omega_rate(t, x, z, v, &mut self.omega_rate) {
+            self.rate_evals += 1;
+            combine_rate(&e.ah, &self.mu_pow, &self.omega_rate, out);
+            return;
+        }
+        self.model_rate = false;
         model.jacobian(t, x, z, &mut e.jvals);
         model.beta(t, x, z, &mut e.beta);
-        self.sliding_evals += 1;
         self.jacobian_evals += 1;
         self.beta_evals += 1;
         rate(

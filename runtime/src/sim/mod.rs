@@ -162,8 +162,10 @@ struct RunState {
     update_requested: bool,
     /// The model may have changed: the quantities cached at the current point are stale.
     dirty: bool,
-    /// `J_Omega` and `beta` in the controller belong to the current point.
+    /// `J_Omega` in the controller belongs to the current point.
     j_current: bool,
+    /// `beta` in the controller belongs to the current point.
+    beta_current: bool,
     /// The step just taken was cut at an event that asks for an update.
     force_update: bool,
     /// Steps in a row that made almost no progress (the progress guard of `step`).
@@ -262,6 +264,7 @@ impl<M: Model> Simulator<M> {
                 update_requested: false,
                 dirty: false,
                 j_current: false,
+                beta_current: false,
                 force_update: false,
                 short_steps: 0,
             },
@@ -404,6 +407,7 @@ impl<M: Model> Simulator<M> {
             update_requested: false,
             dirty: false,
             j_current: false,
+            beta_current: false,
             force_update: false,
             short_steps: 0,
         };
@@ -586,9 +590,28 @@ impl<M: Model> Simulator<M> {
         }
     }
 
-    /// `s'` at `t` with `v` on its ramp, into `ds`.
+    /// `s'` at the current point, time `t`, with `v` on its ramp, into `ds`: from
+    /// `J_Omega` and `beta` where both are evaluated there, else from the model's rate
+    /// of `Omega` in one pass, else from `J_Omega` and `beta` evaluated now.
     fn rate_at(&mut self, t: f64) {
         self.v_at(t);
+        let (x, z) = (&self.x, &self.z);
+        let both = self.run.j_current && self.run.beta_current;
+        if !both
+            && self
+                .ctl
+                .rate_from_model(&self.model, t, x, z, &self.v_now, &mut self.ds)
+        {
+            return;
+        }
+        if !self.run.j_current {
+            self.ctl.eval_jacobian(&self.model, t, x, z);
+            self.run.j_current = true;
+        }
+        if !self.run.beta_current {
+            self.ctl.eval_beta(&self.model, t, x, z);
+            self.run.beta_current = true;
+        }
         self.ctl.s_rate(&self.v_now, &mut self.ds);
     }
 
@@ -635,22 +658,25 @@ impl<M: Model> Simulator<M> {
     }
 
     /// Evaluate at the current point what the next step and an update need: `s`,
-    /// and with located crossings `J_Omega` and `beta` (the rate `s'` follows once `v`
-    /// is known).
+    /// and with located crossings, unless the model gives `Omega`'s rate in one pass,
+    /// `J_Omega` and `beta` (the rate `s'` follows once `v` is known; an update
+    /// evaluates `J_Omega` where it is not).
     fn eval_point(&mut self, t: f64) {
         self.ctl.sliding(&self.model, t, &self.x, &self.z);
-        self.eval_point_but_s(t);
+        self.eval_point_but_s(t, false);
     }
 
-    /// [`Self::eval_point`] with `s` already evaluated there.
-    fn eval_point_but_s(&mut self, t: f64) {
-        if self.located() {
+    /// [`Self::eval_point`] with `s` already evaluated there; with `update_likely`
+    /// (a step cut at an event) `J_Omega` and `beta` even where the model gives
+    /// `Omega`'s rate, since the update will need them.
+    fn eval_point_but_s(&mut self, t: f64, update_likely: bool) {
+        let both = self.located() && (update_likely || !self.ctl.model_rate());
+        if both {
             self.ctl.eval_jacobian(&self.model, t, &self.x, &self.z);
             self.ctl.eval_beta(&self.model, t, &self.x, &self.z);
-            self.run.j_current = true;
-        } else {
-            self.run.j_current = false;
         }
+        self.run.j_current = both;
+        self.run.beta_current = both;
     }
 
     /// Record the reaching time, enter the statistics window, enforce the reaching limit,

@@ -99,7 +99,7 @@ impl<M: Model> Simulator<M> {
             self.t = t_new;
             self.ramp_z();
             if s_known {
-                self.eval_point_but_s(t_new);
+                self.eval_point_but_s(t_new, false);
             } else {
                 self.eval_point(t_new);
             }
@@ -445,7 +445,7 @@ impl<M: Model> Simulator<M> {
         self.ramp_z();
         // `s` at the point was evaluated last by the step's test (every accepted step
         // ends with one).
-        self.eval_point_but_s(self.t);
+        self.eval_point_but_s(self.t, false);
         // FSAL: the last stage is f at the new point.
         self.f_cur.copy_from_slice(&self.rk.k[pair.stages() - 1]);
         self.f_cur_valid = true;
@@ -525,7 +525,8 @@ impl<M: Model> Simulator<M> {
         }
         self.t = t_cut;
         self.ramp_z();
-        self.eval_point(t_cut);
+        self.ctl.sliding(&self.model, t_cut, &self.x, &self.z);
+        self.eval_point_but_s(t_cut, true);
         self.rate_at(t_cut);
     }
 

@@ -29,19 +29,22 @@ impl<M: Model> Simulator<M> {
             evaluate: count || self.set.raise_gains.is_some(),
             count,
             raise: self.set.raise_gains,
-            beta_ready: located,
+            beta_ready: self.run.beta_current,
         };
         self.follow_drift(t);
         let violations = self
             .ctl
             .law(&self.model, t, &self.x, &self.z, switch, check, &mut self.v);
+        if self.ctl.law_needs_beta(check) {
+            self.run.beta_current = true;
+        }
         if let Some((i, &v)) = self.v.iter().enumerate().find(|(_, v)| !v.is_finite()) {
             return Err(self.non_finite(Quantity::Control, i, v));
         }
         self.va.fill(0.0);
         if located {
-            // The beta of the law may have been re-evaluated only when not ready.
-            self.ctl.s_rate(&self.v, &mut self.ds);
+            // `s'` with the new `v` (`va` is 0 until the ramp is set).
+            self.rate_at(t);
             if self.set.ramp {
                 self.ramp_against_drift(t);
             }
@@ -189,6 +192,7 @@ impl<M: Model> Simulator<M> {
             sliding_evals: self.ctl.sliding_evals,
             jacobian_evals: self.ctl.jacobian_evals,
             beta_evals: self.ctl.beta_evals,
+            rate_evals: self.ctl.rate_evals,
             wall_time,
             x: self.x.clone(),
             z: self.z.clone(),
