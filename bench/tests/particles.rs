@@ -491,10 +491,13 @@ fn on_a_nearly_taut_cloth_a_few_links_ask_for_every_update_and_each_update_facto
 
 /// With the scene's slack (2 %, above the layers' 1 %) the far edge no longer comes
 /// straight within the layers: the same run makes fewer updates than with 0.1 %. With
-/// `sgn(s)` in the law (measured: 188 against 325 updates) the far edge's links then no
-/// longer ask for most of them; with the design's saturation (57 against 72) the links
-/// elsewhere sit near the middle of their layers, and the far edge's, the most strained,
-/// still ask for all of them (112 of 112 asks).
+/// `sgn(s)` in the law (measured: 191 against 306 updates) the far edge's links then no
+/// longer ask for nearly all of them, as they do with 0.1 % (at least four in five, the
+/// test above): about half (106 of 201 asks; from 49 of 217 to 126 of 201 over seven
+/// runs with eps moved by -3 % ... +3 %: the share is one draw from 23-63 %, and the
+/// test asks for less than three in four). With the design's saturation (57 against 72)
+/// the links elsewhere sit near the middle of their layers, and the far edge's, the most
+/// strained, still ask for all of them (112 of 112 asks).
 #[test]
 fn a_far_edge_with_slack_above_the_layers_asks_for_fewer_updates() {
     let w = 16;
@@ -516,7 +519,7 @@ fn a_far_edge_with_slack_above_the_layers_asks_for_fewer_updates() {
         if !saturate {
             let (at_edge, all) = far_edge_asks(w, &asked, &ends);
             assert!(
-                2 * at_edge < all,
+                4 * at_edge < 3 * all,
                 "sgn: {at_edge} of {all} asks from links at the far edge"
             );
         }

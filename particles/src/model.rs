@@ -95,6 +95,9 @@ pub trait ParticleDae: Model {
 struct Geo {
     u: [f64; 3],
     l: f64,
+    /// `1 / l`: one division per link and call, the other quotients are products (the
+    /// divider, not the multiplier, limits these loops).
+    inv_l: f64,
     e: [f64; 3],
     p: f64,
     q: f64,
@@ -318,9 +321,11 @@ impl ParticleModel {
             let (pa, pb) = (states(x, a), states(x, b));
             let d = diff3(pa, pb, 0);
             let len = dot(d, d).sqrt();
-            let u = [d[0] / len, d[1] / len, d[2] / len];
+            let inv = 1.0 / len;
+            let u = [d[0] * inv, d[1] * inv, d[2] * inv];
             g.u = u;
             g.l = len;
+            g.inv_l = inv;
             if full {
                 let e = diff3(pa, pb, 3);
                 g.e = e;
@@ -359,7 +364,10 @@ impl ParticleModel {
         jerk.fill([0.0; 3]);
         for (l, &(a, b)) in self.ends.iter().enumerate() {
             let g = &geo[l];
-            let (fa, fb) = (z[l] * self.inv_mass[a] / g.l, z[l] * self.inv_mass[b] / g.l);
+            let (fa, fb) = (
+                z[l] * self.inv_mass[a] * g.inv_l,
+                z[l] * self.inv_mass[b] * g.inv_l,
+            );
             // u' = (e - p u) / l; A_a gains z u'/m_a, A_b loses z u'/m_b.
             let du = [
                 g.e[0] - g.p * g.u[0],
@@ -387,13 +395,14 @@ impl ParticleModel {
             let bb = sub(acc[b], acc[a]);
             let bd = sub(jerk[b], jerk[a]);
             let qp = g.q - g.p * g.p;
-            let w2 = qp / g.l + dot(g.u, bb);
+            let il = g.inv_l;
+            let w2 = qp * il + dot(g.u, bb);
             let ud = [
-                (g.e[0] - g.p * g.u[0]) / g.l,
-                (g.e[1] - g.p * g.u[1]) / g.l,
-                (g.e[2] - g.p * g.u[2]) / g.l,
+                (g.e[0] - g.p * g.u[0]) * il,
+                (g.e[1] - g.p * g.u[1]) * il,
+                (g.e[2] - g.p * g.u[2]) * il,
             ];
-            out[l] = (2.0 * dot(g.e, bb) - 2.0 * g.p * w2) / g.l - qp * g.p / (g.l * g.l)
+            out[l] = (2.0 * dot(g.e, bb) - 2.0 * g.p * w2) * il - qp * g.p * (il * il)
                 + dot(ud, bb)
                 + dot(g.u, bd);
         }
@@ -492,7 +501,7 @@ impl Model for ParticleModel {
             let g = &geo[l];
             let w0 = g.l - self.rest[l];
             let w1 = g.p;
-            let w2 = (g.q - g.p * g.p) / g.l + dot(g.u, sub(acc[b], acc[a]));
+            let w2 = (g.q - g.p * g.p) * g.inv_l + dot(g.u, sub(acc[b], acc[a]));
             w[3 * l] = w0;
             w[3 * l + 1] = w1;
             w[3 * l + 2] = w2;
@@ -510,8 +519,8 @@ impl Model for ParticleModel {
         for (&(a, b), g) in self.ends.iter().zip(sc.geo.iter_mut()) {
             let (pa, pb) = (states(x, a), states(x, b));
             let d = diff3(pa, pb, 0);
-            let len = dot(d, d).sqrt();
-            g.u = [d[0] / len, d[1] / len, d[2] / len];
+            let inv = 1.0 / dot(d, d).sqrt();
+            g.u = [d[0] * inv, d[1] * inv, d[2] * inv];
         }
         for ((v, &(l, k)), &(c, sign)) in values.iter_mut().zip(&self.pattern).zip(&self.entry) {
             *v = if c == usize::MAX {
