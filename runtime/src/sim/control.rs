@@ -33,8 +33,8 @@ pub(crate) struct Check {
     pub(crate) count: bool,
     /// Raise the failing rows' gains by this relative margin.
     pub(crate) raise: Option<f64>,
-    /// `beta` was already evaluated at this point (located crossings evaluate it at
-    /// every step's end).
+    /// `beta` was already evaluated at this point (located crossings evaluate it at a
+    /// cut, and at every step's end for a model without [`Model::omega_rate`]).
     pub(crate) beta_ready: bool,
 }
 
@@ -368,12 +368,30 @@ impl Controller {
         v: &[f64],
         out: &mut [f64],
     ) -> bool {
+        self.model_rate_with(model, (t, x, z), v, false, out)
+    }
+
+    /// [`Self::rate_from_model`] with `alpha_hat` of the current point, or with that of
+    /// the point of [`Self::s_rate_at`] (`elsewhere`).
+    fn model_rate_with<M: Model + ?Sized>(
+        &mut self,
+        model: &M,
+        (t, x, z): (f64, &[f64], &[f64]),
+        v: &[f64],
+        elsewhere: bool,
+        out: &mut [f64],
+    ) -> bool {
         if !(self.model_rate && model.omega_rate(t, x, z, v, &mut self.omega_rate)) {
             self.model_rate = false;
             return false;
         }
         self.rate_evals += 1;
-        combine_rate(&self.ah, &self.mu_pow, &self.omega_rate, out);
+        let ah = if elsewhere {
+            &self.elsewhere.ah
+        } else {
+            &self.ah
+        };
+        combine_rate(ah, &self.mu_pow, &self.omega_rate, out);
         true
     }
 
@@ -404,12 +422,10 @@ impl Controller {
         let e = &mut self.elsewhere;
         model.sliding(t, x, z, &self.mu, &mut e.w, &mut e.s, &mut e.ah);
         self.sliding_evals += 1;
-        if self.model_rate && model.omega_rate(t, x, z, v, &mut self.omega_rate) {
-            self.rate_evals += 1;
-            combine_rate(&e.ah, &self.mu_pow, &self.omega_rate, out);
+        if self.model_rate_with(model, (t, x, z), v, true, out) {
             return;
         }
-        self.model_rate = false;
+        let e = &mut self.elsewhere;
         model.jacobian(t, x, z, &mut e.jvals);
         model.beta(t, x, z, &mut e.beta);
         self.jacobian_evals += 1;
