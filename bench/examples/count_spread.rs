@@ -9,16 +9,30 @@
 //! any did. The wall time per frame is timed once per run: compare it on a quiet machine.
 //!
 //! ```text
-//! cargo run --release -p dae-bench --example count_spread [-- SCENE EPS C held|ramp]
+//! cargo run --release -p dae-bench --example count_spread [-- SCENE EPS C held|ramp|adapt]
 //! ```
 //!
 //! `SCENE` is `c1:N:RATIO` (C1, `N` links, end-mass ratio `RATIO`) or `c3:W` (C3 (a),
 //! `W` x `W`); the defaults run the heavy 10-link chain (`c1:10:1e4`) at eps = 1e-3,
-//! `c = 4`, `v` ramped.
+//! `c = 4`, `v` ramped. `adapt` ramps `v` and searches for `mu` during the run from a
+//! quarter of the frame (the benchmark's `dbsmc-adapt`; the longest step follows `mu`,
+//! so its nudge stays).
 
 use std::time::Duration;
 
-use dae_bench::{left_a_guarantee, run_relaxed_with, scene_of_spec};
+use dae_bench::{RELAXED_MU_PER_FRAME, left_a_guarantee, run_relaxed_at, scene_of_spec};
+use dae_particles::AdaptiveMu;
+
+/// What the design does with `v` between updates, and with `mu`.
+#[derive(Clone, Copy, PartialEq)]
+enum Design {
+    /// `v` held (`dbsmc-relaxed`).
+    Held,
+    /// `v` ramped against the drift (`dbsmc-ramp`).
+    Ramp,
+    /// Ramped, `mu` searched for during the run (`dbsmc-adapt`).
+    Adapt,
+}
 
 /// The longest step's distances from the design's, as factors.
 const NUDGES: [f64; 9] = [0.96, 0.97, 0.98, 0.99, 1.0, 1.01, 1.02, 1.03, 1.04];
@@ -49,21 +63,26 @@ fn main() {
     let parsed = scene_of_spec(&get(0, "c1:10:1e4")).and_then(|s| {
         let eps: f64 = get(1, "1e-3").parse().map_err(|_| "EPS is not a number")?;
         let gain: f64 = get(2, "4").parse().map_err(|_| "C is not a number")?;
-        let ramp = match get(3, "ramp").as_str() {
-            "ramp" => true,
-            "held" => false,
-            other => return Err(format!("`{other}`: held or ramp")),
+        let design = match get(3, "ramp").as_str() {
+            "ramp" => Design::Ramp,
+            "held" => Design::Held,
+            "adapt" => Design::Adapt,
+            other => return Err(format!("`{other}`: held, ramp or adapt")),
         };
-        Ok((s, eps, gain, ramp))
+        Ok((s, eps, gain, design))
     });
-    let (scene, eps, gain, ramp) = parsed.unwrap_or_else(|e| {
-        eprintln!("count_spread: {e} (usage: count_spread [SCENE EPS C held|ramp])");
+    let (scene, eps, gain, design) = parsed.unwrap_or_else(|e| {
+        eprintln!("count_spread: {e} (usage: count_spread [SCENE EPS C held|ramp|adapt])");
         std::process::exit(2);
     });
     println!(
-        "{}, eps = {eps:e}, c = {gain}, v {}\n",
+        "{}, eps = {eps:e}, c = {gain}, {}\n",
         scene.title(),
-        if ramp { "ramped" } else { "held" }
+        match design {
+            Design::Held => "v held",
+            Design::Ramp => "v ramped",
+            Design::Adapt => "v ramped, mu searched for from a quarter frame",
+        }
     );
     println!(
         "| longest step | updates / frame: at exactly this step; median [min, max] of the 9 | steps / frame, median [min, max] | ms / frame, median [min, max] (one timing each) | layer or strain left |"
@@ -74,11 +93,25 @@ fn main() {
         let draws: Vec<Draw> = NUDGES
             .iter()
             .map(|nudge| {
-                let r = run_relaxed_with(&scene, eps, gain, Duration::from_secs(600), |s| {
-                    let s = if ramp { s.ramp_against_drift() } else { s };
-                    let mu = s.mu[0];
-                    s.max_step(per_mu * nudge * mu)
-                });
+                let search = (design == Design::Adapt).then(AdaptiveMu::default);
+                let budget = Duration::from_secs(600);
+                let r = run_relaxed_at(
+                    &scene,
+                    eps,
+                    gain,
+                    RELAXED_MU_PER_FRAME,
+                    search,
+                    budget,
+                    |s| {
+                        let s = if design == Design::Held {
+                            s
+                        } else {
+                            s.ramp_against_drift()
+                        };
+                        let mu = s.mu[0];
+                        s.max_step(per_mu * nudge * mu)
+                    },
+                );
                 let f = r.frames.max(1) as f64;
                 Draw {
                     updates: r.counters.updates as f64 / f,
