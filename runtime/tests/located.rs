@@ -5,7 +5,7 @@
 mod common;
 
 use common::pendulum::Pendulum;
-use common::{Chain, Tracking, independent_max_s};
+use common::{Chain, Tracking, independent_max_s, pendulum_settings as pendulum};
 use dae_runtime::{AlphaChoice, Integrator, Model, Settings, Simulator, Summary, Trace};
 use proptest::prelude::*;
 
@@ -69,14 +69,6 @@ fn weak_pendulum(integrator: Integrator, h: f64, divisor: f64) -> Settings {
         .integrator(integrator)
         .step(h)
         .t_end(5.0)
-}
-
-fn pendulum(h: f64) -> Settings {
-    let (mu, beta) = ([0.076, 0.066], [1.3e3, 2.3e3]);
-    let gains = (0..2).map(|i| mu[i] * mu[i] * beta[i]).collect();
-    Settings::new(vec![0.2; 2], mu.to_vec(), gains)
-        .step(h)
-        .t_end(2.0)
 }
 
 proptest! {

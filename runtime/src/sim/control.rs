@@ -543,7 +543,7 @@ impl Controller {
         v: &mut [f64],
     ) -> u64 {
         let m = self.s.len();
-        if (self.exact_alpha || check.evaluate) && !check.beta_ready {
+        if self.law_needs_beta(check) && !check.beta_ready {
             model.beta(t, x, z, &mut self.beta);
             self.beta_evals += 1;
         }

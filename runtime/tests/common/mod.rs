@@ -5,6 +5,16 @@ pub mod pendulum;
 
 use dae_runtime::{AlphaChoice, Model, Settings, SimError, Simulator};
 
+/// [`pendulum::Pendulum`] with the designed gains of docs/method.md section 8 (`mu^2 beta`) at layers of 0.2, the
+/// fixed step `h`, over 2 s.
+pub fn pendulum_settings(h: f64) -> Settings {
+    let (mu, beta) = ([0.076, 0.066], [1.3e3, 2.3e3]);
+    let gains = (0..2).map(|i| mu[i] * mu[i] * beta[i]).collect();
+    Settings::new(vec![0.2; 2], mu.to_vec(), gains)
+        .step(h)
+        .t_end(2.0)
+}
+
 /// Layer and `mu` of [`tracking_settings`].
 pub const TRACKING_EPS: f64 = 1e-3;
 pub const TRACKING_MU: f64 = 0.05;

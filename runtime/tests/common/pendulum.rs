@@ -15,6 +15,10 @@ pub struct Pendulum {
     pub l1: f64,
     pub l2: f64,
     pub g: f64,
+    /// Give `Omega'` ([`Model::omega_rate`]) as `beta + J_Omega zdot`, summed in the
+    /// order the simulator sums `J_Omega v` (off by default: the simulator then
+    /// composes it itself).
+    pub composed_rate: bool,
 }
 
 impl Default for Pendulum {
@@ -25,6 +29,7 @@ impl Default for Pendulum {
             l1: 2.0,
             l2: 2.0,
             g: 9.8,
+            composed_rate: false,
         }
     }
 }
@@ -193,5 +198,16 @@ impl Model for Pendulum {
         for i in 0..2 {
             b[i] = (op[i] - om[i]) / (2.0 * DELTA);
         }
+    }
+    fn omega_rate(&self, t: f64, x: &[f64], z: &[f64], zdot: &[f64], rate: &mut [f64]) -> bool {
+        if !self.composed_rate {
+            return false;
+        }
+        self.beta(t, x, z, rate);
+        let j = self.j_omega(x);
+        for (&(i, k), a) in self.jacobian_pattern().iter().zip(j) {
+            rate[i] += a * zdot[k];
+        }
+        true
     }
 }

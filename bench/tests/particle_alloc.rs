@@ -1,18 +1,18 @@
 //! A DBSMC particle run allocates nothing per frame: once it runs, the heap
-//! allocations of its frames are none, on a chain and on a cloth, with the frame-tied
-//! design (Dormand-Prince, crossings located, `v` ramped against the drift, gains
-//! following it) whose `s'` comes from the particle model's `Omega'` in one pass, and
-//! with the tensions' `J_Omega` factored at every update (dense on the chain, sparse on
-//! the cloth).
+//! allocations of its frames are none, on a chain and on a cloth, with the benchmark's
+//! frame-tied design ramped ([`relaxed_settings`]: Dormand-Prince, crossings located,
+//! `v` ramped against the drift, gains following it) whose `s'` comes from the particle
+//! model's `Omega'` in one pass, and with the tensions' `J_Omega` factored at every
+//! update (dense on the chain, sparse on the cloth).
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::sync::atomic::{AtomicU64, Ordering};
 
+use dae_bench::relaxed_settings;
 use dae_particles::{
-    Backend, Dbsmc, FRAME, GridPins, ParticleDae, ParticleModel, System as Particles, chain, grid,
+    Backend, Dbsmc, FRAME, GridPins, ParticleModel, System as Particles, chain, grid,
 };
-use dae_runtime::{AlphaChoice, Integrator, Model, Settings};
 
 struct Counting;
 
@@ -38,25 +38,6 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static GLOBAL: Counting = Counting;
 
-/// The frame-tied design at strain bound `eps` (relative), `mu` a quarter frame.
-fn frame_tied(model: &ParticleModel, eps: f64) -> Settings {
-    let m = model.n_constraints();
-    let mu = 0.25 * FRAME;
-    let e: Vec<f64> = (0..m).map(|i| eps * model.rest_length(i)).collect();
-    let gains: Vec<f64> = e.iter().map(|e| 4.0 * e / mu).collect();
-    let tol = 0.1 * e.iter().copied().fold(f64::INFINITY, f64::min);
-    Settings::new(e, vec![mu; m], gains)
-        .tolerance(tol, tol)
-        .alpha(AlphaChoice::Exact)
-        .integrator(Integrator::DormandPrince)
-        .step(FRAME)
-        .max_step(0.5 * mu)
-        .follow_drift(1.0)
-        .graze(0.25 * mu)
-        .saturate_in_layer()
-        .ramp_against_drift()
-}
-
 /// Allocations of frames `from + 1 ..= to` (positions read after each), and the
 /// updates they made.
 fn allocations_of_frames(b: &mut Dbsmc<ParticleModel>, from: usize, to: usize) -> (u64, u64) {
@@ -77,7 +58,7 @@ fn allocations_of_frames(b: &mut Dbsmc<ParticleModel>, from: usize, to: usize) -
 
 fn assert_no_allocation_per_frame(label: &str, system: &Particles, eps: f64) {
     let model = ParticleModel::new(system).unwrap();
-    let settings = frame_tied(&model, eps);
+    let settings = relaxed_settings(&model, eps, 4.0).ramp_against_drift();
     let mut b = Dbsmc::new(model, settings, label).unwrap();
     // The first frames start the run (its buffers, the solver's symbolic analysis).
     allocations_of_frames(&mut b, 0, 2);
