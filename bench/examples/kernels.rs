@@ -1,5 +1,5 @@
 //! Where the generated family models' extra cost is: one evaluation of each per-step
-//! function (`rhs`, `sliding`, `jacobian`, `beta`) of the generated model of a scene
+//! function (`rhs`, `sliding`, `jacobian`, `beta`, `omega_rate`) of the generated model of a scene
 //! (`dae_bench::generated_chain`, `generated_grid`: the `.dae` family compiled by
 //! `dae_file!`, behind `FamilyParticles`) against the hand-written
 //! `dae_particles::ParticleModel` of the same system, both through the runtime's `Model`
@@ -16,10 +16,12 @@
 //! 32 x 32 and 64 x 64 (C3 (a)). Times are the best of 5 batches of at least 20 ms
 //! each, one core; the ratios, measured in one run, are what to read (the benchmark's
 //! DBSMC runs on the generated models cost 1.46x those on the hand-written model, median
-//! of 26 complete runs). The last column is the sum of the four, weighted as a DBSMC step
-//! calls them (7 `rhs`, 3 `sliding`, 2 `jacobian`, 2 `beta`: the calls per step of the
-//! ramped design on the heavy 100-link chain at eps = 1e-4, counted with callgrind
-//! (6.9, 3.4, 1.9, 1.9), rounded).
+//! of 26 complete runs). The last column is the sum of the five, weighted as a DBSMC step
+//! calls them (7 `rhs`, 3.5 `sliding`, 0.4 `jacobian`, 0.4 `beta`, 1.4 `omega_rate`: the
+//! calls per step of the frame-tied design, `dbsmc-ramp-generated`, on the 10-link chain
+//! with end-mass ratio 1e2 at eps = 1e-3, counted with callgrind (6.99, 3.50, 0.40, 0.40,
+//! 1.40): `J_Omega` and `beta` at the updates only, `Omega'` at every step's end and
+//! update).
 //!
 //! Times on a shared machine move by 10-20 % between runs; instruction counts do not.
 //! `--calls c1:N` or `--calls c3:W` evaluates each function of both models of one scene
@@ -43,6 +45,8 @@ struct Point {
     alpha_hat: Vec<f64>,
     jacobian: Vec<f64>,
     beta: Vec<f64>,
+    zdot: Vec<f64>,
+    rate: Vec<f64>,
 }
 
 impl Point {
@@ -61,12 +65,15 @@ impl Point {
             alpha_hat: vec![0.0; k],
             jacobian: vec![0.0; m.jacobian_pattern().len()],
             beta: vec![0.0; k],
+            zdot: vec![0.5; k],
+            rate: vec![0.0; k],
         }
     }
 }
 
-/// Seconds per evaluation of rhs, sliding, jacobian and beta at the initial point.
-fn times(m: &dyn Model) -> [f64; 4] {
+/// Seconds per evaluation of rhs, sliding, jacobian, beta and omega_rate at the initial
+/// point.
+fn times(m: &dyn Model) -> [f64; 5] {
     let p = &mut Point::initial(m);
     [
         best_time(|| m.rhs(0.1, black_box(&p.x), &p.z, &mut p.dx)),
@@ -76,6 +83,10 @@ fn times(m: &dyn Model) -> [f64; 4] {
         }),
         best_time(|| m.jacobian(0.1, black_box(&p.x), &p.z, &mut p.jacobian)),
         best_time(|| m.beta(0.1, black_box(&p.x), &p.z, &mut p.beta)),
+        best_time(|| {
+            let given = m.omega_rate(0.1, black_box(&p.x), &p.z, &p.zdot, &mut p.rate);
+            assert!(given, "{} gives Omega'", m.name());
+        }),
     ]
 }
 
@@ -88,25 +99,27 @@ fn calls(m: &dyn Model) {
         m.sliding(0.1, black_box(&p.x), &p.z, &p.mu, w, s, ah);
         m.jacobian(0.1, black_box(&p.x), &p.z, &mut p.jacobian);
         m.beta(0.1, black_box(&p.x), &p.z, &mut p.beta);
+        m.omega_rate(0.1, black_box(&p.x), &p.z, &p.zdot, &mut p.rate);
     }
 }
 
 /// Evaluations per function and model under `--calls`.
 const CALLS: usize = 100;
 
-/// Calls per DBSMC step (rhs, sliding, jacobian, beta); see the module docs.
-const PER_STEP: [f64; 4] = [7.0, 3.0, 2.0, 2.0];
+/// Calls per DBSMC step (rhs, sliding, jacobian, beta, omega_rate); see the module docs.
+const PER_STEP: [f64; 5] = [7.0, 3.5, 0.4, 0.4, 1.4];
 
 fn row(scene: &str, links: usize, hand: &dyn Model, generated: &dyn Model) {
     let (h, g) = (times(hand), times(generated));
     let cell = |i: usize| format!("{:.1} / {:.1} ({:.2})", h[i] * 1e6, g[i] * 1e6, g[i] / h[i]);
-    let step = |t: &[f64; 4]| t.iter().zip(PER_STEP).map(|(t, k)| t * k).sum::<f64>();
+    let step = |t: &[f64; 5]| t.iter().zip(PER_STEP).map(|(t, k)| t * k).sum::<f64>();
     println!(
-        "| {scene} | {links} | {} | {} | {} | {} | {:.2} |",
+        "| {scene} | {links} | {} | {} | {} | {} | {} | {:.2} |",
         cell(0),
         cell(1),
         cell(2),
         cell(3),
+        cell(4),
         step(&g) / step(&h)
     );
 }
@@ -164,10 +177,10 @@ fn main() {
         _ => fail("usage: kernels [--calls c1:N|c3:W]".into()),
     }
     println!(
-        "Microseconds per evaluation, hand-written / generated (ratio); last column: the four weighted as a step calls them, generated / hand-written.\n"
+        "Microseconds per evaluation, hand-written / generated (ratio); last column: the five weighted as a step calls them, generated / hand-written.\n"
     );
-    println!("| scene | links | rhs | sliding | jacobian | beta | per step |");
-    println!("|---|---|---|---|---|---|---|");
+    println!("| scene | links | rhs | sliding | jacobian | beta | omega_rate | per step |");
+    println!("|---|---|---|---|---|---|---|---|");
     for scene in ["c1:100", "c1:1000", "c1:10000", "c3:16", "c3:32", "c3:64"] {
         let (name, links, hand, generated) = models(scene).unwrap_or_else(|e| fail(e));
         row(&name, links, hand.as_ref(), generated.as_ref());

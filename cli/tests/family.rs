@@ -193,8 +193,10 @@ fn the_cloth_example_runs_with_the_frame_tied_settings() {
 /// With a slack smaller than the layers' strain (0.1 % against 1 %), the far edge can
 /// come straight within its layers, where `J_Omega` is singular: the control grows
 /// without bound and the step control stops. The failure says so, with where `J_s`
-/// came near singular, and the hint names the way out (measured: stopped at t = 0.028
-/// s, smallest pivot ratio 3.0e-7 at 0.0282 s).
+/// came near singular, and the hint names the way out (measured: stopped at t = 0.039
+/// s, smallest pivot ratio 9.7e-8 at 0.0394 s; at 0.028 s before the interpreter gave
+/// `Omega'` from its own program, whose rounding differs from `beta + J_Omega z'`: where
+/// the run meets the singular configuration is a draw, that it meets it is not).
 ///
 /// The failure is the one of the law with `sgn(s)` inside the layer. With the design's
 /// saturation (`--saturate`) the links stay nearer the middle of their layers, and the
@@ -208,7 +210,7 @@ fn a_taut_edge_within_the_layers_is_reported_as_a_near_singular_j() {
     let (code, _, err) = run_cloth_w8_law(false, Steps::Before, &["--set", "slack=0.001"]);
     assert_eq!(code, Some(1), "{err}");
     assert!(err.contains("step size underflow"), "{err}");
-    assert!(err.contains("J_s came near singular at t = 0.02"), "{err}");
+    assert!(err.contains("J_s came near singular at t = 0.0"), "{err}");
     assert!(err.contains("smaller --eps"), "{err}");
 }
 

@@ -237,6 +237,10 @@ fn var_ref(v: VarRef) -> TokenStream {
             let i = id("AlgId", i.index());
             quote!(dl::VarRef::Alg(#i))
         }
+        VarRef::AlgRate(i) => {
+            let i = id("AlgId", i.index());
+            quote!(dl::VarRef::AlgRate(#i))
+        }
         VarRef::Mu(k) => {
             let k = id("ConstraintId", k.index());
             quote!(dl::VarRef::Mu(#k))

@@ -1,7 +1,7 @@
 //! Rust code generation for family models (language version 2).
 //!
-//! A family model is compiled once, as templates: four [`Program`]s (`rhs`, `sliding`,
-//! `jacobian`, `beta`) of groups of straight-line code, each run once or once per
+//! A family model is compiled once, as templates: five [`Program`]s (`rhs`, `sliding`,
+//! `jacobian`, `beta`, and `rate` for `Omega'`) of groups of straight-line code, each run once or once per
 //! element of a set. The generated type implements `::dae_runtime::family::Kernels`:
 //!
 //! * each group is one `for e in 0..inst.set_sizes[S]` loop (a block for a scalar
@@ -94,6 +94,7 @@ pub(crate) fn generate_family(model: &CompiledModel, fam: &FamilyModel) -> Token
     let sliding = program_body(&fam.sliding, c, &[quote!(w), quote!(s), quote!(alpha_hat)]);
     let jacobian = program_body(&fam.jacobian, c, &[quote!(values)]);
     let beta = program_body(&fam.beta, c, &[quote!(beta)]);
+    let rate = program_body(&fam.rate, c, &[quote!(rate)]);
     let construction = construction_expr(c);
 
     quote! {
@@ -205,6 +206,17 @@ pub(crate) fn generate_family(model: &CompiledModel, fam: &FamilyModel) -> Token
                 let scratch_arrays = &mut scratch.beta;
                 #beta
             }
+
+            fn omega_rate(
+                &self,
+                inst: &#dl::family::Instance,
+                vals: &#dl::family::Values<'_>,
+                scratch: &mut #scratch_ty,
+                rate: &mut [f64],
+            ) {
+                let scratch_arrays = &mut scratch.rate;
+                #rate
+            }
         }
     }
 }
@@ -292,7 +304,9 @@ impl DestSlot {
         match d {
             Dest::Rhs(s) => DestSlot::State(s.index()),
             Dest::W(c, _) => DestSlot::W(c.index()),
-            Dest::S(c) | Dest::AlphaHat(c) | Dest::Beta(c) => DestSlot::Row(c.index()),
+            Dest::S(c) | Dest::AlphaHat(c) | Dest::Beta(c) | Dest::Rate(c) => {
+                DestSlot::Row(c.index())
+            }
         }
     }
 
@@ -310,7 +324,7 @@ fn per_element(v: VarRef, c: &Construction) -> bool {
     match v {
         VarRef::Param(i) => c.params[i.index()].family.over.is_some(),
         VarRef::State(i) => c.states[i.index()].family.over.is_some(),
-        VarRef::Alg(i) => c.algs[i.index()].family.over.is_some(),
+        VarRef::Alg(i) | VarRef::AlgRate(i) => c.algs[i.index()].family.over.is_some(),
         VarRef::Mu(k) => c.constraints[k.index()].over.is_some(),
         VarRef::Input(i, _) => c.inputs[i.index()].family.over.is_some(),
         VarRef::Elem(_) => true,
@@ -324,6 +338,7 @@ pub(crate) fn var_ident(v: VarRef) -> Ident {
         VarRef::Param(i) => format_ident!("p{}", i.index()),
         VarRef::State(i) => format_ident!("x{}", i.index()),
         VarRef::Alg(i) => format_ident!("z{}", i.index()),
+        VarRef::AlgRate(i) => format_ident!("zr{}", i.index()),
         VarRef::Mu(k) => format_ident!("mu{}", k.index()),
         // Each derivative of an input has its own slot (a derivative block apart).
         VarRef::Input(i, j) => format_ident!("u{}_{}", i.index(), j),
@@ -350,6 +365,10 @@ pub(crate) fn var_source(v: VarRef) -> Option<(TokenStream, TokenStream)> {
             let i = lit(i.index());
             (quote!(vals.algs), quote!(inst.layout.algs[#i]))
         }
+        VarRef::AlgRate(i) => {
+            let i = lit(i.index());
+            (quote!(vals.alg_rates), quote!(inst.layout.algs[#i]))
+        }
         VarRef::Mu(k) => {
             let k = lit(k.index());
             (quote!(vals.mu), quote!(inst.layout.rows[#k]))
@@ -372,7 +391,7 @@ fn var_stride(v: VarRef, c: &Construction) -> usize {
     match v {
         VarRef::Param(i) => dim(c.params[i.index()].family),
         VarRef::State(i) => dim(c.states[i.index()].family),
-        VarRef::Alg(i) => dim(c.algs[i.index()].family),
+        VarRef::Alg(i) | VarRef::AlgRate(i) => dim(c.algs[i.index()].family),
         VarRef::Input(i, _) => dim(c.inputs[i.index()].family),
         VarRef::Mu(_) => 1,
         VarRef::Time | VarRef::Elem(_) | VarRef::Size(_) => 0,
@@ -538,7 +557,7 @@ fn program_body(p: &Program, c: &Construction, outs: &[TokenStream]) -> TokenStr
                         let stride = match d {
                             Dest::Rhs(x) => usize::from(c.states[x.index()].family.dim.max(1)),
                             Dest::W(k, _) => c.constraints[k.index()].index,
-                            Dest::S(_) | Dest::AlphaHat(_) | Dest::Beta(_) => 1,
+                            Dest::S(_) | Dest::AlphaHat(_) | Dest::Beta(_) | Dest::Rate(_) => 1,
                         };
                         let step = if g.over.is_some() {
                             scaled(stride, quote!(e))

@@ -414,7 +414,9 @@ fn operand(o: Operand, fields: &[Ident]) -> TokenStream {
         Operand::Input(VarRef::Time) => quote!(t),
         // Family programs only: never in a version-1 tape (`generate` rejects family
         // models first).
-        Operand::Input(VarRef::Input(..) | VarRef::Elem(_) | VarRef::Size(_))
+        Operand::Input(
+            VarRef::Input(..) | VarRef::Elem(_) | VarRef::Size(_) | VarRef::AlgRate(_),
+        )
         | Operand::Gather(..)
         | Operand::Array(_)
         | Operand::ArrayAt(..) => {

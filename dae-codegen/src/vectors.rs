@@ -33,7 +33,7 @@ pub(crate) fn vector_component(v: VarRef, c: &Construction) -> Option<(VarRef, u
         match v {
             VarRef::Param(_) => c.params.get(k).map(|d| d.family),
             VarRef::State(_) => c.states.get(k).map(|d| d.family),
-            VarRef::Alg(_) => c.algs.get(k).map(|d| d.family),
+            VarRef::Alg(_) | VarRef::AlgRate(_) => c.algs.get(k).map(|d| d.family),
             VarRef::Input(..) => c.inputs.get(k).map(|d| d.family),
             _ => None,
         }
@@ -41,7 +41,7 @@ pub(crate) fn vector_component(v: VarRef, c: &Construction) -> Option<(VarRef, u
     let i = match v {
         VarRef::Param(i) => i.index(),
         VarRef::State(i) => i.index(),
-        VarRef::Alg(i) => i.index(),
+        VarRef::Alg(i) | VarRef::AlgRate(i) => i.index(),
         VarRef::Input(i, _) => i.index(),
         _ => return None,
     };
@@ -65,6 +65,7 @@ pub(crate) fn vector_component(v: VarRef, c: &Construction) -> Option<(VarRef, u
         VarRef::Param(_) => VarRef::Param(ParamId::new(first)),
         VarRef::State(_) => VarRef::State(StateId::new(first)),
         VarRef::Alg(_) => VarRef::Alg(AlgId::new(first)),
+        VarRef::AlgRate(_) => VarRef::AlgRate(AlgId::new(first)),
         VarRef::Input(_, d) => VarRef::Input(InputId::new(first), d),
         _ => unreachable!("matched above"),
     };
@@ -193,7 +194,7 @@ impl VectorWrites {
                 let r = c.constraints[k.index()].index;
                 (r >= 2).then_some(((d.output(), k.index()), j as usize, r))
             }
-            Dest::S(_) | Dest::AlphaHat(_) | Dest::Beta(_) => None,
+            Dest::S(_) | Dest::AlphaHat(_) | Dest::Beta(_) | Dest::Rate(_) => None,
         }
     }
 

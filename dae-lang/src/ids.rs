@@ -98,6 +98,10 @@ pub enum VarRef {
     State(StateId),
     /// An algebraic unknown.
     Alg(AlgId),
+    /// The rate `z'` of an algebraic unknown along a motion: the direction in which
+    /// `Omega' = beta + J_Omega z'` is taken. Never written in a model: the analysis
+    /// introduces it (in `Omega'` only).
+    AlgRate(AlgId),
     /// Time `t`.
     Time,
     /// The realization parameter `mu` of a constraint (printed `mu1`, `mu2`, ... from

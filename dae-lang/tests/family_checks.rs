@@ -43,6 +43,7 @@ impl Point {
             params: &self.params,
             states: &self.states,
             algs: &self.algs,
+            alg_rates: &[],
             mu: &self.mu,
             inputs: &self.inputs,
             t: self.t,

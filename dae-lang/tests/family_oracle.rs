@@ -2,7 +2,8 @@
 //! into scalars (`family::expand`) and analysed by the version-1 pipeline. Every
 //! function (rhs, the sliding outputs w, s and alpha_hat, J_Omega as a sparse matrix,
 //! beta) of the programs, run by `Program::eval`, agrees with the version-1 tapes of
-//! the expanded model at random points, for sizes 1..6.
+//! the expanded model at random points, for sizes 1..6; and the rate program (`Omega'`
+//! along a random `z'`) with the expanded model's `beta + J_Omega z'`.
 
 use dae_lang::family::{Instance, Scratch, Spec, Values, construct, expand};
 use dae_lang::model::Model;
@@ -21,12 +22,16 @@ struct Outputs {
     alpha_hat: Vec<f64>,
     jacobian: Vec<f64>,
     beta: Vec<f64>,
+    /// `Omega'` with the algebraic unknowns moving at the point's `zdot`.
+    rate: Vec<f64>,
 }
 
 struct Point {
     params: Vec<f64>,
     states: Vec<f64>,
     algs: Vec<f64>,
+    /// The direction of the algebraic unknowns for `Omega'`.
+    zdot: Vec<f64>,
     mu: Vec<f64>,
     inputs: Vec<f64>,
     t: f64,
@@ -48,6 +53,7 @@ fn eval_family(c: &CompiledModel, inst: &Instance, p: &Point) -> Outputs {
         params: &p.params,
         states: &p.states,
         algs: &p.algs,
+        alg_rates: &p.zdot,
         mu: &p.mu,
         inputs: &p.inputs,
         t: p.t,
@@ -68,6 +74,8 @@ fn eval_family(c: &CompiledModel, inst: &Instance, p: &Point) -> Outputs {
     run(&f.jacobian, &mut [&mut values]);
     let mut beta = vec![f64::NAN; l.n_rows];
     run(&f.beta, &mut [&mut beta]);
+    let mut rate = vec![f64::NAN; l.n_rows];
+    run(&f.rate, &mut [&mut rate]);
     let n = l.n_rows;
     let mut jacobian = vec![0.0; n * l.n_algs];
     for (&(r, col), v) in inst.jacobian.entries.iter().zip(values) {
@@ -80,6 +88,7 @@ fn eval_family(c: &CompiledModel, inst: &Instance, p: &Point) -> Outputs {
         alpha_hat: ah,
         jacobian,
         beta,
+        rate,
     }
 }
 
@@ -105,13 +114,18 @@ fn eval_scalar(c: &CompiledModel, params: &[f64], p: &Point) -> Outputs {
     for (&(r, col), v) in c.jacobian_pattern.iter().zip(values) {
         jacobian[r * m + col] = v;
     }
+    let beta = run(&c.beta);
+    let rate = (0..m)
+        .map(|r| beta[r] + (0..m).map(|k| jacobian[r * m + k] * p.zdot[k]).sum::<f64>())
+        .collect();
     Outputs {
         rhs: run(&c.rhs),
         w: sliding[..nw].to_vec(),
         s: sliding[nw..nw + m].to_vec(),
         alpha_hat: sliding[nw + m..].to_vec(),
         jacobian,
-        beta: run(&c.beta),
+        beta,
+        rate,
     }
 }
 
@@ -154,6 +168,7 @@ fn compare(src: &str, spec: &Spec, seed: u64, points: usize) {
                 .map(|x| x + rng.uniform(-0.05, 0.05))
                 .collect(),
             algs: inst.algs.iter().map(|_| rng.uniform(-2.0, 2.0)).collect(),
+            zdot: inst.algs.iter().map(|_| rng.uniform(-3.0, 3.0)).collect(),
             mu: (0..inst.layout.n_rows)
                 .map(|_| rng.uniform(0.01, 0.2))
                 .collect(),
@@ -176,9 +191,17 @@ fn compare(src: &str, spec: &Spec, seed: u64, points: usize) {
         assert_close("alpha_hat", &fam.alpha_hat, &sca.alpha_hat, tol);
         assert_close("J_Omega", &fam.jacobian, &sca.jacobian, tol);
         assert_close("beta", &fam.beta, &sca.beta, tol);
+        assert_close("Omega'", &fam.rate, &sca.rate, tol);
         // The points exercise the functions: the tensions act, J_Omega is not zero.
         assert!(fam.jacobian.iter().any(|v| *v != 0.0));
         assert!(fam.beta.iter().any(|v| *v != 0.0));
+        // ... and `zdot` moves `Omega'` away from `beta`.
+        assert!(
+            fam.rate
+                .iter()
+                .zip(&fam.beta)
+                .any(|(r, b)| !close(*r, *b, 1e-6))
+        );
     }
 }
 

@@ -125,7 +125,7 @@ pub use instance::{FamilyInstance, UnknownName};
 pub use interpreter::{Interpreter, InterpreterScratch};
 pub use rank::{StructuralRank, structural_rank};
 
-/// The four evaluation functions of a family model over an [`Instance`], the back end
+/// The five evaluation functions of a family model over an [`Instance`], the back end
 /// of a sized family model.
 ///
 /// Every method writes its outputs in the instance's layout
@@ -167,4 +167,15 @@ pub trait Kernels {
 
     /// `beta = dOmega/dt + (dOmega/dx) f` at the current `z`.
     fn beta(&self, inst: &Instance, v: &Values<'_>, scratch: &mut Self::Scratch, beta: &mut [f64]);
+
+    /// `Omega' = beta + J_Omega z'`, the rate of `Omega` with the algebraic unknowns
+    /// moving at `z' = v.alg_rates`, without `J_Omega` (the model's rate program,
+    /// [`FamilyModel::rate`](dae_lang::family::FamilyModel::rate)).
+    fn omega_rate(
+        &self,
+        inst: &Instance,
+        v: &Values<'_>,
+        scratch: &mut Self::Scratch,
+        rate: &mut [f64],
+    );
 }

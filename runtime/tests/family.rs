@@ -1,5 +1,5 @@
 //! Sized family models run by the interpreter behind the `Model` trait: names and
-//! lookups, inputs as Taylor polynomials, `J_Omega` and `beta` against finite
+//! lookups, inputs as Taylor polynomials, `J_Omega`, `beta` and `Omega'` against finite
 //! differences, and a long chain simulated with the automatically chosen solver.
 
 use dae_runtime::family::{FamilyInstance, InputError, Interpreter, Spec};
@@ -210,6 +210,73 @@ fn jacobian_and_beta_of_the_chain_match_finite_differences() {
             );
         }
     }
+}
+
+/// `Omega'` of `m` from `omega_rate` against the central difference of `Omega` along
+/// the motion `(t + e, x + e f, z + e zdot)`, and against `beta + J_Omega zdot` from the
+/// model's own `beta` and `J_Omega`, at three random points.
+fn omega_rate_matches_the_motion(m: &dyn Model, seed: u64) {
+    let mut rng = Rng(seed);
+    let n = m.n_constraints();
+    for _ in 0..3 {
+        let (x, z) = random_point(m, &mut rng);
+        let zdot: Vec<f64> = (0..n).map(|_| rng.uniform(-5.0, 5.0)).collect();
+        let t = rng.uniform(0.0, 0.5);
+        let mut rate = vec![f64::NAN; n];
+        assert!(m.omega_rate(t, &x, &z, &zdot, &mut rate), "{}", m.name());
+        let mut f = vec![0.0; x.len()];
+        m.rhs(t, &x, &z, &mut f);
+        let h = 1e-6;
+        let moved = |e: f64| -> (Vec<f64>, Vec<f64>) {
+            (
+                x.iter().zip(&f).map(|(a, b)| a + e * b).collect(),
+                z.iter().zip(&zdot).map(|(a, b)| a + e * b).collect(),
+            )
+        };
+        let ((xp, zp), (xm, zm)) = (moved(h), moved(-h));
+        let (op, om) = (omega(m, t + h, &xp, &zp), omega(m, t - h, &xm, &zm));
+        let mut beta = vec![0.0; n];
+        m.beta(t, &x, &z, &mut beta);
+        let mut j = vec![0.0; m.jacobian_pattern().len()];
+        m.jacobian(t, &x, &z, &mut j);
+        let mut composed = beta.clone();
+        for (&(r, col), v) in m.jacobian_pattern().iter().zip(&j) {
+            composed[r] += v * zdot[col];
+        }
+        for r in 0..n {
+            let fd = (op[r] - om[r]) / (2.0 * h);
+            assert!(
+                (fd - rate[r]).abs() <= 1e-5 * (1.0 + fd.abs()),
+                "{}: Omega'[{r}] = {} vs FD {fd}",
+                m.name(),
+                rate[r]
+            );
+            assert!(
+                (composed[r] - rate[r]).abs() <= 1e-12 * (1.0 + rate[r].abs()),
+                "{}: Omega'[{r}] = {} vs beta + J zdot = {}",
+                m.name(),
+                rate[r],
+                composed[r]
+            );
+        }
+        // The tensions' motion counts: `Omega'` is not `beta`.
+        assert!(rate.iter().zip(&beta).any(|(a, b)| (a - b).abs() > 1e-3));
+    }
+}
+
+#[test]
+fn omega_rate_of_the_chain_the_cloth_and_the_hair_matches_finite_differences_along_the_motion() {
+    let mut c = sized("chain.dae", &[("N", 7)]);
+    // A driven pin: `Omega'` sees the input's derivatives.
+    for (k, comp) in ["x", "y", "z"].iter().enumerate() {
+        let i = c.input_index(&format!("pin[0].{comp}")).unwrap();
+        let kf = k as f64;
+        c.set_input(i, 0.2, &[0.01 * kf, 0.3 - kf * 0.1, 0.5 * kf, -1.0 + kf])
+            .unwrap();
+    }
+    omega_rate_matches_the_motion(&c, 13);
+    omega_rate_matches_the_motion(&sized("cloth.dae", &[("W", 4)]), 17);
+    omega_rate_matches_the_motion(&sized("hair.dae", &[("S", 3), ("N", 4)]), 19);
 }
 
 #[test]

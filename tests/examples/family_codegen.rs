@@ -97,6 +97,7 @@ fn kernel_times<K: Kernels>(k: &K, inst: &Instance) -> [f64; 4] {
         params: &inst.params,
         states: &inst.states,
         algs: &algs,
+        alg_rates: &[],
         mu: &mu,
         inputs: &inst.inputs,
         t: 0.1,

@@ -1,7 +1,8 @@
 //! The Rust kernels generated for every family example (compiled here through
 //! `dae_runtime::dae_file!`) against the interpreter of the same compiled programs
-//! (`dae_lang::family::Program::eval`): at random points, every output of every
-//! function agrees to 1e-12, at sizes 1..6 and one larger size. The generated
+//! (`dae_lang::family::Program::eval`): at random points (with a random `z'` for the
+//! rate program), every output of every function agrees to 1e-12, at sizes 1..6 and
+//! one larger size. The generated
 //! `construction()` is the compiler's `Construction`, value for value.
 
 use dae_lang::family::{Construction, FamilyModel, Instance, Program, Scratch, Spec, Values};
@@ -35,6 +36,8 @@ struct Point {
     params: Vec<f64>,
     states: Vec<f64>,
     algs: Vec<f64>,
+    /// The direction of the unknowns for `Omega'`.
+    zdot: Vec<f64>,
     mu: Vec<f64>,
     inputs: Vec<f64>,
     t: f64,
@@ -51,6 +54,7 @@ impl Point {
             params: inst.params.clone(),
             states: jiggle(&inst.states, rng),
             algs: inst.algs.iter().map(|_| rng.uniform(-2.0, 2.0)).collect(),
+            zdot: inst.algs.iter().map(|_| rng.uniform(-3.0, 3.0)).collect(),
             mu: (0..inst.layout.n_rows)
                 .map(|_| rng.uniform(0.1, 1.0))
                 .collect(),
@@ -64,6 +68,7 @@ impl Point {
             params: &self.params,
             states: &self.states,
             algs: &self.algs,
+            alg_rates: &self.zdot,
             mu: &self.mu,
             inputs: &self.inputs,
             t: self.t,
@@ -71,7 +76,7 @@ impl Point {
     }
 }
 
-/// Every output of the four functions, `(function, outputs)`, from the interpreter.
+/// Every output of the five functions, `(function, outputs)`, from the interpreter.
 fn interpreted(f: &FamilyModel, inst: &Instance, v: &Values<'_>) -> Vec<(&'static str, Vec<f64>)> {
     let l = &inst.layout;
     let run = |p: &Program, lens: &[usize]| -> Vec<f64> {
@@ -87,6 +92,7 @@ fn interpreted(f: &FamilyModel, inst: &Instance, v: &Values<'_>) -> Vec<(&'stati
         ("sliding", run(&f.sliding, &[l.n_w, l.n_rows, l.n_rows])),
         ("jacobian", run(&f.jacobian, &[nj])),
         ("beta", run(&f.beta, &[l.n_rows])),
+        ("rate", run(&f.rate, &[l.n_rows])),
     ]
 }
 
@@ -106,11 +112,14 @@ fn generated<K: Kernels>(k: &K, inst: &Instance, v: &Values<'_>) -> Vec<(&'stati
     k.beta(inst, v, &mut scratch, &mut beta);
     // Twice: the scratch carries nothing from one evaluation to the next.
     k.beta(inst, v, &mut scratch, &mut beta);
+    let mut rate = nan(l.n_rows);
+    k.omega_rate(inst, v, &mut scratch, &mut rate);
     vec![
         ("rhs", dx),
         ("sliding", [w, s, ah].concat()),
         ("jacobian", jac),
         ("beta", beta),
+        ("rate", rate),
     ]
 }
 

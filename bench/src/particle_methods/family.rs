@@ -465,6 +465,12 @@ impl<K: Kernels> Model for FamilyParticles<K> {
         self.model.borrow().beta(t, x, z, beta);
         self.poison(beta);
     }
+    fn omega_rate(&self, t: f64, x: &[f64], z: &[f64], zdot: &[f64], rate: &mut [f64]) -> bool {
+        self.refresh(t);
+        let given = self.model.borrow().omega_rate(t, x, z, zdot, rate);
+        self.poison(rate);
+        given
+    }
 }
 
 impl<K: Kernels> ParticleDae for FamilyParticles<K> {

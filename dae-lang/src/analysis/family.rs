@@ -108,6 +108,7 @@ fn realize(
         }
     }
     let beta = derivatives.dt(arena, omega);
+    let rate = derivatives.dt_moving(arena, omega);
     let mu = arena.mu(ConstraintId::new(i));
     let (s, alpha, alpha_hat) = sliding_exprs(arena, &w, beta, mu);
     let summary = ConstraintAnalysis {
@@ -125,6 +126,7 @@ fn realize(
         jacobian_row: Vec::new(),
         kernels,
         beta,
+        rate,
         mu,
         s,
         alpha,

@@ -113,7 +113,8 @@ impl<'a> Lowering<'a> {
             VarRef::State(i) => i.index() < states,
             VarRef::Alg(i) => i.index() < algs,
             VarRef::Time => true,
-            VarRef::Mu(_) => false,
+            // Introduced by the analysis, never written in a model.
+            VarRef::Mu(_) | VarRef::AlgRate(_) => false,
             VarRef::Input(i, _) => i.index() < inputs,
             VarRef::Elem(s) => s.index() < sets,
             VarRef::Size(s) => s.index() < sizes,

@@ -82,6 +82,9 @@ pub struct ConstraintExprs {
     pub kernels: Vec<Kernel>,
     /// `beta = dOmega/dt + (dOmega/dx) f` (may contain z).
     pub beta: Id,
+    /// `Omega' = beta + J_Omega z'`, the rate of `Omega` with the algebraic unknowns
+    /// moving at `z'` (the leaves [`VarRef::AlgRate`](crate::VarRef::AlgRate)).
+    pub rate: Id,
     /// The realization parameter `mu` of this constraint (a leaf, printed `mu<i+1>`).
     pub mu: Id,
     /// Sliding surface `s`.
@@ -304,6 +307,7 @@ fn realize(
         }
     }
     let beta = derivatives.dt(arena, omega);
+    let rate = derivatives.dt_moving(arena, omega);
     let mu = arena.mu(ConstraintId::new(i));
     let (s, alpha, alpha_hat) = sliding_exprs(arena, &w, beta, mu);
     let summary = ConstraintAnalysis {
@@ -318,6 +322,7 @@ fn realize(
         jacobian_row,
         kernels: Vec::new(),
         beta,
+        rate,
         mu,
         s,
         alpha,

@@ -32,6 +32,9 @@ pub struct Values<'a> {
     pub states: &'a [f64],
     /// Algebraic unknowns `z`.
     pub algs: &'a [f64],
+    /// Their rates `z'`, in the layout of `algs`: read by the rate program only (`Omega'`
+    /// along `z' = alg_rates`); empty for the others.
+    pub alg_rates: &'a [f64],
     /// Realization parameters, one per constraint row.
     pub mu: &'a [f64],
     /// Input values (each with its derivatives).
@@ -82,6 +85,7 @@ enum Vector {
     Params,
     States,
     Algs,
+    AlgRates,
     Mu,
     Inputs,
 }
@@ -91,6 +95,7 @@ fn vector<'a>(x: &Values<'a>, v: Vector) -> &'a [f64] {
         Vector::Params => x.params,
         Vector::States => x.states,
         Vector::Algs => x.algs,
+        Vector::AlgRates => x.alg_rates,
         Vector::Mu => x.mu,
         Vector::Inputs => x.inputs,
     }
@@ -125,6 +130,7 @@ fn source(v: VarRef, inst: &Instance) -> Option<(Vector, usize, usize)> {
         VarRef::Param(i) => (Vector::Params, l.params[i.index()], 0),
         VarRef::State(i) => (Vector::States, l.states[i.index()], 0),
         VarRef::Alg(i) => (Vector::Algs, l.algs[i.index()], 0),
+        VarRef::AlgRate(i) => (Vector::AlgRates, l.algs[i.index()], 0),
         VarRef::Mu(c) => (Vector::Mu, l.rows[c.index()], 0),
         VarRef::Input(i, j) => (Vector::Inputs, l.input_value(i.index(), j as usize), 0),
         VarRef::Time | VarRef::Elem(_) | VarRef::Size(_) => return None,
@@ -161,6 +167,7 @@ fn var(v: VarRef, e: usize, inst: &Instance, x: &Values<'_>) -> f64 {
         VarRef::Param(i) => x.params[l.params[i.index()].at(e)],
         VarRef::State(i) => x.states[l.states[i.index()].at(e)],
         VarRef::Alg(i) => x.algs[l.algs[i.index()].at(e)],
+        VarRef::AlgRate(i) => x.alg_rates[l.algs[i.index()].at(e)],
         VarRef::Mu(c) => x.mu[l.rows[c.index()].at(e)],
         VarRef::Input(i, j) => x.inputs[l.input_value(i.index(), j as usize).at(e)],
         VarRef::Time => x.t,
@@ -396,7 +403,9 @@ fn sink_chunk(
             let (slot, j) = match d {
                 Dest::Rhs(s) => (l.states[s.index()], 0),
                 Dest::W(c, j) => (l.w[c.index()], j as usize),
-                Dest::S(c) | Dest::AlphaHat(c) | Dest::Beta(c) => (l.rows[c.index()], 0),
+                Dest::S(c) | Dest::AlphaHat(c) | Dest::Beta(c) | Dest::Rate(c) => {
+                    (l.rows[c.index()], 0)
+                }
             };
             let o = &mut *out[d.output()];
             let first = slot.at(start) + j;

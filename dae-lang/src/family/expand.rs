@@ -82,6 +82,9 @@ impl Expander<'_> {
                     RExpr::Var(VarRef::State(StateId::new(l.states[s.index()].at(e))))
                 }
                 VarRef::Alg(a) => RExpr::Var(VarRef::Alg(AlgId::new(l.algs[a.index()].at(e)))),
+                VarRef::AlgRate(a) => {
+                    RExpr::Var(VarRef::AlgRate(AlgId::new(l.algs[a.index()].at(e))))
+                }
                 VarRef::Time | VarRef::Mu(_) => RExpr::Var(*v),
                 VarRef::Elem(_) => RExpr::Num(e as f64),
                 VarRef::Size(s) => RExpr::Num(inst.size_values[s.index()] as f64),

@@ -8,8 +8,9 @@
 //!   [`Coupling`]s of `J_Omega`: everything construction needs to build an
 //!   [`Instance`] at given sizes ([`construct`]: the reference, with every check that
 //!   needs sizes);
-//! * four [`Program`]s, one per evaluation function of the runtime's `Model` trait
-//!   (`rhs`, `sliding`, `jacobian`, `beta`): groups of straight-line code run once or
+//! * five [`Program`]s, one per evaluation function of the runtime's `Model` trait
+//!   (`rhs`, `sliding`, `jacobian`, `beta`, and `rate` for `omega_rate`:
+//!   `Omega' = beta + J_Omega z'` without `J_Omega`): groups of straight-line code run once or
 //!   once per element of a set, reading the model's vectors at element paths, with
 //!   gathers, scatter-adds and the kernel loops of `J_Omega`. [`Program::eval`] is the
 //!   vectorised interpreter (each instruction over chunks of elements).
@@ -229,16 +230,23 @@ pub struct FamilyModel {
     pub jacobian: Program,
     /// Writes `beta` (output 0).
     pub beta: Program,
+    /// Writes `Omega' = beta + J_Omega z'` (output 0), the rate of `Omega` with the
+    /// algebraic unknowns moving at `z' =` [`Values::alg_rates`]: the derivative of
+    /// `Omega` along the motion (the walk of `beta` with `D[z] = z'`), so that `J_Omega z'` comes out in the form of `Omega`'s own terms (an incidence
+    /// sum over links stays one sum) and costs about what `beta` costs, without
+    /// `J_Omega`'s entry per pair of unknowns.
+    pub rate: Program,
 }
 
 impl FamilyModel {
     /// The programs with their names, in the order of the `Model` trait.
-    pub fn programs(&self) -> [(&'static str, &Program); 4] {
+    pub fn programs(&self) -> [(&'static str, &Program); 5] {
         [
             ("rhs", &self.rhs),
             ("sliding", &self.sliding),
             ("jacobian", &self.jacobian),
             ("beta", &self.beta),
+            ("rate", &self.rate),
         ]
     }
 }

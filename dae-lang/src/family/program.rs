@@ -66,6 +66,8 @@ pub enum Dest {
     AlphaHat(ConstraintId),
     /// `beta[layout.rows[c].at(e)]` (beta, output 0).
     Beta(ConstraintId),
+    /// `rate[layout.rows[c].at(e)]`: `Omega'` (rate, output 0).
+    Rate(ConstraintId),
 }
 
 impl Dest {

@@ -267,6 +267,7 @@ pub(crate) fn compile(
         .collect();
     let mut sliding = Vec::new();
     let mut beta = Vec::new();
+    let mut rate = Vec::new();
     let mut factors = Vec::new();
     let mut kernels = Vec::new();
     let mut couplings = Vec::new();
@@ -279,6 +280,7 @@ pub(crate) fn compile(
         sliding.push(Root::Out(c.s, Dest::S(id), set));
         sliding.push(Root::Out(c.alpha_hat, Dest::AlphaHat(id), set));
         beta.push(Root::Out(c.beta, Dest::Beta(id), set));
+        rate.push(Root::Out(c.rate, Dest::Rate(id), set));
         for k in &c.kernels {
             for &(r, col) in &k.terms {
                 factors.push(Root::Factor(r));
@@ -312,6 +314,7 @@ pub(crate) fn compile(
         sliding: program(arena, &sliding, &[]),
         jacobian: program(arena, &factors, &kernels),
         beta: program(arena, &beta, &[]),
+        rate: program(arena, &rate, &[]),
         construction,
     };
     crate::compiled::CompiledModel {

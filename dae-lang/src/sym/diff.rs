@@ -8,6 +8,8 @@
 //! gathers and sums (both are linear). Walking once with these leaf rules gives the same expression as
 //! summing partials, without building `n` partial derivatives first. A per-node bit set of
 //! the leaf kinds below it answers "is this a constant for this variable?" in O(1).
+//! The derivative along the motion ([`DiffContext::dt_moving`]) is the same walk with
+//! `D[z_k] = z_k'` (the leaf [`VarRef::AlgRate`]): of `Omega`, `beta + J_Omega z'`.
 //!
 //! Non-smooth functions: `d abs(u) = sign(u) u'`, `d sign(u) = 0`, and
 //! `d min(a, b) = (a' + b')/2 - sign(a - b) (a' - b')/2`,
@@ -22,7 +24,10 @@ use crate::{Func, VarRef};
 #[derive(Clone, Copy)]
 enum Seed {
     Partial(Id),
+    /// Along the flow with the algebraic unknowns held.
     Time,
+    /// Along the flow with the algebraic unknowns moving: `D[z_k] = z_k'`.
+    Motion,
 }
 
 /// What differentiation remembers between calls: the flow of the total time derivative
@@ -37,6 +42,8 @@ pub struct DiffContext {
     partial: HashMap<(Id, Id), Id>,
     /// Total time derivatives along `flow`.
     total: HashMap<Id, Id>,
+    /// Total time derivatives along `flow` with the algebraic unknowns moving.
+    moving: HashMap<Id, Id>,
 }
 
 impl DiffContext {
@@ -75,6 +82,19 @@ impl DiffContext {
         }
         .d(e, Seed::Time)
     }
+
+    /// The total time derivative along the flow with the algebraic unknowns moving too:
+    /// [`DiffContext::dt`] plus `sum_k (de/dz_k) z_k'`, each `z_k'` the leaf
+    /// [`VarRef::AlgRate`]`(k)`. Of `Omega` it is `Omega' = beta + J_Omega z'`, with
+    /// `J_Omega z'` in the form of `Omega`'s own terms (a family sum stays one sum)
+    /// instead of an entry per pair of unknowns.
+    pub fn dt_moving(&mut self, arena: &mut Arena, e: Id) -> Id {
+        Walk {
+            a: arena,
+            ctx: self,
+        }
+        .d(e, Seed::Motion)
+    }
 }
 
 /// One derivative being taken: the arena it builds in and the context it remembers in.
@@ -88,6 +108,7 @@ impl Walk<'_> {
         let relevant = match seed {
             Seed::Partial(v) => self.a.deps(v) & self.a.deps(e) != 0,
             Seed::Time => self.a.deps(e) & (dep::STATE | dep::TIME | dep::INPUT) != 0,
+            Seed::Motion => self.a.deps(e) & (dep::STATE | dep::TIME | dep::INPUT | dep::ALG) != 0,
         };
         if !relevant {
             return self.a.num(0.0);
@@ -95,6 +116,7 @@ impl Walk<'_> {
         let hit = match seed {
             Seed::Partial(v) => self.ctx.partial.get(&(e, v)),
             Seed::Time => self.ctx.total.get(&e),
+            Seed::Motion => self.ctx.moving.get(&e),
         };
         if let Some(&r) = hit {
             return r;
@@ -103,6 +125,7 @@ impl Walk<'_> {
         match seed {
             Seed::Partial(v) => self.ctx.partial.insert((e, v), r),
             Seed::Time => self.ctx.total.insert(e, r),
+            Seed::Motion => self.ctx.moving.insert(e, r),
         };
         r
     }
@@ -116,13 +139,15 @@ impl Walk<'_> {
             Node::Const(_) | Node::Var(_) => {
                 let one = match seed {
                     Seed::Partial(v) => e == v,
-                    Seed::Time => matches!(self.a.node(e), Node::Var(VarRef::Time)),
+                    Seed::Time | Seed::Motion => {
+                        matches!(self.a.node(e), Node::Var(VarRef::Time))
+                    }
                 };
                 if one {
                     return self.a.num(1.0);
                 }
                 match (seed, self.a.node(e)) {
-                    (Seed::Time, Node::Var(VarRef::State(k))) => {
+                    (Seed::Time | Seed::Motion, Node::Var(VarRef::State(k))) => {
                         let k = k.index();
                         self.ctx
                             .flow
@@ -131,9 +156,13 @@ impl Walk<'_> {
                             .unwrap_or_else(|| self.a.num(f64::NAN))
                     }
                     // The derivative of an input is its next derivative.
-                    (Seed::Time, Node::Var(VarRef::Input(i, j))) => {
+                    (Seed::Time | Seed::Motion, Node::Var(VarRef::Input(i, j))) => {
                         let next = VarRef::Input(*i, j.saturating_add(1));
                         self.a.var(next)
+                    }
+                    (Seed::Motion, Node::Var(VarRef::Alg(k))) => {
+                        let rate = VarRef::AlgRate(*k);
+                        self.a.var(rate)
                     }
                     _ => self.a.num(0.0),
                 }

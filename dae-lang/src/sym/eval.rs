@@ -52,8 +52,9 @@ impl Point<'_> {
             VarRef::Alg(i) => get(self.algs, i.index()),
             VarRef::Time => self.t,
             VarRef::Mu(i) => get(self.mu, i.index()),
-            // Family leaves need an instance (`Program::eval`).
-            VarRef::Input(..) | VarRef::Elem(_) | VarRef::Size(_) => f64::NAN,
+            // Family leaves need an instance (`Program::eval`); the rate of an unknown
+            // is only in `Omega'`, which version-1 models do not compile.
+            VarRef::Input(..) | VarRef::Elem(_) | VarRef::Size(_) | VarRef::AlgRate(_) => f64::NAN,
         }
     }
 }

@@ -171,7 +171,7 @@ impl LeafSets {
         match v {
             VarRef::Param(i) => get(&self.params, i.index()),
             VarRef::State(i) => get(&self.states, i.index()),
-            VarRef::Alg(i) => get(&self.algs, i.index()),
+            VarRef::Alg(i) | VarRef::AlgRate(i) => get(&self.algs, i.index()),
             VarRef::Input(i, _) => get(&self.inputs, i.index()),
             VarRef::Mu(c) => get(&self.constraints, c.index()),
             VarRef::Elem(s) => Some(s),
@@ -197,6 +197,8 @@ pub(crate) mod dep {
     /// An input of a family model (it changes with time: its derivative is the next
     /// input derivative).
     pub const INPUT: u8 = 32;
+    /// The rate of an algebraic unknown (only in `Omega'`).
+    pub const ALG_RATE: u8 = 64;
 
     /// The bit of a leaf (elements and sizes are constants, like parameters).
     pub fn of(v: VarRef) -> u8 {
@@ -207,6 +209,7 @@ pub(crate) mod dep {
             VarRef::Time => TIME,
             VarRef::Mu(_) => MU,
             VarRef::Input(..) => INPUT,
+            VarRef::AlgRate(_) => ALG_RATE,
         }
     }
 }

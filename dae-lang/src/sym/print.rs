@@ -56,6 +56,7 @@ impl Names {
             VarRef::Param(i) => named(&self.params, "p", i.index()),
             VarRef::State(i) => named(&self.states, "x", i.index()),
             VarRef::Alg(i) => named(&self.algs, "z", i.index()),
+            VarRef::AlgRate(i) => format!("der({})", named(&self.algs, "z", i.index())),
             VarRef::Time => "t".into(),
             VarRef::Mu(i) => match &self.family {
                 Some(f) if f.constraint_families.get(i.index()) == Some(&true) => {

@@ -109,7 +109,7 @@ impl Inputs<'_> {
             VarRef::Alg(i) => self.algs[i.index()],
             VarRef::Mu(i) => self.mu[i.index()],
             VarRef::Time => self.t,
-            VarRef::Input(..) | VarRef::Elem(_) | VarRef::Size(_) => f64::NAN,
+            VarRef::Input(..) | VarRef::Elem(_) | VarRef::Size(_) | VarRef::AlgRate(_) => f64::NAN,
         }
     }
 }

@@ -317,6 +317,7 @@ impl<K: Kernels> FamilyInstance<K> {
             params: &self.inst.params,
             states: x,
             algs: z,
+            alg_rates: &[],
             mu,
             inputs,
             t,
@@ -417,5 +418,17 @@ impl<K: Kernels> Model for FamilyInstance<K> {
         let v = self.values(t, x, z, &self.zero_mu, &inputs);
         self.kernels
             .beta(&self.inst, &v, &mut self.scratch.borrow_mut(), beta);
+    }
+    /// The rate program: `Omega` differentiated along the motion, so `J_Omega zdot`
+    /// costs about what `beta` does and `J_Omega` is not evaluated.
+    fn omega_rate(&self, t: f64, x: &[f64], z: &[f64], zdot: &[f64], rate: &mut [f64]) -> bool {
+        let inputs = self.inputs.at(t);
+        let v = Values {
+            alg_rates: zdot,
+            ..self.values(t, x, z, &self.zero_mu, &inputs)
+        };
+        self.kernels
+            .omega_rate(&self.inst, &v, &mut self.scratch.borrow_mut(), rate);
+        true
     }
 }

@@ -1,4 +1,4 @@
-//! The interpreter back end of family models: the four programs of the compiled form
+//! The interpreter back end of family models: the five programs of the compiled form
 //! run by [`Program::eval`](dae_lang::family::Program::eval), each instruction over
 //! chunks of elements.
 
@@ -23,6 +23,7 @@ pub struct InterpreterScratch {
     sliding: Scratch,
     jacobian: Scratch,
     beta: Scratch,
+    rate: Scratch,
 }
 
 impl Interpreter {
@@ -64,6 +65,7 @@ impl Kernels for Interpreter {
             sliding: Scratch::new(&self.model.sliding, inst),
             jacobian: Scratch::new(&self.model.jacobian, inst),
             beta: Scratch::new(&self.model.beta, inst),
+            rate: Scratch::new(&self.model.rate, inst),
         }
     }
 
@@ -107,6 +109,16 @@ impl Kernels for Interpreter {
 
     fn beta(&self, inst: &Instance, v: &Values<'_>, s: &mut InterpreterScratch, beta: &mut [f64]) {
         run(&self.model.beta, inst, v, &mut s.beta, &mut [beta]);
+    }
+
+    fn omega_rate(
+        &self,
+        inst: &Instance,
+        v: &Values<'_>,
+        s: &mut InterpreterScratch,
+        rate: &mut [f64],
+    ) {
+        run(&self.model.rate, inst, v, &mut s.rate, &mut [rate]);
     }
 }
 
