@@ -20,42 +20,7 @@
 
 use std::time::Duration;
 
-use dae_bench::{RELAXED_MU_PER_FRAME, left_a_guarantee, run_relaxed_at, scene_of_spec};
-use dae_particles::AdaptiveMu;
-
-/// What the design does with `v` between updates, and with `mu`.
-#[derive(Clone, Copy, PartialEq)]
-enum Design {
-    /// `v` held (`dbsmc-relaxed`).
-    Held,
-    /// `v` ramped against the drift (`dbsmc-ramp`).
-    Ramp,
-    /// Ramped, `mu` searched for during the run (`dbsmc-adapt`).
-    Adapt,
-}
-
-/// The longest step's distances from the design's, as factors.
-const NUDGES: [f64; 9] = [0.96, 0.97, 0.98, 0.99, 1.0, 1.01, 1.02, 1.03, 1.04];
-
-/// One draw: its counts and cost per frame, whether it left its layer or its strain
-/// bound, and whether it ran the whole scene.
-struct Draw {
-    updates: f64,
-    steps: f64,
-    ms: f64,
-    left: bool,
-    complete: bool,
-}
-
-/// The median, least and largest of `values` (nine draws).
-fn spread(mut values: Vec<f64>) -> (f64, f64, f64) {
-    values.sort_by(f64::total_cmp);
-    (
-        values[values.len() / 2],
-        values[0],
-        values[values.len() - 1],
-    )
-}
+use dae_bench::{FrameTied, RELAXED_STEP_PER_MU, frame_tied_draws, scene_of_spec};
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -64,9 +29,9 @@ fn main() {
         let eps: f64 = get(1, "1e-3").parse().map_err(|_| "EPS is not a number")?;
         let gain: f64 = get(2, "4").parse().map_err(|_| "C is not a number")?;
         let design = match get(3, "ramp").as_str() {
-            "ramp" => Design::Ramp,
-            "held" => Design::Held,
-            "adapt" => Design::Adapt,
+            "ramp" => FrameTied::Ramp,
+            "held" => FrameTied::Held,
+            "adapt" => FrameTied::Adapt,
             other => return Err(format!("`{other}`: held, ramp or adapt")),
         };
         Ok((s, eps, gain, design))
@@ -76,13 +41,14 @@ fn main() {
         std::process::exit(2);
     });
     println!(
-        "{}, eps = {eps:e}, c = {gain}, {}\n",
+        "{}, eps = {eps:e}, c = {gain}, {} (the benchmark's longest step: mu / {})\n",
         scene.title(),
         match design {
-            Design::Held => "v held",
-            Design::Ramp => "v ramped",
-            Design::Adapt => "v ramped, mu searched for from a quarter frame",
-        }
+            FrameTied::Held => "v held",
+            FrameTied::Ramp => "v ramped",
+            FrameTied::Adapt => "v ramped, mu searched for from a quarter frame",
+        },
+        1.0 / RELAXED_STEP_PER_MU
     );
     println!(
         "| longest step | updates / frame: at exactly this step; median [min, max] of the 9 | steps / frame, median [min, max] | ms / frame, median [min, max] (one timing each) | layer or strain left |"
@@ -90,58 +56,24 @@ fn main() {
     println!("|---|---|---|---|---|");
     let mut lost_any = false;
     for per_mu in [0.25, 0.5, 1.0] {
-        let draws: Vec<Draw> = NUDGES
-            .iter()
-            .map(|nudge| {
-                let search = (design == Design::Adapt).then(AdaptiveMu::default);
-                let budget = Duration::from_secs(600);
-                let r = run_relaxed_at(
-                    &scene,
-                    eps,
-                    gain,
-                    RELAXED_MU_PER_FRAME,
-                    search,
-                    budget,
-                    |s| {
-                        let s = if design == Design::Held {
-                            s
-                        } else {
-                            s.ramp_against_drift()
-                        };
-                        let mu = s.mu[0];
-                        s.max_step(per_mu * nudge * mu)
-                    },
-                );
-                let f = r.frames.max(1) as f64;
-                Draw {
-                    updates: r.counters.updates as f64 / f,
-                    steps: r.counters.steps as f64 / f,
-                    ms: r.ms_mean,
-                    left: left_a_guarantee(&r),
-                    complete: r.complete(),
-                }
-            })
-            .collect();
-        let at_design = draws[NUDGES.len() / 2].updates;
-        let of = |f: fn(&Draw) -> f64| spread(draws.iter().map(f).collect());
-        let (upd, steps, ms) = (of(|d| d.updates), of(|d| d.steps), of(|d| d.ms));
-        let lost = draws.iter().filter(|d| d.left).count();
-        let short = draws.iter().filter(|d| !d.complete).count();
-        lost_any |= lost > 0;
+        let d = frame_tied_draws(&scene, design, eps, gain, per_mu, Duration::from_secs(600));
+        lost_any |= d.left > 0;
         println!(
-            "| mu / {} | {at_design:.1}: {:.1} [{:.1}, {:.1}] | {:.1} [{:.1}, {:.1}] | {:.3} [{:.3}, {:.3}] | {lost} of 9{} |",
+            "| mu / {} | {:.1}: {:.1} [{:.1}, {:.1}] | {:.1} [{:.1}, {:.1}] | {:.3} [{:.3}, {:.3}] | {} of 9{} |",
             1.0 / per_mu,
-            upd.0,
-            upd.1,
-            upd.2,
-            steps.0,
-            steps.1,
-            steps.2,
-            ms.0,
-            ms.1,
-            ms.2,
-            if short > 0 {
-                format!(" ({short} incomplete)")
+            d.updates_at_design,
+            d.updates.median,
+            d.updates.min,
+            d.updates.max,
+            d.steps.median,
+            d.steps.min,
+            d.steps.max,
+            d.ms.median,
+            d.ms.min,
+            d.ms.max,
+            d.left,
+            if d.incomplete > 0 {
+                format!(" ({} incomplete)", d.incomplete)
             } else {
                 String::new()
             }

@@ -2,6 +2,7 @@
 //! [`dae_particles::Backend`] seam, the metrics, the CSV, the charts and the pictures.
 
 mod charts;
+mod draws;
 mod pictures;
 mod pool;
 mod report;
@@ -12,6 +13,7 @@ mod series;
 mod targets;
 
 pub use charts::{Line, loglog, ratio_chart, strain_chart};
+pub use draws::{Draws, FrameTied, NUDGES, Spread, frame_tied_draws};
 pub use pictures::{Capture, capture_frame, strain_colour, write_pictures};
 pub use pool::{default_workers, parallel_map, parse_workers};
 pub use report::{
@@ -31,4 +33,4 @@ pub use scenes::{
 pub use series::{
     NotRun, STRAIN_LEVELS, bisect_least_holding, ends_series, holding_brackets, run_series,
 };
-pub use targets::targets_section;
+pub use targets::{SceneDraws, heavy_chain_choices, targets_section};
