@@ -1,7 +1,7 @@
 //! Rust code generation for family models (language version 2).
 //!
-//! A family model is compiled once, as templates: five [`Program`]s (`rhs`, `sliding`,
-//! `jacobian`, `beta`, and `rate` for `Omega'`) of groups of straight-line code, each run once or once per
+//! A family model is compiled once, as templates: four [`Program`]s (`rhs`, `sliding`,
+//! `jacobian`, and `rate` for `Omega'` and `beta`) of groups of straight-line code, each run once or once per
 //! element of a set. The generated type implements `::dae_runtime::family::Kernels`:
 //!
 //! * each group is one `for e in 0..inst.set_sizes[S]` loop (a block for a scalar
@@ -93,7 +93,6 @@ pub(crate) fn generate_family(model: &CompiledModel, fam: &FamilyModel) -> Token
     let rhs = program_body(&fam.rhs, c, &[quote!(dx)]);
     let sliding = program_body(&fam.sliding, c, &[quote!(w), quote!(s), quote!(alpha_hat)]);
     let jacobian = program_body(&fam.jacobian, c, &[quote!(values)]);
-    let beta = program_body(&fam.beta, c, &[quote!(beta)]);
     let rate = program_body(&fam.rate, c, &[quote!(rate)]);
     let construction = construction_expr(c);
 
@@ -196,17 +195,6 @@ pub(crate) fn generate_family(model: &CompiledModel, fam: &FamilyModel) -> Token
                 #jacobian
             }
 
-            fn beta(
-                &self,
-                inst: &#dl::family::Instance,
-                vals: &#dl::family::Values<'_>,
-                scratch: &mut #scratch_ty,
-                beta: &mut [f64],
-            ) {
-                let scratch_arrays = &mut scratch.beta;
-                #beta
-            }
-
             fn omega_rate(
                 &self,
                 inst: &#dl::family::Instance,
@@ -304,9 +292,7 @@ impl DestSlot {
         match d {
             Dest::Rhs(s) => DestSlot::State(s.index()),
             Dest::W(c, _) => DestSlot::W(c.index()),
-            Dest::S(c) | Dest::AlphaHat(c) | Dest::Beta(c) | Dest::Rate(c) => {
-                DestSlot::Row(c.index())
-            }
+            Dest::S(c) | Dest::AlphaHat(c) | Dest::Rate(c) => DestSlot::Row(c.index()),
         }
     }
 
@@ -557,7 +543,7 @@ fn program_body(p: &Program, c: &Construction, outs: &[TokenStream]) -> TokenStr
                         let stride = match d {
                             Dest::Rhs(x) => usize::from(c.states[x.index()].family.dim.max(1)),
                             Dest::W(k, _) => c.constraints[k.index()].index,
-                            Dest::S(_) | Dest::AlphaHat(_) | Dest::Beta(_) | Dest::Rate(_) => 1,
+                            Dest::S(_) | Dest::AlphaHat(_) | Dest::Rate(_) => 1,
                         };
                         let step = if g.over.is_some() {
                             scaled(stride, quote!(e))

@@ -194,7 +194,7 @@ impl VectorWrites {
                 let r = c.constraints[k.index()].index;
                 (r >= 2).then_some(((d.output(), k.index()), j as usize, r))
             }
-            Dest::S(_) | Dest::AlphaHat(_) | Dest::Beta(_) | Dest::Rate(_) => None,
+            Dest::S(_) | Dest::AlphaHat(_) | Dest::Rate(_) => None,
         }
     }
 

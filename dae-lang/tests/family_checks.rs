@@ -32,6 +32,8 @@ struct Point {
     params: Vec<f64>,
     states: Vec<f64>,
     algs: Vec<f64>,
+    /// `z' = 0`: the rate program gives `beta` with it.
+    held: Vec<f64>,
     mu: Vec<f64>,
     inputs: Vec<f64>,
     t: f64,
@@ -43,7 +45,7 @@ impl Point {
             params: &self.params,
             states: &self.states,
             algs: &self.algs,
-            alg_rates: &[],
+            alg_rates: &self.held,
             mu: &self.mu,
             inputs: &self.inputs,
             t: self.t,
@@ -59,6 +61,7 @@ impl Point {
                 .map(|x| x + rng.uniform(-spread, spread))
                 .collect(),
             algs: inst.algs.iter().map(|_| rng.uniform(-1.0, 1.0)).collect(),
+            held: vec![0.0; inst.algs.len()],
             mu: (0..inst.layout.n_rows)
                 .map(|_| rng.uniform(0.01, 0.2))
                 .collect(),
@@ -228,7 +231,7 @@ fn jacobian_and_beta_match_finite_differences() {
     // Taylor polynomials.
     let l = &inst.layout;
     let rhs = run(&f.rhs, &inst, &x, &[l.n_states]).remove(0);
-    let beta = run(&f.beta, &inst, &x, &[l.n_rows]).remove(0);
+    let beta = run(&f.rate, &inst, &x, &[l.n_rows]).remove(0);
     let moved = |s: f64| {
         let mut p = x.clone();
         p.t += s;
@@ -377,7 +380,7 @@ fn agree(family_file: &str, scalar_file: &str, scalar: impl Fn(&str) -> Option<S
                 so[2][k]
             );
         }
-        let beta = run(&f.beta, &inst, &x, &[l.n_rows]).remove(0);
+        let beta = run(&f.rate, &inst, &x, &[l.n_rows]).remove(0);
         for (a, b) in beta.iter().zip(&so[3]) {
             assert!(close(*a, *b, 1e-12), "beta {beta:?} vs {:?}", so[3]);
         }

@@ -72,10 +72,21 @@ fn eval_family(c: &CompiledModel, inst: &Instance, p: &Point) -> Outputs {
     run(&f.sliding, &mut [&mut w, &mut s, &mut ah]);
     let mut values = vec![f64::NAN; inst.jacobian.entries.len()];
     run(&f.jacobian, &mut [&mut values]);
-    let mut beta = vec![f64::NAN; l.n_rows];
-    run(&f.beta, &mut [&mut beta]);
     let mut rate = vec![f64::NAN; l.n_rows];
     run(&f.rate, &mut [&mut rate]);
+    // `beta` is the rate program with the unknowns held.
+    let held = vec![0.0; l.n_algs];
+    let mut beta = vec![f64::NAN; l.n_rows];
+    let mut scratch = Scratch::new(&f.rate, inst);
+    f.rate.eval(
+        inst,
+        &Values {
+            alg_rates: &held,
+            ..x
+        },
+        &mut scratch,
+        &mut [&mut beta],
+    );
     let n = l.n_rows;
     let mut jacobian = vec![0.0; n * l.n_algs];
     for (&(r, col), v) in inst.jacobian.entries.iter().zip(values) {

@@ -92,12 +92,14 @@ fn kernel_times<K: Kernels>(k: &K, inst: &Instance) -> [f64; 4] {
     let l = &inst.layout;
     let mut scratch = k.scratch(inst);
     let algs = vec![1.0; l.n_algs];
+    // `z' = 0`: the rate program gives `beta`, as `Model::beta` runs it.
+    let rates = vec![0.0; l.n_algs];
     let mu = vec![0.1; l.n_rows];
     let v = Values {
         params: &inst.params,
         states: &inst.states,
         algs: &algs,
-        alg_rates: &[],
+        alg_rates: &rates,
         mu: &mu,
         inputs: &inst.inputs,
         t: 0.1,
@@ -114,7 +116,7 @@ fn kernel_times<K: Kernels>(k: &K, inst: &Instance) -> [f64; 4] {
         time(|| k.rhs(inst, black_box(&v), &mut scratch, &mut dx)),
         time(|| k.sliding(inst, black_box(&v), &mut scratch, &mut w, &mut s, &mut ah)),
         time(|| k.jacobian(inst, black_box(&v), &mut scratch, &mut j)),
-        time(|| k.beta(inst, black_box(&v), &mut scratch, &mut b)),
+        time(|| k.omega_rate(inst, black_box(&v), &mut scratch, &mut b)),
     ]
 }
 

@@ -76,7 +76,7 @@ impl Point {
     }
 }
 
-/// Every output of the five functions, `(function, outputs)`, from the interpreter.
+/// Every output of the four functions, `(function, outputs)`, from the interpreter.
 fn interpreted(f: &FamilyModel, inst: &Instance, v: &Values<'_>) -> Vec<(&'static str, Vec<f64>)> {
     let l = &inst.layout;
     let run = |p: &Program, lens: &[usize]| -> Vec<f64> {
@@ -91,7 +91,6 @@ fn interpreted(f: &FamilyModel, inst: &Instance, v: &Values<'_>) -> Vec<(&'stati
         ("rhs", run(&f.rhs, &[l.n_states])),
         ("sliding", run(&f.sliding, &[l.n_w, l.n_rows, l.n_rows])),
         ("jacobian", run(&f.jacobian, &[nj])),
-        ("beta", run(&f.beta, &[l.n_rows])),
         ("rate", run(&f.rate, &[l.n_rows])),
     ]
 }
@@ -108,17 +107,14 @@ fn generated<K: Kernels>(k: &K, inst: &Instance, v: &Values<'_>) -> Vec<(&'stati
     k.sliding(inst, v, &mut scratch, &mut w, &mut s, &mut ah);
     let mut jac = nan(inst.jacobian.entries.len());
     k.jacobian(inst, v, &mut scratch, &mut jac);
-    let mut beta = nan(l.n_rows);
-    k.beta(inst, v, &mut scratch, &mut beta);
-    // Twice: the scratch carries nothing from one evaluation to the next.
-    k.beta(inst, v, &mut scratch, &mut beta);
     let mut rate = nan(l.n_rows);
+    k.omega_rate(inst, v, &mut scratch, &mut rate);
+    // Twice: the scratch carries nothing from one evaluation to the next.
     k.omega_rate(inst, v, &mut scratch, &mut rate);
     vec![
         ("rhs", dx),
         ("sliding", [w, s, ah].concat()),
         ("jacobian", jac),
-        ("beta", beta),
         ("rate", rate),
     ]
 }

@@ -403,9 +403,7 @@ fn sink_chunk(
             let (slot, j) = match d {
                 Dest::Rhs(s) => (l.states[s.index()], 0),
                 Dest::W(c, j) => (l.w[c.index()], j as usize),
-                Dest::S(c) | Dest::AlphaHat(c) | Dest::Beta(c) | Dest::Rate(c) => {
-                    (l.rows[c.index()], 0)
-                }
+                Dest::S(c) | Dest::AlphaHat(c) | Dest::Rate(c) => (l.rows[c.index()], 0),
             };
             let o = &mut *out[d.output()];
             let first = slot.at(start) + j;

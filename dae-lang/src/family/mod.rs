@@ -8,10 +8,10 @@
 //!   [`Coupling`]s of `J_Omega`: everything construction needs to build an
 //!   [`Instance`] at given sizes ([`construct`]: the reference, with every check that
 //!   needs sizes);
-//! * five [`Program`]s, one per evaluation function of the runtime's `Model` trait
-//!   (`rhs`, `sliding`, `jacobian`, `beta`, and `rate` for `omega_rate`:
-//!   `Omega' = beta + J_Omega z'` without `J_Omega`): groups of straight-line code run once or
-//!   once per element of a set, reading the model's vectors at element paths, with
+//! * four [`Program`]s for the evaluation functions of the runtime's `Model` trait
+//!   (`rhs`, `sliding`, `jacobian`, and `rate` for `omega_rate` and `beta`:
+//!   `Omega' = beta + J_Omega z'` without `J_Omega`, `beta` at `z' = 0`): groups of
+//!   straight-line code run once or once per element of a set, reading the model's vectors at element paths, with
 //!   gathers, scatter-adds and the kernel loops of `J_Omega`. [`Program::eval`] is the
 //!   vectorised interpreter (each instruction over chunks of elements).
 //!
@@ -228,24 +228,23 @@ pub struct FamilyModel {
     pub sliding: Program,
     /// Writes the values of `J_Omega` at the instance's pattern (output 0).
     pub jacobian: Program,
-    /// Writes `beta` (output 0).
-    pub beta: Program,
     /// Writes `Omega' = beta + J_Omega z'` (output 0), the rate of `Omega` with the
     /// algebraic unknowns moving at `z' =` [`Values::alg_rates`]: the derivative of
-    /// `Omega` along the motion (the walk of `beta` with `D[z] = z'`), so that `J_Omega z'` comes out in the form of `Omega`'s own terms (an incidence
-    /// sum over links stays one sum) and costs about what `beta` costs, without
-    /// `J_Omega`'s entry per pair of unknowns.
+    /// `Omega` along the motion (the walk of `beta` with `D[z] = z'`), so that
+    /// `J_Omega z'` comes out in the form of `Omega`'s own terms (an incidence sum over
+    /// links stays one sum) and costs about what `beta` costs, without `J_Omega`'s
+    /// entry per pair of unknowns. With `z' = 0` it is `beta`: one program serves both
+    /// (a separate `beta` program cost as much code again).
     pub rate: Program,
 }
 
 impl FamilyModel {
     /// The programs with their names, in the order of the `Model` trait.
-    pub fn programs(&self) -> [(&'static str, &Program); 5] {
+    pub fn programs(&self) -> [(&'static str, &Program); 4] {
         [
             ("rhs", &self.rhs),
             ("sliding", &self.sliding),
             ("jacobian", &self.jacobian),
-            ("beta", &self.beta),
             ("rate", &self.rate),
         ]
     }

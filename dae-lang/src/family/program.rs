@@ -64,9 +64,7 @@ pub enum Dest {
     S(ConstraintId),
     /// `alpha_hat[layout.rows[c].at(e)]` (sliding, output 2).
     AlphaHat(ConstraintId),
-    /// `beta[layout.rows[c].at(e)]` (beta, output 0).
-    Beta(ConstraintId),
-    /// `rate[layout.rows[c].at(e)]`: `Omega'` (rate, output 0).
+    /// `rate[layout.rows[c].at(e)]`: `Omega'`, or `beta` at `z' = 0` (rate, output 0).
     Rate(ConstraintId),
 }
 
@@ -329,7 +327,7 @@ mod tests {
         let s4 = tape.push(Instr::Unary(UnaryOp::Neg, s3));
         tape.push_output(s4);
         tape.push_output(s0);
-        let out = Sink::Out(Dest::Beta(ConstraintId::new(0)));
+        let out = Sink::Out(Dest::Rate(ConstraintId::new(0)));
         let group = Group {
             over: Some(SetId::new(0)),
             tape,

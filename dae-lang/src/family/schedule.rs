@@ -266,7 +266,6 @@ pub(crate) fn compile(
         })
         .collect();
     let mut sliding = Vec::new();
-    let mut beta = Vec::new();
     let mut rate = Vec::new();
     let mut factors = Vec::new();
     let mut kernels = Vec::new();
@@ -279,7 +278,6 @@ pub(crate) fn compile(
         }
         sliding.push(Root::Out(c.s, Dest::S(id), set));
         sliding.push(Root::Out(c.alpha_hat, Dest::AlphaHat(id), set));
-        beta.push(Root::Out(c.beta, Dest::Beta(id), set));
         rate.push(Root::Out(c.rate, Dest::Rate(id), set));
         for k in &c.kernels {
             for &(r, col) in &k.terms {
@@ -313,7 +311,6 @@ pub(crate) fn compile(
         rhs: program(arena, &rhs, &[]),
         sliding: program(arena, &sliding, &[]),
         jacobian: program(arena, &factors, &kernels),
-        beta: program(arena, &beta, &[]),
         rate: program(arena, &rate, &[]),
         construction,
     };

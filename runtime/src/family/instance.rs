@@ -26,6 +26,8 @@ pub struct FamilyInstance<K: Kernels> {
     indices: Vec<usize>,
     /// `mu` for the functions that do not read it.
     zero_mu: Vec<f64>,
+    /// `z' = 0`: the rate program gives `beta` with it.
+    zero_rates: Vec<f64>,
     inputs: Inputs,
     scratch: RefCell<K::Scratch>,
     names: [OnceCell<NameTable>; 5],
@@ -98,6 +100,7 @@ impl<K: Kernels> FamilyInstance<K> {
         FamilyInstance {
             name: "family".into(),
             zero_mu: vec![0.0; l.n_rows],
+            zero_rates: vec![0.0; l.n_algs],
             indices,
             inputs,
             scratch,
@@ -413,11 +416,9 @@ impl<K: Kernels> Model for FamilyInstance<K> {
         self.kernels
             .jacobian(&self.inst, &v, &mut self.scratch.borrow_mut(), values);
     }
+    /// The rate program with the unknowns held (`z' = 0`).
     fn beta(&self, t: f64, x: &[f64], z: &[f64], beta: &mut [f64]) {
-        let inputs = self.inputs.at(t);
-        let v = self.values(t, x, z, &self.zero_mu, &inputs);
-        self.kernels
-            .beta(&self.inst, &v, &mut self.scratch.borrow_mut(), beta);
+        self.omega_rate(t, x, z, &self.zero_rates, beta);
     }
     /// The rate program: `Omega` differentiated along the motion, so `J_Omega zdot`
     /// costs about what `beta` does and `J_Omega` is not evaluated.

@@ -1,4 +1,4 @@
-//! The interpreter back end of family models: the five programs of the compiled form
+//! The interpreter back end of family models: the four programs of the compiled form
 //! run by [`Program::eval`](dae_lang::family::Program::eval), each instruction over
 //! chunks of elements.
 
@@ -22,7 +22,6 @@ pub struct InterpreterScratch {
     rhs: Scratch,
     sliding: Scratch,
     jacobian: Scratch,
-    beta: Scratch,
     rate: Scratch,
 }
 
@@ -64,7 +63,6 @@ impl Kernels for Interpreter {
             rhs: Scratch::new(&self.model.rhs, inst),
             sliding: Scratch::new(&self.model.sliding, inst),
             jacobian: Scratch::new(&self.model.jacobian, inst),
-            beta: Scratch::new(&self.model.beta, inst),
             rate: Scratch::new(&self.model.rate, inst),
         }
     }
@@ -105,10 +103,6 @@ impl Kernels for Interpreter {
             &mut s.jacobian,
             &mut [values],
         );
-    }
-
-    fn beta(&self, inst: &Instance, v: &Values<'_>, s: &mut InterpreterScratch, beta: &mut [f64]) {
-        run(&self.model.beta, inst, v, &mut s.beta, &mut [beta]);
     }
 
     fn omega_rate(
