@@ -155,16 +155,22 @@ fn random_point(m: &dyn Model, rng: &mut Rng) -> (Vec<f64>, Vec<f64>) {
     (x, z)
 }
 
-#[test]
-fn jacobian_and_beta_of_the_chain_match_finite_differences() {
+/// The 7-link chain with its pin moving on a cubic: `beta` and `Omega'` see the input's
+/// derivatives.
+fn chain_with_a_driven_pin() -> FamilyInstance<Interpreter> {
     let mut c = sized("chain.dae", &[("N", 7)]);
-    // A driven pin: beta sees the input's derivatives.
     for (k, comp) in ["x", "y", "z"].iter().enumerate() {
         let i = c.input_index(&format!("pin[0].{comp}")).unwrap();
         let kf = k as f64;
         c.set_input(i, 0.2, &[0.01 * kf, 0.3 - kf * 0.1, 0.5 * kf, -1.0 + kf])
             .unwrap();
     }
+    c
+}
+
+#[test]
+fn jacobian_and_beta_of_the_chain_match_finite_differences() {
+    let c = chain_with_a_driven_pin();
     let mut rng = Rng(11);
     let n = c.n_constraints();
     for _ in 0..3 {
@@ -266,15 +272,7 @@ fn omega_rate_matches_the_motion(m: &dyn Model, seed: u64) {
 
 #[test]
 fn omega_rate_of_the_chain_the_cloth_and_the_hair_matches_finite_differences_along_the_motion() {
-    let mut c = sized("chain.dae", &[("N", 7)]);
-    // A driven pin: `Omega'` sees the input's derivatives.
-    for (k, comp) in ["x", "y", "z"].iter().enumerate() {
-        let i = c.input_index(&format!("pin[0].{comp}")).unwrap();
-        let kf = k as f64;
-        c.set_input(i, 0.2, &[0.01 * kf, 0.3 - kf * 0.1, 0.5 * kf, -1.0 + kf])
-            .unwrap();
-    }
-    omega_rate_matches_the_motion(&c, 13);
+    omega_rate_matches_the_motion(&chain_with_a_driven_pin(), 13);
     omega_rate_matches_the_motion(&sized("cloth.dae", &[("W", 4)]), 17);
     omega_rate_matches_the_motion(&sized("hair.dae", &[("S", 3), ("N", 4)]), 19);
 }
