@@ -12,7 +12,7 @@ use std::time::Duration;
 use dae_particles::AdaptiveMu;
 
 use super::report::left_a_guarantee;
-use super::run::{MethodSpec, RELAXED_MU_PER_FRAME, run_relaxed_at};
+use super::run::{MethodSpec, ParticleRecord, RELAXED_MU_PER_FRAME, run_relaxed_at};
 use super::scenes::ParticleScene;
 
 /// The longest step's distances from the design's, as factors.
@@ -118,10 +118,8 @@ pub fn frame_tied_draws(
             )
         })
         .collect();
-    let per_frame =
-        |r: &super::run::ParticleRecord, count: u64| count as f64 / r.frames.max(1) as f64;
-    let of =
-        |f: &dyn Fn(&super::run::ParticleRecord) -> f64| Spread::of(runs.iter().map(f).collect());
+    let per_frame = |r: &ParticleRecord, count: u64| count as f64 / r.frames.max(1) as f64;
+    let of = |f: &dyn Fn(&ParticleRecord) -> f64| Spread::of(runs.iter().map(f).collect());
     Draws {
         ms: of(&|r| r.ms_mean),
         updates: of(&|r| per_frame(r, r.counters.updates)),
@@ -130,6 +128,7 @@ pub fn frame_tied_draws(
             let r = &runs[NUDGES.len() / 2];
             per_frame(r, r.counters.updates)
         },
+        // A run without a finite worst strain did not complete, and counts there.
         worst_strain: runs.iter().map(|r| r.worst_strain).fold(0.0, f64::max),
         left: runs.iter().filter(|r| left_a_guarantee(r)).count(),
         incomplete: runs.iter().filter(|r| !r.complete()).count(),
