@@ -126,7 +126,7 @@ fn realize(
         jacobian_row: Vec::new(),
         kernels,
         beta,
-        rate,
+        rate: Some(rate),
         mu,
         s,
         alpha,

@@ -83,8 +83,9 @@ pub struct ConstraintExprs {
     /// `beta = dOmega/dt + (dOmega/dx) f` (may contain z).
     pub beta: Id,
     /// `Omega' = beta + J_Omega z'`, the rate of `Omega` with the algebraic unknowns
-    /// moving at `z'` (the leaves [`VarRef::AlgRate`](crate::VarRef::AlgRate)).
-    pub rate: Id,
+    /// moving at `z'` (the leaves [`VarRef::AlgRate`](crate::VarRef::AlgRate)): a family
+    /// model's rate program; `None` for a version-1 model, whose tapes do not include it.
+    pub rate: Option<Id>,
     /// The realization parameter `mu` of this constraint (a leaf, printed `mu<i+1>`).
     pub mu: Id,
     /// Sliding surface `s`.
@@ -307,7 +308,6 @@ fn realize(
         }
     }
     let beta = derivatives.dt(arena, omega);
-    let rate = derivatives.dt_moving(arena, omega);
     let mu = arena.mu(ConstraintId::new(i));
     let (s, alpha, alpha_hat) = sliding_exprs(arena, &w, beta, mu);
     let summary = ConstraintAnalysis {
@@ -322,7 +322,7 @@ fn realize(
         jacobian_row,
         kernels: Vec::new(),
         beta,
-        rate,
+        rate: None,
         mu,
         s,
         alpha,

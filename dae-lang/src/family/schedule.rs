@@ -278,7 +278,9 @@ pub(crate) fn compile(
         }
         sliding.push(Root::Out(c.s, Dest::S(id), set));
         sliding.push(Root::Out(c.alpha_hat, Dest::AlphaHat(id), set));
-        rate.push(Root::Out(c.rate, Dest::Rate(id), set));
+        // The family analysis derives `Omega'` for every constraint (`realize`).
+        let omega_rate = c.rate.expect("a family constraint's Omega'");
+        rate.push(Root::Out(omega_rate, Dest::Rate(id), set));
         for k in &c.kernels {
             for &(r, col) in &k.terms {
                 factors.push(Root::Factor(r));
