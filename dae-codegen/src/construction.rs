@@ -2,14 +2,19 @@
 //! `construction_data()` returns, built from literals (no parsing or analysis at run
 //! time).
 //!
-//! The body declares a few short helper functions (`bin`, `num`,
-//! `size`, `sp`, `param_def`, ...) and then the value, so that the code stays small:
-//! one line for most declarations instead of a struct literal over several.
+//! The body declares a few short helper functions (`num`, `size`, `sp`, `param_def`,
+//! ...) and then the value, so that the code stays small: one line for most
+//! declarations instead of a struct literal over several. Formulas are written infix,
+//! as in the source: a local wrapper `X` of the expression type overloads `+ - * /` and
+//! unary `-`, each building the node it spells, and the emitter keeps the tree's shape
+//! with the parentheses Rust's precedence needs (both operands of a left-associative
+//! operator of the same level keep theirs on the right, so `a - (b - c)` stays so).
 
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
 use dae_lang::VarRef;
+use dae_lang::ast::BinOp;
 use dae_lang::family::Construction;
 use dae_lang::model::{Family, MapKind, RExpr};
 
@@ -38,7 +43,7 @@ pub(crate) fn construction_expr(c: &Construction) -> TokenStream {
             MapKind::Given => quote!(K::Given),
             MapKind::Formula(e) => {
                 let e = rexpr(e);
-                quote!(K::Formula(#e))
+                quote!(formula(#e))
             }
             MapKind::Chain(ms) => {
                 let ms = ms.iter().map(|m| usize_lit(m.index()));
@@ -99,26 +104,38 @@ pub(crate) fn construction_expr(c: &Construction) -> TokenStream {
     quote! {
         use #dl as dl;
         use dl::ast::{BinOp as B, CmpOp as C, LogicOp as L, Span};
+        use dl::Func as F;
         use dl::model::{Family, IntOp as I, MapKind as K, RExpr as E};
         use ::std::boxed::Box;
         use ::std::string::String;
         use ::std::vec::Vec;
         use ::core::option::Option::{self, None, Some};
-        fn bx(e: E) -> Box<E> { Box::new(e) }
-        fn num(v: f64) -> E { E::Num(v) }
-        fn var(v: dl::VarRef) -> E { E::Var(v) }
-        fn size(i: usize) -> E { E::Var(dl::VarRef::Size(dl::SizeId::new(i))) }
-        fn elem(i: usize) -> E { E::Var(dl::VarRef::Elem(dl::SetId::new(i))) }
-        fn param(i: usize) -> E { E::Var(dl::VarRef::Param(dl::ParamId::new(i))) }
-        fn neg(a: E) -> E { E::Neg(bx(a)) }
-        fn not(a: E) -> E { E::Not(bx(a)) }
-        fn bin(op: B, a: E, b: E) -> E { E::Binary(op, bx(a), bx(b)) }
-        fn cmp(op: C, a: E, b: E) -> E { E::Compare(op, bx(a), bx(b)) }
-        fn logic(op: L, a: E, b: E) -> E { E::Logic(op, bx(a), bx(b)) }
-        fn int(op: I, a: E, b: E) -> E { E::Int(op, bx(a), bx(b)) }
-        fn ite(c: E, a: E, b: E) -> E { E::If(bx(c), bx(a), bx(b)) }
-        fn gather(m: usize, a: E) -> E { E::Gather(dl::MapId::new(m), bx(a)) }
-        fn sum(m: usize, a: E) -> E { E::Sum(dl::MapId::new(m), bx(a)) }
+        /// An expression being built; `+ - * /` and unary `-` make the node they spell.
+        struct X(E);
+        fn bx(e: X) -> Box<E> { Box::new(e.0) }
+        impl ::core::ops::Add for X { type Output = X; fn add(self, b: X) -> X { bin(B::Add, self, b) } }
+        impl ::core::ops::Sub for X { type Output = X; fn sub(self, b: X) -> X { bin(B::Sub, self, b) } }
+        impl ::core::ops::Mul for X { type Output = X; fn mul(self, b: X) -> X { bin(B::Mul, self, b) } }
+        impl ::core::ops::Div for X { type Output = X; fn div(self, b: X) -> X { bin(B::Div, self, b) } }
+        impl ::core::ops::Neg for X { type Output = X; fn neg(self) -> X { X(E::Neg(bx(self))) } }
+        fn num(v: f64) -> X { X(E::Num(v)) }
+        fn var(v: dl::VarRef) -> X { X(E::Var(v)) }
+        fn size(i: usize) -> X { var(dl::VarRef::Size(dl::SizeId::new(i))) }
+        fn elem(i: usize) -> X { var(dl::VarRef::Elem(dl::SetId::new(i))) }
+        fn param(i: usize) -> X { var(dl::VarRef::Param(dl::ParamId::new(i))) }
+        fn not(a: X) -> X { X(E::Not(bx(a))) }
+        fn bin(op: B, a: X, b: X) -> X { X(E::Binary(op, bx(a), bx(b))) }
+        fn pow(a: X, b: X) -> X { bin(B::Pow, a, b) }
+        fn call<const N: usize>(f: F, args: [X; N]) -> X {
+            X(E::Call(f, Vec::from(args.map(|a| a.0))))
+        }
+        fn cmp(op: C, a: X, b: X) -> X { X(E::Compare(op, bx(a), bx(b))) }
+        fn logic(op: L, a: X, b: X) -> X { X(E::Logic(op, bx(a), bx(b))) }
+        fn int(op: I, a: X, b: X) -> X { X(E::Int(op, bx(a), bx(b))) }
+        fn ite(c: X, a: X, b: X) -> X { X(E::If(bx(c), bx(a), bx(b))) }
+        fn gather(m: usize, a: X) -> X { X(E::Gather(dl::MapId::new(m), bx(a))) }
+        fn sum(m: usize, a: X) -> X { X(E::Sum(dl::MapId::new(m), bx(a))) }
+        fn formula(e: X) -> K { K::Formula(e.0) }
         fn sp(start: usize, end: usize) -> Span { Span { start, end } }
         fn set(s: Option<usize>) -> Option<dl::SetId> { s.map(dl::SetId::new) }
         fn fam(over: Option<usize>, dim: u8, component: u8) -> Family {
@@ -127,7 +144,8 @@ pub(crate) fn construction_expr(c: &Construction) -> TokenStream {
         fn size_def(name: &str, default: i64, span: Span) -> dl::model::SizeDef {
             dl::model::SizeDef { name: String::from(name), default, span }
         }
-        fn set_def(name: &str, size: Option<E>, elem: &str, span: Span) -> dl::model::SetDef {
+        fn set_def(name: &str, size: Option<X>, elem: &str, span: Span) -> dl::model::SetDef {
+            let size = size.map(|e| e.0);
             dl::model::SetDef { name: String::from(name), size, elem: String::from(elem), span }
         }
         fn map_def(
@@ -137,17 +155,18 @@ pub(crate) fn construction_expr(c: &Construction) -> TokenStream {
                 name: String::from(name), domain: set(domain), codomain: set(codomain), kind, span,
             }
         }
-        fn param_def(name: &str, default: f64, value: E, family: Family, span: Span)
+        fn param_def(name: &str, default: f64, value: X, family: Family, span: Span)
             -> dl::model::ParamDef
         {
-            dl::model::ParamDef { name: String::from(name), default, span, value, family }
+            dl::model::ParamDef { name: String::from(name), default, span, value: value.0, family }
         }
-        fn var_def(name: &str, init: E, family: Family, span: Span) -> dl::model::VarDef {
-            dl::model::VarDef { name: String::from(name), init, span, family }
+        fn var_def(name: &str, init: X, family: Family, span: Span) -> dl::model::VarDef {
+            dl::model::VarDef { name: String::from(name), init: init.0, span, family }
         }
-        fn input_def(name: &str, family: Family, derivatives: u8, default: E, span: Span)
+        fn input_def(name: &str, family: Family, derivatives: u8, default: X, span: Span)
             -> dl::model::InputDef
         {
+            let default = default.0;
             dl::model::InputDef { name: String::from(name), family, derivatives, default, span }
         }
         fn constraint(name: &str, over: Option<usize>, index: usize, span: Span)
@@ -257,6 +276,22 @@ fn var_ref(v: VarRef) -> TokenStream {
 
 /// A construction-time expression, with the helpers of [`construction_expr`].
 fn rexpr(e: &RExpr) -> TokenStream {
+    infix(e).0
+}
+
+/// How tightly an emitted expression binds: a sum, a product, a negation, or a call or
+/// leaf (which never needs parentheses).
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Level {
+    Sum,
+    Product,
+    Negation,
+    Atom,
+}
+
+/// `e` as Rust over the wrapper `X`, and how tightly it binds.
+fn infix(e: &RExpr) -> (TokenStream, Level) {
+    let atom = |t: TokenStream| (t, Level::Atom);
     let two = |a: &RExpr, b: &RExpr| {
         let (a, b) = (rexpr(a), rexpr(b));
         quote!(#a, #b)
@@ -264,59 +299,88 @@ fn rexpr(e: &RExpr) -> TokenStream {
     match e {
         RExpr::Num(v) => {
             let v = number(*v);
-            quote!(num(#v))
+            atom(quote!(num(#v)))
         }
-        RExpr::Var(v) => var_ref(*v),
+        RExpr::Var(v) => atom(var_ref(*v)),
         RExpr::Let(l) => {
             let l = id("LetId", l.index());
-            quote!(E::Let(#l))
+            atom(quote!(X(E::Let(#l))))
         }
         RExpr::Neg(a) => {
-            let a = rexpr(a);
-            quote!(neg(#a))
+            let a = operand(a, Level::Atom);
+            (quote!(-#a), Level::Negation)
         }
         RExpr::Not(a) => {
             let a = rexpr(a);
-            quote!(not(#a))
+            atom(quote!(not(#a)))
+        }
+        RExpr::Binary(BinOp::Pow, a, b) => {
+            let ab = two(a, b);
+            atom(quote!(pow(#ab)))
         }
         RExpr::Binary(op, a, b) => {
-            let op = format_ident!("{op:?}");
-            let ab = two(a, b);
-            quote!(bin(B::#op, #ab))
+            let (level, op) = match op {
+                BinOp::Add => (Level::Sum, quote!(+)),
+                BinOp::Sub => (Level::Sum, quote!(-)),
+                BinOp::Mul => (Level::Product, quote!(*)),
+                BinOp::Div => (Level::Product, quote!(/)),
+                BinOp::Pow => unreachable!("a call, above"),
+            };
+            // Left-associative: the left operand may be of the same level, the right
+            // one must bind tighter to keep the tree.
+            let a = operand(a, level);
+            let b = operand(b, next(level));
+            (quote!(#a #op #b), level)
         }
         RExpr::Compare(op, a, b) => {
             let op = format_ident!("{op:?}");
             let ab = two(a, b);
-            quote!(cmp(C::#op, #ab))
+            atom(quote!(cmp(C::#op, #ab)))
         }
         RExpr::Logic(op, a, b) => {
             let op = format_ident!("{op:?}");
             let ab = two(a, b);
-            quote!(logic(L::#op, #ab))
+            atom(quote!(logic(L::#op, #ab)))
         }
         RExpr::Int(op, a, b) => {
             let op = format_ident!("{op:?}");
             let ab = two(a, b);
-            quote!(int(I::#op, #ab))
+            atom(quote!(int(I::#op, #ab)))
         }
         RExpr::Call(f, args) => {
             let f = format_ident!("{f:?}");
             let args = args.iter().map(rexpr);
-            quote!(E::Call(dl::Func::#f, Vec::from([#(#args),*])))
+            atom(quote!(call(F::#f, [#(#args),*])))
         }
         RExpr::Gather(m, a) => {
             let m = usize_lit(m.index());
             let a = rexpr(a);
-            quote!(gather(#m, #a))
+            atom(quote!(gather(#m, #a)))
         }
         RExpr::Sum(m, a) => {
             let m = usize_lit(m.index());
             let a = rexpr(a);
-            quote!(sum(#m, #a))
+            atom(quote!(sum(#m, #a)))
         }
         RExpr::If(k, a, b) => {
             let (k, a, b) = (rexpr(k), rexpr(a), rexpr(b));
-            quote!(ite(#k, #a, #b))
+            atom(quote!(ite(#k, #a, #b)))
         }
+    }
+}
+
+/// `e` as an operand that must bind at least at `level`: in parentheses if it binds
+/// less tightly.
+fn operand(e: &RExpr, level: Level) -> TokenStream {
+    let (t, own) = infix(e);
+    if own >= level { t } else { quote!((#t)) }
+}
+
+/// The level just above `level`.
+fn next(level: Level) -> Level {
+    match level {
+        Level::Sum => Level::Product,
+        Level::Product => Level::Negation,
+        Level::Negation | Level::Atom => Level::Atom,
     }
 }

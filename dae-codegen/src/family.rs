@@ -74,17 +74,30 @@ pub(crate) fn generate_family(model: &CompiledModel, fam: &FamilyModel) -> Token
             quote!(#n)
         })
         .collect();
+    // Each program's arrays as runs of one length (`(length, count)`): a program's
+    // arrays are mostly over one set, in long runs.
     let array_inits: Vec<TokenStream> = progs
         .iter()
         .map(|(_, p)| {
-            let sizes = p.arrays.iter().map(|a| match a.over {
-                Some(s) => {
-                    let s = usize_lit(s.index());
-                    quote!(::std::vec![0.0; inst.set_sizes[#s]])
+            let mut runs: Vec<(Option<usize>, usize)> = Vec::new();
+            for a in &p.arrays {
+                let set = a.over.map(|s| s.index());
+                match runs.last_mut() {
+                    Some((last, n)) if *last == set => *n += 1,
+                    _ => runs.push((set, 1)),
                 }
-                None => quote!(::std::vec![0.0; 1]),
+            }
+            let runs = runs.iter().map(|&(set, n)| {
+                let n = usize_lit(n);
+                match set {
+                    Some(s) => {
+                        let s = usize_lit(s);
+                        quote!((inst.set_sizes[#s], #n))
+                    }
+                    None => quote!((1, #n)),
+                }
             });
-            quote!([#(#sizes),*])
+            quote!(arrays(&[#(#runs),*]))
         })
         .collect();
 
@@ -155,6 +168,11 @@ pub(crate) fn generate_family(model: &CompiledModel, fam: &FamilyModel) -> Token
             }
 
             fn scratch(&self, inst: &#dl::family::Instance) -> #scratch_ty {
+                /// `N` arrays of zeros from runs of `(length, count)`.
+                fn arrays<const N: usize>(runs: &[(usize, usize)]) -> [::std::vec::Vec<f64>; N] {
+                    let mut lengths = runs.iter().flat_map(|&(len, n)| ::core::iter::repeat_n(len, n));
+                    ::core::array::from_fn(|_| ::std::vec![0.0; lengths.next().expect("a length per array")])
+                }
                 #stride_check
                 #offset_check
                 #scratch_ty { #( #prog_names: #array_inits, )* }
@@ -258,16 +276,22 @@ fn stride_check(c: &Construction) -> TokenStream {
                 .collect(),
         ),
     ];
-    let checks = tables.iter().filter(|(_, v)| !v.is_empty()).map(|(table, strides)| {
-        let t = format_ident!("{table}");
-        let strides = strides.iter().map(|&k| usize_lit(k));
-        quote! {
-            for (slot, want) in inst.layout.#t.iter().zip([#(#strides),*]) {
-                assert_eq!(slot.stride, want, "the instance's layout is not the generated code's");
-            }
-        }
-    });
-    quote!(#(#checks)*)
+    let checks = tables
+        .iter()
+        .filter(|(_, v)| !v.is_empty())
+        .map(|(table, strides)| {
+            let t = format_ident!("{table}");
+            let strides = strides.iter().map(|&k| usize_lit(k));
+            quote!(strides(&inst.layout.#t, &[#(#strides),*]);)
+        });
+    let dl = lang();
+    quote! {
+        let strides = |slots: &[#dl::family::Slot], want: &[usize]| {
+            let ok = slots.iter().map(|s| s.stride).eq(want.iter().copied());
+            assert!(ok, "the instance's layout is not the generated code's");
+        };
+        #(#checks)*
+    }
 }
 
 /// What a program reads before its loops: the variables (a scalar one as its value, a

@@ -289,33 +289,42 @@ pub(crate) fn offset_check(c: &Construction) -> TokenStream {
             pairs(c.inputs.iter().map(|d| d.family).collect()),
         ),
     ];
-    let checks = tables
+    let checks: Vec<TokenStream> = tables
         .iter()
         .filter(|(_, v)| !v.is_empty())
         .map(|(table, pairs)| {
             let t = format_ident!("{table}");
-            let (i, first): (Vec<_>, Vec<_>) = pairs.iter().copied().unzip();
-            let i = i.iter().map(|&k| usize_lit(k));
-            let first = first.iter().map(|&k| usize_lit(k));
+            let pairs = pairs.iter().map(|&(i, first)| {
+                let (i, first) = (usize_lit(i), usize_lit(first));
+                quote!((#i, #first))
+            });
+            let pairs = quote!(&[#(#pairs),*]);
             let steps = (*table == "input_values").then(|| {
                 quote! {
-                    assert_eq!(
-                        inst.layout.input_derivative_step[i],
-                        inst.layout.input_derivative_step[first],
-                        "the instance's layout is not the generated code's"
-                    );
+                    for &(i, first) in #pairs {
+                        let step = &inst.layout.input_derivative_step;
+                        assert_eq!(step[i], step[first], "the instance's layout is not the generated code's");
+                    }
                 }
             });
             quote! {
-                for (i, first) in [#(#i),*].into_iter().zip([#(#first),*]) {
-                    assert_eq!(
-                        inst.layout.#t[i].offset,
-                        inst.layout.#t[first].offset + (i - first),
-                        "the instance's layout is not the generated code's"
-                    );
-                    #steps
-                }
+                side_by_side(&inst.layout.#t, #pairs);
+                #steps
             }
-        });
-    quote!(#(#checks)*)
+        })
+        .collect();
+    if checks.is_empty() {
+        return TokenStream::new();
+    }
+    let dl = crate::family::lang();
+    quote! {
+        // Component `i` of a vector family right after component `first`'s slot.
+        let side_by_side = |slots: &[#dl::family::Slot], pairs: &[(usize, usize)]| {
+            for &(i, first) in pairs {
+                let ok = slots[i].offset == slots[first].offset + (i - first);
+                assert!(ok, "the instance's layout is not the generated code's");
+            }
+        };
+        #(#checks)*
+    }
 }
