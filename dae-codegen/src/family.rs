@@ -469,7 +469,7 @@ fn program_body(p: &Program, c: &Construction, outs: &[TokenStream]) -> TokenStr
                 Sink::Out(d) => {
                     uses.dests.insert(DestSlot::of(d));
                 }
-                Sink::ScatterAdd(_, m) => {
+                Sink::ScatterAdd(_, m) | Sink::ScatterSub(_, m) => {
                     uses.maps.insert(m.index());
                 }
                 Sink::Store(_) => {}
@@ -589,6 +589,11 @@ fn program_body(p: &Program, c: &Construction, outs: &[TokenStream]) -> TokenStr
                         let m = map_ident(m.index());
                         quote!(#id[#m[e] as usize] += #val;)
                     }
+                    Sink::ScatterSub(a, m) => {
+                        let id = array_ident(a.index());
+                        let m = map_ident(m.index());
+                        quote!(#id[#m[e] as usize] -= #val;)
+                    }
                 })
             })
             .collect();
@@ -704,7 +709,7 @@ fn loop_slices(g: &dae_lang::family::Group, p: &Program) -> TokenStream {
                 used.insert(a.index());
                 written.insert(a.index());
             }
-            Sink::ScatterAdd(a, m) => {
+            Sink::ScatterAdd(a, m) | Sink::ScatterSub(a, m) => {
                 used.insert(a.index());
                 written.insert(a.index());
                 maps.insert(m.index());

@@ -174,7 +174,7 @@ impl Emitter<'_> {
 
     /// `c + sum a_k t_k`, with positive terms first so that negative ones become
     /// subtractions. A NaN coefficient or constant is kept (added), not dropped.
-    fn sum(&mut self, c: f64, terms: &[(Operand, f64)]) -> Operand {
+    pub(crate) fn sum(&mut self, c: f64, terms: &[(Operand, f64)]) -> Operand {
         let mut acc: Option<Operand> = None;
         let mut ordered: Vec<&(Operand, f64)> = terms.iter().filter(|t| t.1 > 0.0).collect();
         ordered.extend(terms.iter().filter(|t| t.1 <= 0.0 || t.1.is_nan()));

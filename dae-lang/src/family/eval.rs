@@ -438,18 +438,27 @@ fn sink_chunk(
                 put(v, &mut a[start..start + len]);
             }
         }
-        Sink::ScatterAdd(arr, m) => {
+        Sink::ScatterAdd(arr, m) | Sink::ScatterSub(arr, m) => {
             let a = &mut arrays[arr.index()];
             let map = &inst.maps[m.index()][start..start + len];
+            let add = matches!(sink, Sink::ScatterAdd(..));
             match v {
                 Src::Slice(s) => {
                     for (&to, &v) in map.iter().zip(s) {
-                        a[to as usize] += v;
+                        if add {
+                            a[to as usize] += v;
+                        } else {
+                            a[to as usize] -= v;
+                        }
                     }
                 }
                 Src::Value(v) => {
                     for &to in map {
-                        a[to as usize] += v;
+                        if add {
+                            a[to as usize] += v;
+                        } else {
+                            a[to as usize] -= v;
+                        }
                     }
                 }
             }

@@ -32,6 +32,10 @@
 //!    * [`Sink::Store`]`(a)`: `arrays[a][e] = v` (`arrays[a][0]` for a scalar array);
 //!    * [`Sink::ScatterAdd`]`(a, m)`: `arrays[a][maps[m][e]] += v` (the body of an
 //!      incidence sum over the elements of `S`);
+//!    * [`Sink::ScatterSub`]`(a, m)`: `arrays[a][maps[m][e]] -= v` (the body of a sum
+//!      subtracted from the one that accumulates in `a`: two incidence sums into one
+//!      codomain, `sum(l where a[l] == p) .. - sum(l where b[l] == p) ..`, share one
+//!      accumulator);
 //! 3. the [`EntryLoop`]s (jacobian program only): for coupling `c`, for every
 //!    `[entry, l, k]` of the instance's `jacobian.lists[c]`,
 //!    `values[entry] += sum over terms of R(l) * C(k)`, a [`Factor`] being a constant or
@@ -88,6 +92,8 @@ pub enum Sink {
     Store(ArrayId),
     /// Added into an array at the image of the element at hand under the map.
     ScatterAdd(ArrayId, MapId),
+    /// Subtracted from an array at the image of the element at hand under the map.
+    ScatterSub(ArrayId, MapId),
 }
 
 /// Straight-line code run once (`over: None`) or once per element of a set.

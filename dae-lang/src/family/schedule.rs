@@ -7,9 +7,12 @@
 //! node is computed in the group `(level, context)`; groups run by level, the scalar
 //! group of a level first, then one loop per set. A node used by another group (or read
 //! through a map) is stored into an array over its context; leaves never are. The body
-//! of a sum is scatter-added into the sum's array by a loop over the summation set. A
-//! version-1 model is never scheduled here (it keeps one straight-line tape per
-//! function).
+//! of a sum is scatter-added into the sum's array by a loop over the summation set.
+//! Sums into one codomain that only a linear combination reads, with equal or opposite
+//! coefficients there, share one array: the chain's `sum(l where a[l] == p) z[l] u[l] -
+//! sum(l where b[l] == p) z[l] u[l]` is one accumulator, added into at `a[l]` and
+//! subtracted from at `b[l]` ([`shared_accumulators`]). A version-1 model is never
+//! scheduled here (it keeps one straight-line tape per function).
 
 use std::collections::{BTreeMap, HashMap};
 
@@ -105,6 +108,53 @@ impl Scheduler<'_> {
     }
 }
 
+/// The sums that accumulate into another's array: `sum -> (lead, subtracted)`. A sum
+/// joins the first sum of the same linear combination (`Node::Add`) into the same
+/// codomain when both are read by nothing else and their coefficients there are equal
+/// (added) or opposite (subtracted); the combination then reads the lead's array once
+/// with the lead's coefficient. One array and one pass over the codomain fewer per
+/// merged sum, and no subtraction after the loops.
+fn shared_accumulators(arena: &Arena, nodes: &[Id], roots: &[Id]) -> HashMap<Id, (Id, bool)> {
+    // Readers of each node: its parents among `nodes` (which holds the roots) and each
+    // time it is a root.
+    let mut uses: HashMap<Id, u32> = HashMap::new();
+    for &id in nodes {
+        for c in arena.children(id) {
+            *uses.entry(c).or_default() += 1;
+        }
+    }
+    for &r in roots {
+        *uses.entry(r).or_default() += 1;
+    }
+    let mut merged = HashMap::new();
+    for &id in nodes {
+        let Node::Add(_, terms) = arena.node(id) else {
+            continue;
+        };
+        // (codomain, lead sum, its coefficient)
+        let mut leads: Vec<(Option<SetId>, Id, f64)> = Vec::new();
+        for &(t, a) in terms.iter() {
+            let Node::Sum(m, _) = arena.node(t) else {
+                continue;
+            };
+            if uses.get(&t) != Some(&1) {
+                continue;
+            }
+            let codomain = arena.maps().codomain(*m);
+            let joins = leads
+                .iter()
+                .find(|&&(c, _, k)| c == codomain && (a.0 == k || a.0 == -k));
+            match joins {
+                Some(&(_, lead, k)) => {
+                    merged.insert(t, (lead, a.0 != k));
+                }
+                None => leads.push((codomain, t, a.0)),
+            }
+        }
+    }
+    merged
+}
+
 /// Builds the program computing `roots`; for the jacobian, `kernels` gives, per
 /// coupling, the `(row factor, column factor)` nodes of its terms.
 pub(crate) fn program(
@@ -142,6 +192,7 @@ pub(crate) fn program(
         };
         s.level.insert(id, lvl);
     }
+    let merged = shared_accumulators(arena, &nodes, &root_ids);
     // Groups of the computed nodes, and the arrays their uses need.
     for &id in &nodes {
         let node = arena.node(id).clone();
@@ -151,13 +202,22 @@ pub(crate) fn program(
             }
             Node::Sum(m, b) => {
                 let k = arena.maps().domain(m);
-                let acc = s.array(id, arena.maps().codomain(m), true);
+                let codomain = arena.maps().codomain(m);
+                let sink = match merged.get(&id) {
+                    Some(&(lead, subtracted)) => {
+                        let acc = s.array(lead, codomain, true);
+                        s.arrays.insert(id, acc);
+                        if subtracted {
+                            Sink::ScatterSub(acc, m)
+                        } else {
+                            Sink::ScatterAdd(acc, m)
+                        }
+                    }
+                    None => Sink::ScatterAdd(s.array(id, codomain, true), m),
+                };
                 let key = (s.level[&id] - 1, k);
                 s.use_in(b, key);
-                s.sinks
-                    .entry(key)
-                    .or_default()
-                    .push((b, Sink::ScatterAdd(acc, m)));
+                s.sinks.entry(key).or_default().push((b, sink));
             }
             ref n if is_computed(n) => {
                 let key = s.group(id);
@@ -214,7 +274,19 @@ pub(crate) fn program(
                     e.done.entry(c).or_insert(o);
                 }
             }
-            let o = e.node(id);
+            let o = match arena.node(id) {
+                // A combination of sums that share an accumulator reads it once (the
+                // lead's operand, with the lead's coefficient).
+                Node::Add(c, terms) if terms.iter().any(|(t, _)| merged.contains_key(t)) => {
+                    let kept: Vec<(Operand, f64)> = terms
+                        .iter()
+                        .filter(|(t, _)| !merged.contains_key(t))
+                        .map(|(t, a)| (e.done[t], a.0))
+                        .collect();
+                    e.sum(c.0, &kept)
+                }
+                _ => e.node(id),
+            };
             e.done.insert(id, o);
             slots.insert(id, o);
         }
