@@ -5,7 +5,7 @@
 //! the expanded model at random points, for sizes 1..6; and the rate program (`Omega'`
 //! along a random `z'`) with the expanded model's `beta + J_Omega z'`.
 
-use dae_lang::family::{Instance, Scratch, Spec, Values, construct, expand};
+use dae_lang::family::{Instance, Scratch, Sink, Spec, Values, construct, expand};
 use dae_lang::model::Model;
 use dae_lang::tape::Inputs;
 use dae_lang::{AnalysisOptions, CompiledModel, analyze, compile};
@@ -297,4 +297,51 @@ fn given_sets_and_maps_agree_with_the_expansion() {
         ..Spec::default()
     };
     compare(src, &spec, 7, 4);
+}
+
+/// Incidence sums into one codomain share an accumulator where only one linear
+/// combination reads them with equal or opposite coefficients (the tension sums of
+/// `der(v)`, the `2 z` sums of `der(q)`), and keep their own where another expression
+/// reads one of them too (the first sum's `x` component, read again by `der(q)`):
+/// either way the programs agree with the expansion.
+#[test]
+fn sums_into_one_codomain_share_an_accumulator_and_agree_with_the_expansion() {
+    let src = "model Sums {
+        size N = 3;
+        set P = N + 1;
+        set L = N;
+        map a[l in L] -> P = l;
+        map b[l in L] -> P = l + 1;
+        param g = 9.81;
+        param free[p in P] = if p == 0 then 0 else 1;
+        state x[p in P]: vec3 = vec3(p, 0, 0);
+        state v[p in P]: vec3 = vec3(0, 0, 0);
+        state q[p in P] = 0;
+        alg z[l in L] = 0;
+        let d[l in L] = x[b[l]] - x[a[l]];
+        let u[l in L] = d[l] / norm(d[l]);
+        let up[p in P] = sum(l in L where a[l] == p) z[l] * u[l];
+        der(x[p]) = v[p];
+        der(v[p]) = free[p] * (up[p] - sum(l in L where b[l] == p) z[l] * u[l] + vec3(0, 0, -g));
+        der(q[p]) = up[p].x + 2 * sum(l in L where a[l] == p) z[l]
+            + 2 * sum(l in L where b[l] == p) z[l];
+        constraint link[l in L]: norm(d[l]) = 1;
+    }";
+    let (_, c) = family(src);
+    let rhs = &c.family.as_ref().unwrap().rhs;
+    let sinks = || rhs.groups.iter().flat_map(|g| &g.sinks);
+    let count = |f: fn(&Sink) -> bool| sinks().filter(|s| f(s)).count();
+    // Eight sums: the x components of the tension sums stay apart (the first is read
+    // twice), the y and z components merge (the second subtracted from the first's
+    // array), and so do the two `z` sums (added): 5 accumulators for 8 sums.
+    assert_eq!(count(|s| matches!(s, Sink::ScatterSub(..))), 2);
+    assert_eq!(count(|s| matches!(s, Sink::ScatterAdd(..))), 6);
+    assert_eq!(rhs.arrays.iter().filter(|a| a.accumulate).count(), 5);
+    for n in 1..=5 {
+        let spec = Spec {
+            sizes: vec![("N".into(), n)],
+            ..Spec::default()
+        };
+        compare(src, &spec, 300 + n as u64, 3);
+    }
 }
