@@ -62,7 +62,7 @@
 //!
 //! Nothing in the generated code depends on the sizes: one compiled binary runs a chain
 //! of 10 links or of 10^5, and the code's length does not grow with them (the cloth of
-//! `examples/models/cloth.dae` is 1,916 formatted lines at any size, `daec emit
+//! `examples/models/cloth.dae` is 1,782 formatted lines at any size, `daec emit
 //! examples/models/cloth.dae | wc -l`). The loops
 //! compute what the interpreter of the same programs (`dae_lang::family::Program::eval`)
 //! computes, which is the oracle of the tests. The generated code needs the runtime's
