@@ -217,6 +217,21 @@ fn a_taut_edge_within_the_layers_is_reported_as_a_near_singular_j() {
     assert!(err.contains("smaller --eps"), "{err}");
 }
 
+/// The same taut edge with the dense solver: partial pivoting kept every pivot of its
+/// nearly singular `J_s` above 5.8e-3 of the earlier largest, and the run stopped with
+/// no word of `J_s` ("the error control cannot meet the tolerance"). `J_s` is now
+/// factored once more where the step control gives up and read from one solve as well
+/// (measured: `|b| / |J_s^{-1} b|` 1.5e-4 of the earlier largest pivot at t = 0.0037 s).
+#[test]
+fn a_taut_edge_is_reported_as_a_near_singular_j_with_the_dense_solver_too() {
+    let extra = ["--set", "slack=0.0004", "--solver", "dense"];
+    let (code, _, err) = run_cloth_w8_law(false, Steps::Before, &extra);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("step size underflow"), "{err}");
+    assert!(err.contains("J_s came near singular at t = 0.00"), "{err}");
+    assert!(err.contains("smaller --eps"), "{err}");
+}
+
 /// `daec run` of the 8 x 8 cloth example for 0.5 s with the benchmark's frame-tied
 /// settings (and `extra` arguments), as JSON.
 fn run_cloth_w8(extra: &[&str]) -> (Option<i32>, String, String) {

@@ -55,7 +55,9 @@ pub struct BoundLoss {
 }
 
 /// `J_s` nearly singular: the smallest pivot of a factorisation fell below
-/// [`NEAR_SINGULAR`] times the largest value the smallest pivot had in the run so far.
+/// [`NEAR_SINGULAR`] times the largest value the smallest pivot had in the run so far
+/// (where the step control gave up, also `|b| / |J_s^{-1} b|` for one fixed `b`, an
+/// upper bound of the smallest singular value that partial pivoting cannot hide).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct NearSingular {
     /// The smallest pivot ratio seen.

@@ -367,7 +367,7 @@ impl<M: Model> Simulator<M> {
                     None => SimError::StepUnderflow {
                         t: t0,
                         h,
-                        near_singular: self.near_singular(),
+                        near_singular: self.near_singular_at_failure(t0),
                     },
                 });
             }
@@ -487,6 +487,18 @@ impl<M: Model> Simulator<M> {
         } else {
             self.set.step
         }
+    }
+
+    /// Where `J_s` came near singular ([`Self::near_singular`]), read once more at the
+    /// point where the step control gave up (`t`, the current state; the run ends
+    /// there): the last update can precede the configuration that stopped the run (a
+    /// taut edge reached between two updates), and partial pivoting can hide it from
+    /// the pivots ([`Controller::probe_singular`](super::control::Controller::probe_singular)).
+    fn near_singular_at_failure(&mut self, t: f64) -> Option<crate::NearSingular> {
+        if self.near_singular().is_none() {
+            self.ctl.probe_singular(&self.model, t, &self.x, &self.z);
+        }
+        self.near_singular()
     }
 
     /// Whether the last steps stalled (see the progress guard in [`Self::step`]).
