@@ -108,6 +108,44 @@ struct Scratch {
     geo: Vec<Geo>,
     acc: Vec<[f64; 3]>,
     jerk: Vec<[f64; 3]>,
+    /// The point whose geometry and accelerations (with the relative velocity terms)
+    /// `geo` and `acc` hold, if they hold one: the simulator asks for `s` and then for
+    /// `Omega'` (or `beta`) at the same point, at the end of every step and at every
+    /// located crossing, and the second call reads them instead of computing them
+    /// again. Compared bit for bit, so a hit gives what a computation would.
+    at: Point,
+    /// Whether `at` is that point (the buffers are sized at construction either way).
+    holding: bool,
+}
+
+/// `(t, x, z)` as bits.
+#[derive(Debug, Clone, Default, PartialEq)]
+struct Point {
+    t: u64,
+    x: Vec<u64>,
+    z: Vec<u64>,
+}
+
+impl Scratch {
+    /// Whether `geo` and `acc` hold `(t, x, z)`'s.
+    fn holds(&self, t: f64, x: &[f64], z: &[f64]) -> bool {
+        let same = |a: &[u64], b: &[f64]| {
+            a.len() == b.len() && a.iter().zip(b).all(|(a, b)| *a == b.to_bits())
+        };
+        let p = &self.at;
+        self.holding && p.t == t.to_bits() && same(&p.x, x) && same(&p.z, z)
+    }
+
+    /// Record that `geo` and `acc` hold `(t, x, z)`'s (reusing the buffers).
+    fn remember(&mut self, t: f64, x: &[f64], z: &[f64]) {
+        let p = &mut self.at;
+        p.t = t.to_bits();
+        p.x.clear();
+        p.x.extend(x.iter().map(|v| v.to_bits()));
+        p.z.clear();
+        p.z.extend(z.iter().map(|v| v.to_bits()));
+        self.holding = true;
+    }
 }
 
 /// The hand-written DBSMC model of a particle system (module docs). Built from a
@@ -248,6 +286,12 @@ impl ParticleModel {
                 geo: vec![Geo::default(); m],
                 acc: vec![[0.0; 3]; n],
                 jerk: vec![[0.0; 3]; n],
+                at: Point {
+                    t: 0,
+                    x: Vec::with_capacity(6 * n),
+                    z: Vec::with_capacity(m),
+                },
+                holding: false,
             }),
         };
         let x0 = model.x0.clone();
@@ -359,8 +403,12 @@ impl ParticleModel {
         out: &mut [f64],
     ) {
         let mut sc = self.scratch.borrow_mut();
-        let Scratch { geo, acc, jerk } = &mut *sc;
-        self.accelerations(t, x, z, geo, acc, true);
+        if !sc.holds(t, x, z) {
+            let Scratch { geo, acc, .. } = &mut *sc;
+            self.accelerations(t, x, z, geo, acc, true);
+            sc.remember(t, x, z);
+        }
+        let Scratch { geo, acc, jerk, .. } = &mut *sc;
         jerk.fill([0.0; 3]);
         for (l, &(a, b)) in self.ends.iter().enumerate() {
             let g = &geo[l];
@@ -495,8 +543,12 @@ impl Model for ParticleModel {
         ah: &mut [f64],
     ) {
         let mut sc = self.scratch.borrow_mut();
-        let Scratch { geo, acc, .. } = &mut *sc;
-        self.accelerations(t, x, z, geo, acc, true);
+        if !sc.holds(t, x, z) {
+            let Scratch { geo, acc, .. } = &mut *sc;
+            self.accelerations(t, x, z, geo, acc, true);
+            sc.remember(t, x, z);
+        }
+        let Scratch { geo, acc, .. } = &*sc;
         for (l, &(a, b)) in self.ends.iter().enumerate() {
             let g = &geo[l];
             let w0 = g.l - self.rest[l];
@@ -516,6 +568,8 @@ impl Model for ParticleModel {
 
     fn jacobian(&self, _: f64, x: &[f64], _: &[f64], values: &mut [f64]) {
         let mut sc = self.scratch.borrow_mut();
+        // The unit vectors below overwrite the remembered point's.
+        sc.holding = false;
         for (&(a, b), g) in self.ends.iter().zip(sc.geo.iter_mut()) {
             let (pa, pb) = (states(x, a), states(x, b));
             let d = diff3(pa, pb, 0);
@@ -616,6 +670,8 @@ impl ParticleDae for ParticleModel {
         self.pinned = (0..self.mass.len())
             .filter(|&j| self.pins[j].is_some())
             .collect();
+        // The accelerations depend on the pins.
+        self.scratch.get_mut().holding = false;
         Ok(())
     }
 }

@@ -343,3 +343,59 @@ fn evaluation_is_linear_in_the_links() {
     let g = ParticleModel::new(&grid(32, GridPins::Edge, false).unwrap()).unwrap();
     assert!(g.jacobian_pattern().len() <= 7 * g.n_constraints());
 }
+
+/// `sliding` and `Omega'` at one point share one computation of the accelerations (the
+/// simulator asks for both at the end of every step): whatever was evaluated before, at
+/// that point or another, with the unit vectors of `J_Omega` computed in between, or a
+/// pin changed, each gives to the bit what a model that evaluated nothing before gives.
+#[test]
+fn sliding_and_omega_rate_give_the_same_bits_whatever_was_evaluated_before() {
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let mut model = test_model();
+    let m = model.n_constraints();
+    let mu = vec![0.01; m];
+    let zdot: Vec<f64> = (0..m).map(|l| 0.3 - 0.1 * l as f64).collect();
+    let fresh = |model: &ParticleModel, t: f64, x: &[f64], z: &[f64]| {
+        // A model that evaluated nothing before: the same system, pins and all.
+        let (mut w, mut s, mut ah, mut r) =
+            (vec![0.0; 3 * m], vec![0.0; m], vec![0.0; m], vec![0.0; m]);
+        model.scratch.borrow_mut().holding = false;
+        model.sliding(t, x, z, &mu, &mut w, &mut s, &mut ah);
+        model.scratch.borrow_mut().holding = false;
+        assert!(model.omega_rate(t, x, z, &zdot, &mut r));
+        (bits(&w), bits(&s), bits(&ah), bits(&r))
+    };
+    let seen = |model: &ParticleModel, t: f64, x: &[f64], z: &[f64]| {
+        let (mut w, mut s, mut ah, mut r) =
+            (vec![0.0; 3 * m], vec![0.0; m], vec![0.0; m], vec![0.0; m]);
+        model.sliding(t, x, z, &mu, &mut w, &mut s, &mut ah);
+        assert!(model.omega_rate(t, x, z, &zdot, &mut r));
+        (bits(&w), bits(&s), bits(&ah), bits(&r))
+    };
+    let (x, z) = random_point(&model, 5);
+    let (x2, z2) = random_point(&model, 6);
+    let want = fresh(&model, 0.2, &x, &z);
+    // After another point, twice at this one, and after J_Omega at another.
+    seen(&model, 0.2, &x2, &z2);
+    assert_eq!(seen(&model, 0.2, &x, &z), want);
+    assert_eq!(seen(&model, 0.2, &x, &z), want);
+    model.jacobian(
+        0.2,
+        &x2,
+        &z2,
+        &mut vec![0.0; model.jacobian_pattern().len()],
+    );
+    let mut r = vec![0.0; m];
+    assert!(model.omega_rate(0.2, &x, &z, &zdot, &mut r));
+    assert_eq!(bits(&r), want.3);
+    // Another time is another point (the pins move).
+    assert_eq!(seen(&model, 0.3, &x, &z), fresh(&model, 0.3, &x, &z));
+    // A pin changed (the grabbed particle released): the same point gives the new
+    // pins' values.
+    seen(&model, 0.2, &x, &z);
+    assert!(model.is_pinned(1));
+    model.set_pin(1, None).unwrap();
+    let released = seen(&model, 0.2, &x, &z);
+    assert_eq!(released, fresh(&model, 0.2, &x, &z));
+    assert_ne!(released.3, want.3);
+}

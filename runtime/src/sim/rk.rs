@@ -122,6 +122,11 @@ pub(crate) struct Rk {
     y0: Vec<f64>,
     h: f64,
     r5: Vec<f64>,
+    /// The Dormand-Prince output's other coefficients (`r2`, `r3`, `r4` of Hairer,
+    /// Norsett and Wanner's `CONTD5`), computed at the step's first output only: a
+    /// located crossing reads the output several times per step, and most steps never.
+    r234: [Vec<f64>; 3],
+    r234_known: bool,
     pub(crate) f1: Vec<f64>,
     kind: DenseKind,
     /// Whether the end derivative of a Hermite step is known.
@@ -139,6 +144,8 @@ impl Rk {
             y0: v(),
             h: 0.0,
             r5: v(),
+            r234: [v(), v(), v()],
+            r234_known: false,
             f1: v(),
             kind: DenseKind::Hermite,
             f1_known: false,
@@ -167,6 +174,7 @@ impl Rk {
         self.y0.copy_from_slice(y0);
         self.h = h;
         self.kind = pair.dense;
+        self.r234_known = false;
         match pair.dense {
             DenseKind::DormandPrince => {
                 combine(&mut self.r5, None, h, &DP_DENSE, &self.k);
@@ -195,17 +203,24 @@ impl Rk {
     }
 
     /// The dense output at `theta` in `[0, 1]` of the last step, into `out`.
-    pub(crate) fn dense(&self, theta: f64, out: &mut [f64]) {
+    pub(crate) fn dense(&mut self, theta: f64, out: &mut [f64]) {
         let (y0, y1, h) = (&self.y0, &self.y1, self.h);
         match self.kind {
             DenseKind::DormandPrince => {
-                let (k1, k7) = (&self.k[0], &self.k[6]);
+                let [r2, r3, r4] = &mut self.r234;
+                if !self.r234_known {
+                    let (k1, k7) = (&self.k[0], &self.k[6]);
+                    for i in 0..y0.len() {
+                        r2[i] = y1[i] - y0[i];
+                        r3[i] = h * k1[i] - r2[i];
+                        r4[i] = r2[i] - h * k7[i] - r3[i];
+                    }
+                    self.r234_known = true;
+                }
                 let t1 = 1.0 - theta;
                 for i in 0..out.len() {
-                    let r2 = y1[i] - y0[i];
-                    let r3 = h * k1[i] - r2;
-                    let r4 = r2 - h * k7[i] - r3;
-                    out[i] = y0[i] + theta * (r2 + t1 * (r3 + theta * (r4 + t1 * self.r5[i])));
+                    out[i] =
+                        y0[i] + theta * (r2[i] + t1 * (r3[i] + theta * (r4[i] + t1 * self.r5[i])));
                 }
             }
             DenseKind::Hermite => {
@@ -399,7 +414,7 @@ mod tests {
         let mut out = [0.0; 2];
         let mut errs = [[0.0; 3]; 2];
         for (k, h) in [0.2, 0.1].into_iter().enumerate() {
-            let (rk, est) = one_step(pair, t, h);
+            let (mut rk, est) = one_step(pair, t, h);
             let e = exact(t + h);
             errs[k][0] = (rk.y1[0] - e[0]).abs().max((rk.y1[1] - e[1]).abs());
             rk.dense(0.37, &mut out);
@@ -432,7 +447,7 @@ mod tests {
     #[test]
     fn dense_output_meets_both_ends() {
         for pair in [&DORMAND_PRINCE, &BOGACKI_SHAMPINE] {
-            let (rk, _) = one_step(pair, 0.1, 0.3);
+            let (mut rk, _) = one_step(pair, 0.1, 0.3);
             let mut out = [0.0; 2];
             rk.dense(0.0, &mut out);
             assert_eq!(out, exact(0.1));
@@ -517,5 +532,34 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// The Dormand-Prince output computes its coefficients at a step's first output and
+    /// reuses them: a second output of the same step, and the first of the next step, are
+    /// to the bit what a fresh computation gives (it fails when a new step keeps the last
+    /// step's coefficients).
+    #[test]
+    fn the_dense_output_is_always_the_last_steps() {
+        let pair = &DORMAND_PRINCE;
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        let mut out = [0.0; 2];
+        let mut fresh = [0.0; 2];
+        let (mut rk, _) = one_step(pair, 0.3, 0.2);
+        rk.dense(0.25, &mut out);
+        let (mut rk_fresh, _) = one_step(pair, 0.3, 0.2);
+        rk_fresh.dense(0.75, &mut fresh);
+        rk.dense(0.75, &mut out);
+        assert_eq!(bits(&out), bits(&fresh));
+        // The next step, on the same storage.
+        let (t, h) = (0.5, 0.1);
+        let y0 = exact(t);
+        f(t, &y0, &mut rk.k[0]);
+        rk.embedded(pair, &y0, h, (1e-6, 1e-6), &mut |dt, y, dy| {
+            f(t + dt, y, dy)
+        });
+        rk.dense(0.4, &mut out);
+        let (mut rk_fresh, _) = one_step(pair, t, h);
+        rk_fresh.dense(0.4, &mut fresh);
+        assert_eq!(bits(&out), bits(&fresh));
     }
 }
