@@ -221,7 +221,8 @@ fn a_taut_edge_within_the_layers_is_reported_as_a_near_singular_j() {
 /// nearly singular `J_s` above 5.8e-3 of the earlier largest, and the run stopped with
 /// no word of `J_s` ("the error control cannot meet the tolerance"). `J_s` is now
 /// factored once more where the step control gives up and read from one solve as well
-/// (measured: `|b| / |J_s^{-1} b|` 1.5e-4 of the earlier largest pivot at t = 0.0037 s).
+/// (measured: `|b| / |J_s^{-1} b|` 5.7e-5 of its value at the first factorisation, at
+/// t = 0.0037 s).
 #[test]
 fn a_taut_edge_is_reported_as_a_near_singular_j_with_the_dense_solver_too() {
     let extra = ["--set", "slack=0.0004", "--solver", "dense"];

@@ -114,9 +114,9 @@ pub enum SimError {
     /// The error control of an embedded pair drove the step below what the time can
     /// resolve. When `J_s` had come near singular before (its smallest pivot below
     /// [`NEAR_SINGULAR`](crate::NEAR_SINGULAR) of its earlier largest), or is at the
-    /// failing point (factored there once more, its conditioning read from the pivots
-    /// and from one solve, `|b| / |J_s^{-1} b|`, which partial pivoting cannot hide),
-    /// that is the likely cause and is said: the control `v = J_s^{-1}(...)` grows
+    /// failing point (factored there once more and read from its pivots and from one
+    /// solve, `|b| / |J_s^{-1} b|` against its value at the run's first factorisation,
+    /// which partial pivoting cannot hide), that is the likely cause and is said: the control `v = J_s^{-1}(...)` grows
     /// without bound there, and no step is short enough to follow it.
     #[error(
         "step size underflow at t = {t} (h = {h:e}): {}",
@@ -166,7 +166,7 @@ fn quoted(names: &[String]) -> String {
 fn underflow_cause(near_singular: &Option<crate::NearSingular>) -> String {
     match near_singular {
         Some(ns) => format!(
-            "J_s came near singular at t = {} (pivot ratio {:.1e} of its earlier largest), and the control grows without bound there (the constraints nearly lose rank: for example a taut line of rigid links between fixed points)",
+            "J_s came near singular at t = {} (its conditioning fell to {:.1e} of what it was earlier in the run), and the control grows without bound there (the constraints nearly lose rank: for example a taut line of rigid links between fixed points)",
             ns.t, ns.pivot_ratio
         ),
         None => "the error control cannot meet the tolerance (a stiff or non-smooth motion, or a tolerance below rounding)".into(),

@@ -56,8 +56,9 @@ pub struct BoundLoss {
 
 /// `J_s` nearly singular: the smallest pivot of a factorisation fell below
 /// [`NEAR_SINGULAR`] times the largest value the smallest pivot had in the run so far
-/// (where the step control gave up, also `|b| / |J_s^{-1} b|` for one fixed `b`, an
-/// upper bound of the smallest singular value that partial pivoting cannot hide).
+/// (where the step control gave up, also `|b| / |J_s^{-1} b|` for one fixed `b`, at
+/// least the smallest singular value, which partial pivoting cannot hide, against its
+/// value at the run's first factorisation).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct NearSingular {
     /// The smallest pivot ratio seen.

@@ -351,6 +351,34 @@ fn a_chain_of_a_thousand_links_holds_its_layers() {
     );
 }
 
+/// A step-size underflow with a healthy `J_s` does not blame `J_s`: a tolerance no step
+/// can meet stops the run at its first step, and where the step control gives up the
+/// solve's measure of `J_s` is compared with its own first value, not with the pivots:
+/// `|b| / |J_s^{-1} b|` is 3.4e-4 of the least pivot on this 1000-link chain at its start
+/// (2e-7 on the benchmark's), and a probe that compared the two, as the first version
+/// did, called the chain nearly singular here.
+#[test]
+fn an_underflow_with_a_healthy_j_s_is_not_laid_to_j_s() {
+    for n in [10, 1000] {
+        let chain = sized("chain.dae", &[("N", n)]);
+        let m = chain.n_constraints();
+        let settings = Settings::new(vec![1e-3; m], vec![0.1; m], vec![1000.0; m])
+            .integrator(dae_runtime::Integrator::DormandPrince)
+            .tolerance(1e-300, 1e-300)
+            .t_end(0.002);
+        let mut sim = Simulator::new(&chain, settings).unwrap();
+        match sim.run(&mut dae_runtime::NoTrace) {
+            Err(dae_runtime::SimError::StepUnderflow {
+                near_singular, t, ..
+            }) => {
+                assert!(t < 1e-3, "N = {n}: stopped at {t}");
+                assert!(near_singular.is_none(), "N = {n}: {near_singular:?}");
+            }
+            other => panic!("N = {n}: {other:?}"),
+        }
+    }
+}
+
 /// The automatic design's first pilot (exact alpha) on a chain of 20 links with a heavy
 /// end: a gain of 1e-3 is below the drift of the links at the pin (`daec run` with it
 /// leaves the layer at t = 0.011), so the pilot is stopped and runs again with ten times
