@@ -103,7 +103,7 @@ struct Geo {
     q: f64,
 }
 
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 struct Scratch {
     geo: Vec<Geo>,
     acc: Vec<[f64; 3]>,
@@ -119,7 +119,7 @@ struct Scratch {
 }
 
 /// `(t, x, z)` as bits.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone)]
 struct Point {
     t: u64,
     x: Vec<u64>,
@@ -389,6 +389,15 @@ impl ParticleModel {
         }
     }
 
+    /// [`Self::accelerations`] with the relative velocity terms at `(t, x, z)` into
+    /// `sc`, unless it holds that point's already ([`Scratch::holds`]).
+    fn accelerations_at(&self, sc: &mut Scratch, t: f64, x: &[f64], z: &[f64]) {
+        if !sc.holds(t, x, z) {
+            self.accelerations(t, x, z, &mut sc.geo, &mut sc.acc, true);
+            sc.remember(t, x, z);
+        }
+    }
+
     /// The rate of `w''` along the motion into `out`: `beta` (the tensions held) when
     /// `zdot` is `None`, `beta + J_Omega zdot` (the tensions moving at `zdot`) otherwise.
     /// One pass over the links for the accelerations, one for the jerks, one for the
@@ -403,11 +412,7 @@ impl ParticleModel {
         out: &mut [f64],
     ) {
         let mut sc = self.scratch.borrow_mut();
-        if !sc.holds(t, x, z) {
-            let Scratch { geo, acc, .. } = &mut *sc;
-            self.accelerations(t, x, z, geo, acc, true);
-            sc.remember(t, x, z);
-        }
+        self.accelerations_at(&mut sc, t, x, z);
         let Scratch { geo, acc, jerk, .. } = &mut *sc;
         jerk.fill([0.0; 3]);
         for (l, &(a, b)) in self.ends.iter().enumerate() {
@@ -543,11 +548,7 @@ impl Model for ParticleModel {
         ah: &mut [f64],
     ) {
         let mut sc = self.scratch.borrow_mut();
-        if !sc.holds(t, x, z) {
-            let Scratch { geo, acc, .. } = &mut *sc;
-            self.accelerations(t, x, z, geo, acc, true);
-            sc.remember(t, x, z);
-        }
+        self.accelerations_at(&mut sc, t, x, z);
         let Scratch { geo, acc, .. } = &*sc;
         for (l, &(a, b)) in self.ends.iter().enumerate() {
             let g = &geo[l];

@@ -441,24 +441,21 @@ fn sink_chunk(
         Sink::ScatterAdd(arr, m) | Sink::ScatterSub(arr, m) => {
             let a = &mut arrays[arr.index()];
             let map = &inst.maps[m.index()][start..start + len];
-            let add = matches!(sink, Sink::ScatterAdd(..));
+            // `a + (-1 v)` is `a - v` to the bit: one loop for both.
+            let sign = if matches!(sink, Sink::ScatterAdd(..)) {
+                1.0
+            } else {
+                -1.0
+            };
             match v {
                 Src::Slice(s) => {
                     for (&to, &v) in map.iter().zip(s) {
-                        if add {
-                            a[to as usize] += v;
-                        } else {
-                            a[to as usize] -= v;
-                        }
+                        a[to as usize] += sign * v;
                     }
                 }
                 Src::Value(v) => {
                     for &to in map {
-                        if add {
-                            a[to as usize] += v;
-                        } else {
-                            a[to as usize] -= v;
-                        }
+                        a[to as usize] += sign * v;
                     }
                 }
             }

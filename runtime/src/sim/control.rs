@@ -301,11 +301,6 @@ impl Controller {
         self.w[self.offs[i]]
     }
 
-    /// Whether every w-derivative (the residuals among them) is finite.
-    pub(crate) fn w_all_finite(&self) -> bool {
-        !self.w.iter().fold(false, |bad, x| bad | !x.is_finite())
-    }
-
     /// Evaluate `J_Omega` at `(t, x, z)` and factor `J_s = diag(mu^(r-1)) J_Omega`.
     pub(crate) fn factor<M: Model + ?Sized>(
         &mut self,

@@ -136,11 +136,12 @@ impl<M: Model> Simulator<M> {
     pub(super) fn check_finite(&self) -> Result<(), SimError> {
         // Nearly every point is finite: one pass without early exit over each vector
         // first (a fold of flags, which the compiler vectorises), the search for what to
-        // name only when one is not.
+        // name only when one is not (every w-derivative is checked there, the
+        // residuals among them).
         let all_finite = |v: &[f64]| !v.iter().fold(false, |bad, x| bad | !x.is_finite());
         if all_finite(&self.x)
             && all_finite(&self.z)
-            && self.ctl.w_all_finite()
+            && all_finite(&self.ctl.w)
             && all_finite(&self.ctl.s)
         {
             return Ok(());
