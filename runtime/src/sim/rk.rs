@@ -123,10 +123,13 @@ pub(crate) struct Rk {
     h: f64,
     r5: Vec<f64>,
     /// The Dormand-Prince output's other coefficients (`r2`, `r3`, `r4` of Hairer,
-    /// Norsett and Wanner's `CONTD5`), computed at the step's first output only: a
-    /// located crossing reads the output several times per step, and most steps never.
+    /// Norsett and Wanner's `CONTD5`).
     r234: [Vec<f64>; 3],
-    r234_known: bool,
+    /// Whether `r5` and `r234` are the last step's. They are computed at the step's
+    /// first output only (from the stages, which stay until the next step): a located
+    /// crossing reads the output several times per step, most steps and every rejected
+    /// trial never.
+    coefficients_known: bool,
     pub(crate) f1: Vec<f64>,
     kind: DenseKind,
     /// Whether the end derivative of a Hermite step is known.
@@ -145,7 +148,7 @@ impl Rk {
             h: 0.0,
             r5: v(),
             r234: [v(), v(), v()],
-            r234_known: false,
+            coefficients_known: false,
             f1: v(),
             kind: DenseKind::Hermite,
             f1_known: false,
@@ -174,15 +177,10 @@ impl Rk {
         self.y0.copy_from_slice(y0);
         self.h = h;
         self.kind = pair.dense;
-        self.r234_known = false;
-        match pair.dense {
-            DenseKind::DormandPrince => {
-                combine(&mut self.r5, None, h, &DP_DENSE, &self.k);
-            }
-            DenseKind::Hermite => {
-                self.f1.copy_from_slice(&self.k[stages - 1]);
-                self.f1_known = true;
-            }
+        self.coefficients_known = false;
+        if pair.dense == DenseKind::Hermite {
+            self.f1.copy_from_slice(&self.k[stages - 1]);
+            self.f1_known = true;
         }
         error_norm(&self.err, y0, &self.y1, tol)
     }
@@ -208,14 +206,15 @@ impl Rk {
         match self.kind {
             DenseKind::DormandPrince => {
                 let [r2, r3, r4] = &mut self.r234;
-                if !self.r234_known {
+                if !self.coefficients_known {
+                    combine(&mut self.r5, None, h, &DP_DENSE, &self.k);
                     let (k1, k7) = (&self.k[0], &self.k[6]);
                     for i in 0..y0.len() {
                         r2[i] = y1[i] - y0[i];
                         r3[i] = h * k1[i] - r2[i];
                         r4[i] = r2[i] - h * k7[i] - r3[i];
                     }
-                    self.r234_known = true;
+                    self.coefficients_known = true;
                 }
                 let t1 = 1.0 - theta;
                 for i in 0..out.len() {
