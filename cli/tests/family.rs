@@ -233,6 +233,32 @@ fn a_taut_edge_is_reported_as_a_near_singular_j_with_the_dense_solver_too() {
     assert!(err.contains("smaller --eps"), "{err}");
 }
 
+/// The same taut edge with the dense solver, run to t = 0.0036 s, while it comes
+/// straight and before any layer is lost: `J_s`'s conditioning falls to about 1/70 of
+/// what it was, and the sparse solver's pivots say so (0.016). Partial pivoting kept the
+/// dense LU's pivots at 0.88 of their largest, so a dense run read only from its pivots
+/// said nothing of it, and its lost layer just after (the run to 0.0037 s: 4761
+/// updates, `|s| / eps` 9e8) was reported with no word of `J_s`; the dense LU is now
+/// read from one solve at every factorisation too: 0.013 here, 5.1e-8 at 0.0037 s,
+/// where the report names `J_s` (measured with the code before and after; with the
+/// longest step moved by -4 % ... +4 %: 0.88-0.98 before, 0.013-0.15 after, the sparse
+/// pivots 0.011-0.033).
+#[test]
+fn the_dense_solver_sees_a_taut_edge_s_conditioning_as_the_sparse_pivots_do() {
+    let ratio = |solver: &str| {
+        let extra = ["--set", "slack=0.0004", "--solver", solver];
+        let (code, out, err) = run_cloth_w8_until("0.0036", false, Steps::Before, &extra);
+        assert_eq!(code, Some(0), "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).expect("JSON summary");
+        v["min_pivot_ratio"]["ratio"]
+            .as_f64()
+            .unwrap_or_else(|| panic!("{solver}: no ratio in {}", v["min_pivot_ratio"]))
+    };
+    let (dense, sparse) = (ratio("dense"), ratio("sparse"));
+    assert!(sparse < 0.1, "sparse pivots {sparse}");
+    assert!(dense < 0.1, "dense {dense} (sparse pivots {sparse})");
+}
+
 /// `daec run` of the 8 x 8 cloth example for 0.5 s with the benchmark's frame-tied
 /// settings (and `extra` arguments), as JSON.
 fn run_cloth_w8(extra: &[&str]) -> (Option<i32>, String, String) {
@@ -252,6 +278,16 @@ enum Steps {
 /// [`run_cloth_w8`] with the law saturated inside the layer (the design's) or with
 /// `sgn(s)` (`saturate` false), and the step control `steps`.
 fn run_cloth_w8_law(saturate: bool, steps: Steps, extra: &[&str]) -> (Option<i32>, String, String) {
+    run_cloth_w8_until("0.5", saturate, steps, extra)
+}
+
+/// [`run_cloth_w8_law`] to `t_end` instead of 0.5 s.
+fn run_cloth_w8_until(
+    t_end: &str,
+    saturate: bool,
+    steps: Steps,
+    extra: &[&str],
+) -> (Option<i32>, String, String) {
     let model = example("cloth.dae");
     // W = 8: links of 1/7 m, eps = 1 % of a link.
     let eps = 0.01 / 7.0;
@@ -272,7 +308,7 @@ fn run_cloth_w8_law(saturate: bool, steps: Steps, extra: &[&str]) -> (Option<i32
         "--set",
         "W=8",
         "--t-end",
-        "0.5",
+        t_end,
         "--eps",
         &eps_s,
         "--mu",

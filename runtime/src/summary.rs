@@ -55,13 +55,14 @@ pub struct BoundLoss {
 }
 
 /// `J_s` nearly singular: the smallest pivot of a factorisation fell below
-/// [`NEAR_SINGULAR`] times the largest value the smallest pivot had in the run so far
-/// (where the step control gave up, also `|b| / |J_s^{-1} b|` for one fixed `b`, at
-/// least the smallest singular value, which partial pivoting cannot hide, against its
-/// value at the run's first factorisation).
+/// [`NEAR_SINGULAR`] times the largest value the smallest pivot had in the run so far,
+/// or so did `|b| / |J_s^{-1} b|` for one fixed `b` (at least the smallest singular
+/// value, which partial pivoting cannot hide) against its own largest earlier value:
+/// read at every factorisation of the dense LU, whose partial pivoting can keep every
+/// pivot large, and, for every solver with pivots, where the step control gave up.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct NearSingular {
-    /// The smallest pivot ratio seen.
+    /// The smallest ratio seen (of the pivots, or of the solve's measure).
     pub pivot_ratio: f64,
     /// The time of that update.
     pub t: f64,
@@ -139,8 +140,9 @@ pub struct Summary {
     pub seen_max_abs_w: Vec<f64>,
     /// The layer left after reaching, if it was.
     pub bound_loss: Option<BoundLoss>,
-    /// The smallest pivot ratio of `J_s` in the run and its time (see
-    /// [`NEAR_SINGULAR`]); `None` for solvers without pivots.
+    /// The smallest conditioning ratio of `J_s` in the run and its time: of its least
+    /// pivot, or of one solve's measure (see [`NearSingular`] and [`NEAR_SINGULAR`]);
+    /// `None` for solvers without pivots.
     pub min_pivot_ratio: Option<(f64, f64)>,
     /// Number of (update, constraint) pairs in the window where the robustness condition
     /// (T 3.22) failed for the solver's `J_hat` (with an exact solver

@@ -56,7 +56,7 @@ impl Report<'_> {
                 );
                 if let Some(ns) = &l.near_singular {
                     line.push_str(&format!(
-                        "; J_s was nearly singular at t = {:.6} (pivot ratio {:.2e} < {NEAR_SINGULAR:e})",
+                        "; J_s was nearly singular at t = {:.6} (its conditioning fell to {:.2e} of what it was earlier in the run, below {NEAR_SINGULAR:e})",
                         ns.t, ns.pivot_ratio
                     ));
                 }

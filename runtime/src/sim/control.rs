@@ -90,12 +90,15 @@ pub(crate) struct Controller {
     /// without anything having gone wrong.
     pivot_max: f64,
     pub(crate) min_pivot_ratio: Option<(f64, f64)>,
-    /// `|b| / |J_s^{-1} b|` for the fixed `b` of [`Self::probe_singular`] at the run's
-    /// first factorisation (one solve per run): what the probe at a failure compares
-    /// with. Not the pivots: the two measure different things (on a healthy 1000-link
-    /// chain this one is 2e-7 of the least pivot, on the 64 x 64 cloth 1e-4), so only
-    /// its own history says whether `J_s` came near singular.
-    solve_first: Option<f64>,
+    /// The largest `|b| / |J_s^{-1} b|` for the fixed `b` of [`Self::solve_measure`]
+    /// seen in the run: measured at the run's first factorisation, at every one of a
+    /// dense LU's (whose partial pivoting can keep its pivots large while `J_s` nears
+    /// singular; one `O(m^2)` solve against the factorisation's `O(m^3)`), and by the
+    /// probe at a failure ([`Self::probe_singular`]), each compared with it. Not with
+    /// the pivots: the two measure different things (on a healthy 1000-link chain this
+    /// one is 2e-7 of the least pivot, on the 64 x 64 cloth 1e-4), so only its own
+    /// history says whether `J_s` came near singular.
+    solve_max: Option<f64>,
     /// The fixed `b` of the probe, and its solution (sized once).
     probe: Vec<f64>,
     robust: Robustness,
@@ -233,7 +236,7 @@ impl Controller {
             zrhs: vm(),
             pivot_max: 0.0,
             min_pivot_ratio: None,
-            solve_first: None,
+            solve_max: None,
             probe: vm(),
             robust: Robustness::new(structure),
             elsewhere,
@@ -263,7 +266,7 @@ impl Controller {
         self.mu_pow = mu_pow;
         if least.is_finite() {
             self.pivot_max *= least;
-            if let Some(e) = &mut self.solve_first {
+            if let Some(e) = &mut self.solve_max {
                 *e *= least;
             }
         }
@@ -287,7 +290,7 @@ impl Controller {
         self.dz.fill(0.0);
         self.pivot_max = 0.0;
         self.min_pivot_ratio = None;
-        self.solve_first = None;
+        self.solve_max = None;
     }
 
     /// Evaluate w-derivatives, `s` and the cheap `alpha_hat` at `(t, x, z)`.
@@ -343,13 +346,17 @@ impl Controller {
             Ok(()) => {
                 self.factored = true;
                 if let Some((lo, _)) = self.solver.pivot_range() {
-                    if self.solve_first.is_none() {
-                        self.solve_first = Some(self.solve_measure());
-                    }
                     self.pivot_max = self.pivot_max.max(lo);
-                    let ratio = lo / self.pivot_max;
-                    if self.min_pivot_ratio.is_none_or(|(r, _)| ratio < r) {
-                        self.min_pivot_ratio = Some((ratio, t));
+                    self.note_ratio(lo / self.pivot_max, t);
+                    match self.solve_max {
+                        None => self.solve_max = Some(self.solve_measure()),
+                        Some(_) => {
+                            let nb = fill_probe(&mut self.probe);
+                            if self.solver.substitute_if_pivots_can_hide(&mut self.probe) {
+                                let measure = measure_of(nb, &self.probe);
+                                self.note_solve_measure(measure, t);
+                            }
+                        }
                     }
                 }
                 Ok(())
@@ -361,8 +368,8 @@ impl Controller {
     /// Where the step control gave up: `J_Omega` at `(t, x, z)` factored, and the
     /// conditioning of `J_s` read from its pivots, as at an update, and from one solve:
     /// `|b|_1 / |J_s^{-1} b|_1` for a fixed `b` ([`Self::solve_measure`]) is at least the
-    /// smallest singular value, and is compared with its own value at the run's first
-    /// factorisation. Partial pivoting can keep the pivots of a dense nearly singular
+    /// smallest singular value, and is compared with its own largest earlier value
+    /// (`solve_max`). Partial pivoting can keep the pivots of a dense nearly singular
     /// `J_s` well above it (measured on the taut far edge of `daec`'s 8 x 8 cloth with a
     /// slack of 0.04 % and `--solver dense`: the least pivot never below 5.8e-3 of its
     /// earlier largest, and the run stopped with no word of `J_s`; the solve's measure at
@@ -380,32 +387,39 @@ impl Controller {
             self.min_pivot_ratio = Some((0.0, t));
             return;
         }
-        let Some(first) = self.solve_first.filter(|f| *f > 0.0) else {
-            return;
-        };
-        let ratio = self.solve_measure() / first;
+        if self.solve_max.is_some() {
+            let measure = self.solve_measure();
+            self.note_solve_measure(measure, t);
+        }
+    }
+
+    /// A factorisation's conditioning at `t`, as a ratio to its own largest earlier
+    /// value: the run's smallest is kept.
+    fn note_ratio(&mut self, ratio: f64, t: f64) {
         let ratio = if ratio.is_nan() { 0.0 } else { ratio };
         if self.min_pivot_ratio.is_none_or(|(r, _)| ratio < r) {
             self.min_pivot_ratio = Some((ratio, t));
         }
     }
 
+    /// [`Self::solve_measure`]'s value at `t`, against the largest seen before.
+    fn note_solve_measure(&mut self, measure: f64, t: f64) {
+        let Some(max) = self.solve_max.filter(|m| *m > 0.0) else {
+            return;
+        };
+        if measure > max {
+            self.solve_max = Some(measure);
+        }
+        self.note_ratio(measure / max, t);
+    }
+
     /// `|b|_1 / |J_s^{-1} b|_1` with the current factorisation, for a fixed `b` of mixed
     /// signs and sizes (a few constants, not one pattern a null vector could be
     /// orthogonal to); 0 where the solve is not finite.
     fn solve_measure(&mut self) -> f64 {
-        const SIGNS: [f64; 7] = [1.0, -0.7, 0.9, -1.3, 0.6, -1.1, 1.2];
-        for (i, b) in self.probe.iter_mut().enumerate() {
-            *b = SIGNS[i % 7] * (1.0 + 0.01 * (i % 11) as f64);
-        }
-        let nb: f64 = self.probe.iter().map(|v| v.abs()).sum();
+        let nb = fill_probe(&mut self.probe);
         self.solver.solve(&mut self.probe);
-        let nx: f64 = self.probe.iter().map(|v| v.abs()).sum();
-        if nx.is_finite() && nx > 0.0 {
-            nb / nx
-        } else {
-            0.0
-        }
+        measure_of(nb, &self.probe)
     }
 
     /// `s' = alpha_hat + mu^(r-1) (J_Omega v + beta)` from the last `sliding`,
@@ -760,5 +774,25 @@ pub(crate) fn mu_powers<M: Model + ?Sized>(model: &M, mu: &[f64]) -> Result<Vec<
             ),
         }),
         None => Ok(mu_pow),
+    }
+}
+
+/// The fixed `b` of [`Controller::solve_measure`] into `probe` (a few constants of mixed
+/// signs and sizes, not one pattern a null vector could be orthogonal to); `|b|_1`.
+fn fill_probe(probe: &mut [f64]) -> f64 {
+    const SIGNS: [f64; 7] = [1.0, -0.7, 0.9, -1.3, 0.6, -1.1, 1.2];
+    for (i, b) in probe.iter_mut().enumerate() {
+        *b = SIGNS[i % 7] * (1.0 + 0.01 * (i % 11) as f64);
+    }
+    probe.iter().map(|v| v.abs()).sum()
+}
+
+/// `|b|_1 / |x|_1` for the solution `x` of the probe, 0 where it is not finite.
+fn measure_of(nb: f64, x: &[f64]) -> f64 {
+    let nx: f64 = x.iter().map(|v| v.abs()).sum();
+    if nx.is_finite() && nx > 0.0 {
+        nb / nx
+    } else {
+        0.0
     }
 }

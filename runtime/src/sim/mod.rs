@@ -324,8 +324,9 @@ impl<M: Model> Simulator<M> {
             .record(&self.layout.constraints, self.near_singular())
     }
 
-    /// Where `J_s` was nearest singular, if its smallest pivot ratio fell below
-    /// [`NEAR_SINGULAR`] in the run so far.
+    /// Where `J_s` was nearest singular, if its smallest conditioning ratio (of its
+    /// pivots or of one solve, [`crate::NearSingular`]) fell below [`NEAR_SINGULAR`] in
+    /// the run so far.
     pub(super) fn near_singular(&self) -> Option<crate::NearSingular> {
         self.ctl
             .min_pivot_ratio

@@ -119,6 +119,24 @@ impl LinearSolver for DenseSolver {
 
     fn solve(&mut self, b: &mut [f64]) {
         self.stats.solves += 1;
+        self.substitute(b);
+    }
+
+    fn pivot_range(&self) -> Option<(f64, f64)> {
+        self.pivots
+    }
+    fn stats(&self) -> SolverStats {
+        self.stats
+    }
+    fn reset_stats(&mut self) {
+        self.stats = SolverStats::default();
+    }
+}
+
+impl DenseSolver {
+    /// `b <- J_s^{-1} b` with the factors of the last factorisation, not counted as a
+    /// solve (the controller's conditioning probe, which is not a control law's).
+    pub(crate) fn substitute(&self, b: &mut [f64]) {
         let m = self.m;
         if m == 0 {
             // No constraints (an ODE): nothing to solve.
@@ -147,15 +165,5 @@ impl LinearSolver for DenseSolver {
                 }
             }
         }
-    }
-
-    fn pivot_range(&self) -> Option<(f64, f64)> {
-        self.pivots
-    }
-    fn stats(&self) -> SolverStats {
-        self.stats
-    }
-    fn reset_stats(&mut self) {
-        self.stats = SolverStats::default();
     }
 }

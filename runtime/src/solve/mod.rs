@@ -321,6 +321,20 @@ impl Solver {
         }
     }
 
+    /// `b <- J_s^{-1} b`, not counted as a solve, where the factor's pivots can hide a
+    /// nearly singular `J_s` and the solve is cheap against the factorisation: the dense
+    /// LU, whose partial pivoting can keep every pivot large (`O(m^2)` against
+    /// `O(m^3)`). `false`, with `b` untouched, for the other solvers.
+    pub(crate) fn substitute_if_pivots_can_hide(&mut self, b: &mut [f64]) -> bool {
+        match &self.kind {
+            Kind::Dense(s) => {
+                s.substitute(b);
+                true
+            }
+            _ => false,
+        }
+    }
+
     fn inner(&self) -> &dyn LinearSolver {
         match &self.kind {
             Kind::Dense(s) => s,
