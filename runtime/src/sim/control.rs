@@ -99,7 +99,9 @@ pub(crate) struct Controller {
     /// one is 2e-7 of the least pivot, on the 64 x 64 cloth 1e-4), so only its own
     /// history says whether `J_s` came near singular.
     solve_max: Option<f64>,
-    /// The fixed `b` of the probe, and its solution (sized once).
+    /// The fixed `b` of the probe ([`probe_vector`]) with `|b|_1`, and the solve's
+    /// vector (both sized once).
+    probe_b: (Vec<f64>, f64),
     probe: Vec<f64>,
     robust: Robustness,
     /// Evaluations at a point other than the current one (see [`Self::s_rate_at`]).
@@ -237,6 +239,7 @@ impl Controller {
             pivot_max: 0.0,
             min_pivot_ratio: None,
             solve_max: None,
+            probe_b: probe_vector(m),
             probe: vm(),
             robust: Robustness::new(structure),
             elsewhere,
@@ -351,9 +354,9 @@ impl Controller {
                     match self.solve_max {
                         None => self.solve_max = Some(self.solve_measure()),
                         Some(_) => {
-                            let nb = fill_probe(&mut self.probe);
+                            self.probe.copy_from_slice(&self.probe_b.0);
                             if self.solver.substitute_if_pivots_can_hide(&mut self.probe) {
-                                let measure = measure_of(nb, &self.probe);
+                                let measure = measure_of(self.probe_b.1, &self.probe);
                                 self.note_solve_measure(measure, t);
                             }
                         }
@@ -417,9 +420,9 @@ impl Controller {
     /// signs and sizes (a few constants, not one pattern a null vector could be
     /// orthogonal to); 0 where the solve is not finite.
     fn solve_measure(&mut self) -> f64 {
-        let nb = fill_probe(&mut self.probe);
+        self.probe.copy_from_slice(&self.probe_b.0);
         self.solver.solve(&mut self.probe);
-        measure_of(nb, &self.probe)
+        measure_of(self.probe_b.1, &self.probe)
     }
 
     /// `s' = alpha_hat + mu^(r-1) (J_Omega v + beta)` from the last `sliding`,
@@ -777,14 +780,16 @@ pub(crate) fn mu_powers<M: Model + ?Sized>(model: &M, mu: &[f64]) -> Result<Vec<
     }
 }
 
-/// The fixed `b` of [`Controller::solve_measure`] into `probe` (a few constants of mixed
-/// signs and sizes, not one pattern a null vector could be orthogonal to); `|b|_1`.
-fn fill_probe(probe: &mut [f64]) -> f64 {
+/// The fixed `b` of [`Controller::solve_measure`] for `m` constraints (a few constants of
+/// mixed signs and sizes, not one pattern a null vector could be orthogonal to), and
+/// `|b|_1`.
+fn probe_vector(m: usize) -> (Vec<f64>, f64) {
     const SIGNS: [f64; 7] = [1.0, -0.7, 0.9, -1.3, 0.6, -1.1, 1.2];
-    for (i, b) in probe.iter_mut().enumerate() {
-        *b = SIGNS[i % 7] * (1.0 + 0.01 * (i % 11) as f64);
-    }
-    probe.iter().map(|v| v.abs()).sum()
+    let b: Vec<f64> = (0..m)
+        .map(|i| SIGNS[i % 7] * (1.0 + 0.01 * (i % 11) as f64))
+        .collect();
+    let nb = b.iter().map(|v| v.abs()).sum();
+    (b, nb)
 }
 
 /// `|b|_1 / |x|_1` for the solution `x` of the probe, 0 where it is not finite.

@@ -147,21 +147,26 @@ impl DenseSolver {
                 b.swap(i, p);
             }
         }
-        // Forward with unit L, then back with U, column by column.
-        for (j, col) in self.a.chunks_exact(m).enumerate() {
+        // Forward with unit L, then back with U, column by column. Plain index loops:
+        // for the small `m` this solver serves, the vectorised slices' set-up per
+        // column cost more than their bodies saved.
+        let (a, b) = (&self.a[..m * m], &mut b[..m]);
+        for j in 0..m {
             let bj = b[j];
             if bj != 0.0 {
-                for (x, l) in b[j + 1..].iter_mut().zip(&col[j + 1..]) {
-                    *x -= l * bj;
+                let col = &a[j * m..j * m + m];
+                for i in j + 1..m {
+                    b[i] -= col[i] * bj;
                 }
             }
         }
-        for (j, col) in self.a.chunks_exact(m).enumerate().rev() {
+        for j in (0..m).rev() {
+            let col = &a[j * m..j * m + m];
             let bj = b[j] / col[j];
             b[j] = bj;
             if bj != 0.0 {
-                for (x, u) in b[..j].iter_mut().zip(&col[..j]) {
-                    *x -= u * bj;
+                for i in 0..j {
+                    b[i] -= col[i] * bj;
                 }
             }
         }
