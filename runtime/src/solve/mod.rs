@@ -321,11 +321,16 @@ impl Solver {
         }
     }
 
-    /// `b <- J_s^{-1} b`, not counted as a solve, where the factor's pivots can hide a
-    /// nearly singular `J_s` and the solve is cheap against the factorisation: the dense
-    /// LU, whose partial pivoting can keep every pivot large (`O(m^2)` against
-    /// `O(m^3)`). `false`, with `b` untouched, for the other solvers.
-    pub(crate) fn substitute_if_pivots_can_hide(&mut self, b: &mut [f64]) -> bool {
+    /// Whether the factor's pivots can hide a nearly singular `J_s`: the dense LU, whose
+    /// partial pivoting can keep every pivot large.
+    pub(crate) fn pivots_can_hide(&self) -> bool {
+        matches!(self.kind, Kind::Dense(_))
+    }
+
+    /// `b <- J_s^{-1} b`, not counted as a solve, where [`Self::pivots_can_hide`] and the
+    /// solve is cheap against the factorisation (`O(m^2)` against `O(m^3)`). `false`,
+    /// with `b` untouched, for the other solvers.
+    pub(crate) fn substitute_if_pivots_can_hide(&self, b: &mut [f64]) -> bool {
         match &self.kind {
             Kind::Dense(s) => {
                 s.substitute(b);

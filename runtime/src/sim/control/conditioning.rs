@@ -53,7 +53,8 @@ impl Controller {
             self.min_pivot_ratio = Some((0.0, t));
             return;
         }
-        if self.solve_max.is_some() {
+        // The dense LU's factorisation above read the solve already.
+        if self.solve_max.is_some() && !self.solver.pivots_can_hide() {
             let measure = self.solve_measure();
             self.note_solve_measure(measure, t);
         }
