@@ -118,6 +118,11 @@ struct Scratch {
     holding: bool,
 }
 
+/// Whether `bits` are the bits of `v`.
+fn same_bits(bits: &[u64], v: &[f64]) -> bool {
+    bits.len() == v.len() && bits.iter().zip(v).all(|(a, b)| *a == b.to_bits())
+}
+
 /// `(t, x, z)` as bits.
 #[derive(Debug, Clone)]
 struct Point {
@@ -129,11 +134,13 @@ struct Point {
 impl Scratch {
     /// Whether `geo` and `acc` hold `(t, x, z)`'s.
     fn holds(&self, t: f64, x: &[f64], z: &[f64]) -> bool {
-        let same = |a: &[u64], b: &[f64]| {
-            a.len() == b.len() && a.iter().zip(b).all(|(a, b)| *a == b.to_bits())
-        };
-        let p = &self.at;
-        self.holding && p.t == t.to_bits() && same(&p.x, x) && same(&p.z, z)
+        self.holds_positions(x) && self.at.t == t.to_bits() && same_bits(&self.at.z, z)
+    }
+
+    /// Whether `geo` holds the geometry of the states `x` (its unit vectors and lengths
+    /// depend on the positions only).
+    fn holds_positions(&self, x: &[f64]) -> bool {
+        self.holding && same_bits(&self.at.x, x)
     }
 
     /// Record that `geo` and `acc` hold `(t, x, z)`'s (reusing the buffers).
@@ -569,13 +576,18 @@ impl Model for ParticleModel {
 
     fn jacobian(&self, _: f64, x: &[f64], _: &[f64], values: &mut [f64]) {
         let mut sc = self.scratch.borrow_mut();
-        // The unit vectors below overwrite the remembered point's.
-        sc.holding = false;
-        for (&(a, b), g) in self.ends.iter().zip(sc.geo.iter_mut()) {
-            let (pa, pb) = (states(x, a), states(x, b));
-            let d = diff3(pa, pb, 0);
-            let inv = 1.0 / dot(d, d).sqrt();
-            g.u = [d[0] * inv, d[1] * inv, d[2] * inv];
+        // At an update the simulator asks for `J_Omega` where it just evaluated `s`:
+        // the remembered point's unit vectors are these positions' (the same formula,
+        // the same bits), and `beta` after it reads that point's accelerations. At
+        // other positions the unit vectors overwrite the point's, which is forgotten.
+        if !sc.holds_positions(x) {
+            sc.holding = false;
+            for (&(a, b), g) in self.ends.iter().zip(sc.geo.iter_mut()) {
+                let (pa, pb) = (states(x, a), states(x, b));
+                let d = diff3(pa, pb, 0);
+                let inv = 1.0 / dot(d, d).sqrt();
+                g.u = [d[0] * inv, d[1] * inv, d[2] * inv];
+            }
         }
         for ((v, &(l, k)), &(c, sign)) in values.iter_mut().zip(&self.pattern).zip(&self.entry) {
             *v = if c == usize::MAX {

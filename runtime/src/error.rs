@@ -116,8 +116,9 @@ pub enum SimError {
     /// [`NEAR_SINGULAR`](crate::NEAR_SINGULAR) of its earlier largest), or is at the
     /// failing point (factored there once more and read from its pivots and from one
     /// solve, `|b| / |J_s^{-1} b|` against its largest earlier value, which partial
-    /// pivoting cannot hide), that is the likely cause and is said: the control `v = J_s^{-1}(...)` grows
-    /// without bound there, and no step is short enough to follow it.
+    /// pivoting cannot hide), that is the likely cause and is said: the control
+    /// `v = J_s^{-1}(...)` grows without bound there, and no step is short enough to
+    /// follow it.
     #[error(
         "step size underflow at t = {t} (h = {h:e}): {}",
         underflow_cause(near_singular)

@@ -236,9 +236,9 @@
 //! Partial pivoting can keep a nearly singular dense `J_s`'s pivots large, so the dense
 //! LU is read from that solve at every factorisation too (one `O(m^2)` solve, not
 //! counted in [`SolverStats::solves`](crate::SolverStats), against the factorisation's
-//! `O(m^3)`): on `daec`'s taut-edge cloth its pivots kept 5.7e-3 of their largest
-//! while the solve read 5.1e-8, and the report of the lost layer said nothing of `J_s`
-//! before. When the
+//! `O(m^3)`): on `daec`'s taut-edge cloth its pivots kept 0.88 of their largest at
+//! t = 0.0036 s while the solve read 0.013 (the sparse solver's pivots 0.016), and the
+//! report of the layer lost just after said nothing of `J_s` before. When the
 //! reaching phase does not finish by the end (or the settle time reaches past it) the
 //! window statistics are `None`, never zeros, and [`Summary::seen_max_abs_s`],
 //! [`Summary::seen_max_abs_w`] and the final [`Summary::s`], [`Summary::w`] say what the

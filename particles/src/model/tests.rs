@@ -399,3 +399,34 @@ fn sliding_and_omega_rate_give_the_same_bits_whatever_was_evaluated_before() {
     assert_eq!(released, fresh(&model, 0.2, &x, &z));
     assert_ne!(released.3, want.3);
 }
+
+/// At an update the simulator evaluates `s`, then `J_Omega` and `beta` at one point:
+/// `J_Omega` takes the remembered unit vectors there and `beta` the remembered
+/// accelerations. Both give to the bit what a model that evaluated nothing before gives,
+/// and `J_Omega` at other positions still gives its own.
+#[test]
+fn j_omega_and_beta_after_s_at_one_point_give_the_same_bits_as_fresh() {
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let model = test_model();
+    let m = model.n_constraints();
+    let n_j = model.jacobian_pattern().len();
+    let mu = vec![0.01; m];
+    let (x, z) = random_point(&model, 7);
+    let (x2, z2) = random_point(&model, 8);
+    let j_and_beta = |model: &ParticleModel, x: &[f64], z: &[f64]| {
+        let (mut j, mut beta) = (vec![0.0; n_j], vec![0.0; m]);
+        model.jacobian(0.2, x, z, &mut j);
+        model.beta(0.2, x, z, &mut beta);
+        (bits(&j), bits(&beta))
+    };
+    model.scratch.borrow_mut().holding = false;
+    let fresh = j_and_beta(&model, &x, &z);
+    model.scratch.borrow_mut().holding = false;
+    let fresh2 = j_and_beta(&model, &x2, &z2);
+    let (mut w, mut s, mut ah) = (vec![0.0; 3 * m], vec![0.0; m], vec![0.0; m]);
+    model.sliding(0.2, &x, &z, &mu, &mut w, &mut s, &mut ah);
+    assert_eq!(j_and_beta(&model, &x, &z), fresh);
+    model.sliding(0.2, &x, &z, &mu, &mut w, &mut s, &mut ah);
+    assert_eq!(j_and_beta(&model, &x2, &z2), fresh2);
+    assert_eq!(j_and_beta(&model, &x, &z), fresh);
+}

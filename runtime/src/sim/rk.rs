@@ -117,18 +117,16 @@ pub(crate) struct Rk {
     pub(crate) y1: Vec<f64>,
     /// The last embedded step's error estimate `y1 - y_hat`.
     pub(crate) err: Vec<f64>,
-    /// Dense output: the step's start `y0`, length `h`, and for Dormand-Prince the
-    /// combination `h sum d_j k_j`; for Hermite the end derivative `f1`.
+    /// Dense output: the step's start `y0` and length `h`, with the coefficients `r`
+    /// (Dormand-Prince) or the end derivative `f1` (Hermite).
     y0: Vec<f64>,
     h: f64,
-    r5: Vec<f64>,
-    /// The Dormand-Prince output's other coefficients (`r2`, `r3`, `r4` of Hairer,
-    /// Norsett and Wanner's `CONTD5`).
-    r234: [Vec<f64>; 3],
-    /// Whether `r5` and `r234` are the last step's. They are computed at the step's
-    /// first output only (from the stages, which stay until the next step): a located
-    /// crossing reads the output several times per step, most steps and every rejected
-    /// trial never.
+    /// The Dormand-Prince output's coefficients `r2` ... `r5` of Hairer, Norsett and
+    /// Wanner's `CONTD5` (`r5 = h sum d_j k_j`).
+    r: [Vec<f64>; 4],
+    /// Whether `r` is the last step's. It is computed at the step's first output only
+    /// (from the stages, which stay until the next step): a located crossing reads the
+    /// output several times per step, most steps and every rejected trial never.
     coefficients_known: bool,
     pub(crate) f1: Vec<f64>,
     kind: DenseKind,
@@ -146,8 +144,7 @@ impl Rk {
             err: v(),
             y0: v(),
             h: 0.0,
-            r5: v(),
-            r234: [v(), v(), v()],
+            r: [v(), v(), v(), v()],
             coefficients_known: false,
             f1: v(),
             kind: DenseKind::Hermite,
@@ -205,9 +202,9 @@ impl Rk {
         let (y0, y1, h) = (&self.y0, &self.y1, self.h);
         match self.kind {
             DenseKind::DormandPrince => {
-                let [r2, r3, r4] = &mut self.r234;
+                let [r2, r3, r4, r5] = &mut self.r;
                 if !self.coefficients_known {
-                    combine(&mut self.r5, None, h, &DP_DENSE, &self.k);
+                    combine(r5, None, h, &DP_DENSE, &self.k);
                     let (k1, k7) = (&self.k[0], &self.k[6]);
                     for i in 0..y0.len() {
                         r2[i] = y1[i] - y0[i];
@@ -218,8 +215,7 @@ impl Rk {
                 }
                 let t1 = 1.0 - theta;
                 for i in 0..out.len() {
-                    out[i] =
-                        y0[i] + theta * (r2[i] + t1 * (r3[i] + theta * (r4[i] + t1 * self.r5[i])));
+                    out[i] = y0[i] + theta * (r2[i] + t1 * (r3[i] + theta * (r4[i] + t1 * r5[i])));
                 }
             }
             DenseKind::Hermite => {

@@ -327,13 +327,14 @@ impl Solver {
         matches!(self.kind, Kind::Dense(_))
     }
 
-    /// `b <- J_s^{-1} b`, not counted as a solve, where [`Self::pivots_can_hide`] and the
+    /// `x = J_s^{-1} b`, not counted as a solve, where [`Self::pivots_can_hide`] and the
     /// solve is cheap against the factorisation (`O(m^2)` against `O(m^3)`). `false`,
-    /// with `b` untouched, for the other solvers.
-    pub(crate) fn substitute_if_pivots_can_hide(&self, b: &mut [f64]) -> bool {
+    /// with `x` untouched, for the other solvers.
+    pub(crate) fn substitute_if_pivots_can_hide(&self, b: &[f64], x: &mut [f64]) -> bool {
         match &self.kind {
             Kind::Dense(s) => {
-                s.substitute(b);
+                x.copy_from_slice(b);
+                s.substitute(x);
                 true
             }
             _ => false,
