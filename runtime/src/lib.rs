@@ -367,8 +367,8 @@
 //! counts, per constraint, the updates it asked for. On the particle benchmark's cloth
 //! (C3 (a), two far corners pinned, the far edge nearly taut) 36 of the 480 links of a
 //! 16 x 16 cloth asked for the 305 updates of its first 0.2 s (`dae-bench` test
-//! `on_the_cloth_a_few_links_ask_for_every_update_and_each_update_factors_once`); on
-//! the 32 x 32 cloth they are links hanging from the far edge (docs/particles.md).
+//! `on_a_nearly_taut_cloth_a_few_links_ask_for_every_update_and_each_update_factors_once`);
+//! on the 32 x 32 cloth they are links hanging from the far edge (docs/particles-log.md).
 //!
 //! **`z` and `z_eq` with an approximate inverse.** `z` is still the held ramp: it
 //! oscillates around the algebraic solution `z*` with an amplitude set by the gains, so

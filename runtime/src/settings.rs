@@ -520,7 +520,7 @@ impl Settings {
     /// design (T 3.14, T 4.4), which assumes the full gain inside the layer; use it
     /// with a design that does not rely on that period (the frame-tied design of the
     /// particle benchmark, where it cut the updates per frame 1.1-3.2x on the five runs
-    /// of `relaxed_design`: `docs/particles.md`). Under [`Policy::Spsm`] the law
+    /// of `relaxed_design`: `docs/particles-log.md`). Under [`Policy::Spsm`] the law
     /// saturates anyway.
     ///
     /// ```

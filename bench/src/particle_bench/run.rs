@@ -450,7 +450,7 @@ pub const RELAXED_MU_PER_FRAME: f64 = 0.25;
 /// cubic of `s` that locates the crossings is then fitted over a step no longer than half
 /// of the surface's time constant. `mu / 4` until 2026-11-27: `count_spread` (nine draws
 /// of the longest step within 4 % at each of `mu / 4`, `mu / 2` and `mu`, 198 draws on
-/// 11 scenes, docs/particles.md "How much one run's counts say") kept every layer at
+/// 11 scenes, docs/particles-log.md "How much one run's counts say") kept every layer at
 /// all three, and `mu / 2` made a third fewer steps than `mu / 4` where the longest step
 /// sets them (the 10-link chains, the small cloth) with as many updates; `mu` saved
 /// little more (11.7 against 13.5 steps per frame on C1 N=10 r=1e2), and with an older

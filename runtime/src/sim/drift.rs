@@ -12,7 +12,7 @@
 //! many variables the update that one of them asks for resets all, and a raised gain
 //! makes every other variable's next crossing sooner too; on chains with heavy ends
 //! the sweeping gains made 5-8x more updates than the floor gains left grazing
-//! (docs/particles.md). [`Settings::graze`](crate::Settings::graze) therefore raises a
+//! (docs/particles-log.md). [`Settings::graze`](crate::Settings::graze) therefore raises a
 //! gain only as far as its grazing returns need to stay a given time apart.
 
 /// How much of the drift estimate is kept from one update to the next: a drift that
