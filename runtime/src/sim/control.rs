@@ -102,9 +102,9 @@ pub(crate) struct Controller {
     /// one is 2e-7 of the least pivot, on the 64 x 64 cloth 1e-4), so only its own
     /// history says whether `J_s` came near singular.
     solve_max: Option<f64>,
-    /// The fixed `b` of the probe ([`probe_vector`]) with `|b|_1`, and the solve's
-    /// vector (both sized once).
-    probe_b: (Vec<f64>, f64),
+    /// The fixed `b` of the probe ([`probe_vector`]), and the solve's vector (both sized
+    /// once).
+    probe_b: Vec<f64>,
     probe: Vec<f64>,
     robust: Robustness,
     /// Evaluations at a point other than the current one (see [`Self::s_rate_at`]).

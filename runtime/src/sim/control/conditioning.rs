@@ -26,9 +26,9 @@ impl Controller {
         }
         if self
             .solver
-            .substitute_if_pivots_can_hide(&self.probe_b.0, &mut self.probe)
+            .substitute_if_pivots_can_hide(&self.probe_b, &mut self.probe)
         {
-            let measure = measure_of(self.probe_b.1, &self.probe);
+            let measure = measure_of(&self.probe_b, &self.probe);
             self.note_solve_measure(measure, t);
         }
     }
@@ -87,26 +87,24 @@ impl Controller {
     /// signs and sizes (a few constants, not one pattern a null vector could be
     /// orthogonal to); 0 where the solve is not finite.
     fn solve_measure(&mut self) -> f64 {
-        self.probe.copy_from_slice(&self.probe_b.0);
+        self.probe.copy_from_slice(&self.probe_b);
         self.solver.solve(&mut self.probe);
-        measure_of(self.probe_b.1, &self.probe)
+        measure_of(&self.probe_b, &self.probe)
     }
 }
 
 /// The fixed `b` of [`Controller::solve_measure`] for `m` constraints (a few constants of
-/// mixed signs and sizes, not one pattern a null vector could be orthogonal to), and
-/// `|b|_1`.
-pub(super) fn probe_vector(m: usize) -> (Vec<f64>, f64) {
+/// mixed signs and sizes, not one pattern a null vector could be orthogonal to).
+pub(super) fn probe_vector(m: usize) -> Vec<f64> {
     const SIGNS: [f64; 7] = [1.0, -0.7, 0.9, -1.3, 0.6, -1.1, 1.2];
-    let b: Vec<f64> = (0..m)
+    (0..m)
         .map(|i| SIGNS[i % 7] * (1.0 + 0.01 * (i % 11) as f64))
-        .collect();
-    let nb = b.iter().map(|v| v.abs()).sum();
-    (b, nb)
+        .collect()
 }
 
-/// `|b|_1 / |x|_1` for the solution `x` of the probe, 0 where it is not finite.
-fn measure_of(nb: f64, x: &[f64]) -> f64 {
+/// `|b|_1 / |x|_1` for the solution `x` of the probe `b`, 0 where it is not finite.
+fn measure_of(b: &[f64], x: &[f64]) -> f64 {
+    let nb: f64 = b.iter().map(|v| v.abs()).sum();
     let nx: f64 = x.iter().map(|v| v.abs()).sum();
     if nx.is_finite() && nx > 0.0 {
         nb / nx
