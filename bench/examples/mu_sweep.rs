@@ -110,7 +110,7 @@ fn main() {
             start,
             search,
             Duration::from_secs_f64(budget),
-            |s| if held { s } else { s.ramp_against_drift() },
+            |s| if held { s } else { dae_bench::ramped(s) },
         )
     });
     let mut lost = false;

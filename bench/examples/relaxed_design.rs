@@ -18,9 +18,10 @@
 
 use std::time::Duration;
 
-use dae_bench::{ParticleScene, RELAXED_DRIFT_SAFETY, c1, c3, run_relaxed_with};
+use dae_bench::{ParticleScene, RELAXED_DRIFT_SAFETY, c1, c3, ramped, run_relaxed_with};
 use dae_particles::GridPins;
 use dae_runtime::Settings;
+use dae_runtime::settings::{GainRule, InLayer};
 
 /// Budget of one run (wall clock).
 const BUDGET: Duration = Duration::from_secs(30);
@@ -67,35 +68,37 @@ impl Control {
 fn run(scene: &ParticleScene, eps: f64, gain: f64, control: Control) -> String {
     let r = run_relaxed_with(scene, eps, gain, BUDGET, |settings| {
         let design = settings.clone();
-        let settings = Settings {
-            follow_drift: None,
-            graze: None,
-            ..settings
-        };
+        let settings = with_gains(settings, GainRule::Fixed);
         match control {
             Control::Graze => design,
-            Control::GrazeRamp => design.ramp_against_drift(),
+            Control::GrazeRamp => ramped(design),
             Control::GrazeSign(ramp) => {
-                let sign = Settings {
-                    saturate: false,
-                    ..design
-                };
-                if ramp {
-                    sign.ramp_against_drift()
-                } else {
-                    sign
-                }
+                let mut sign = design;
+                sign.dbsmc_mut().expect("a DBSMC design").in_layer = InLayer::Sign;
+                if ramp { ramped(sign) } else { sign }
             }
             Control::Fixed => settings,
             Control::State(f) => {
-                let smallest = settings.eps.iter().copied().fold(f64::INFINITY, f64::min);
+                let smallest = settings
+                    .layers
+                    .eps
+                    .iter()
+                    .copied()
+                    .fold(f64::INFINITY, f64::min);
                 settings.tolerance(f * smallest, f * smallest)
             }
             Control::Shorter(f) => {
-                let h = settings.max_step * f;
+                let h = settings.integration.max_step * f;
                 settings.max_step(h)
             }
-            Control::Follow(f) => settings.follow_drift(f),
+            Control::Follow(f) => with_gains(
+                settings,
+                GainRule::FollowDrift {
+                    safety: f,
+                    graze: None,
+                    raise: None,
+                },
+            ),
         }
     });
     let frames = r.frames.max(1) as f64;
@@ -158,4 +161,10 @@ fn main() {
             println!("{}", run(scene, *eps, *gain, control));
         }
     }
+}
+
+/// The design's settings with other gains.
+fn with_gains(mut settings: Settings, gains: GainRule) -> Settings {
+    settings.dbsmc_mut().expect("a DBSMC design").gains = gains;
+    settings
 }

@@ -7,7 +7,7 @@
 //!   * (a) [`IndexOneRk4`]: RK4 on `x' = f(t, x, z)` with `z` solved at every stage from
 //!     `s(x, z) = 0` (Newton with `J_s = diag(mu^(r-1)) J_Omega`, [`ZSolver`]): the
 //!     index-1 reduction with Baumgarte-like stabilisation, poles at `-1/mu`;
-//!   * (b) SPSM, the runtime's `Policy::Spsm`, with [`spsm_stable`] (reached the layers,
+//!   * (b) SPSM, the runtime's `Law::Spsm`, with [`spsm_stable`] (reached the layers,
 //!     then `|s_i| <= 2 eps_i`, finite) and the step search [`largest_stable_step`];
 //!   * (c) `bdf_index1` (feature `bdf`, off by default: diffsol and faer are slow to
 //!     compile): the `diffsol` crate's variable-order BDF on the same index-1
@@ -109,7 +109,7 @@ pub use particle_bench::{
     bound_held, c1, c2, c3, c3_with_slack, c4, c4_with_slack, capture_frame, cheapest,
     cheapest_table, dbsmc_runs_table, dbsmc_settings, default_workers, drive_scene, ends_series,
     fitted_exponent, frame_tied_draws, heavy_chain_choices, holding_brackets, index_one, kept_both,
-    left_a_guarantee, loglog, parallel_map, parse_workers, particle_pilot, ratio_chart,
+    left_a_guarantee, loglog, parallel_map, parse_workers, particle_pilot, ramped, ratio_chart,
     relaxed_settings, relaxed_settings_at, run_particle_method, run_relaxed_at, run_relaxed_with,
     run_series, scene_groups, scene_of_spec, scene_title, stability_table, strain_chart,
     strain_colour, targets_section, timed_repeatedly, write_particles_csv, write_pictures,

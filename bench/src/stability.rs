@@ -3,7 +3,7 @@
 
 use std::io::{self, Write};
 
-use dae_runtime::{Layout, Model, Sample, Simulator, Sink};
+use dae_runtime::{Model, Simulator, trace::Layout, trace::Sample, trace::Sink};
 
 #[cfg(feature = "bdf")]
 use crate::baseline::{BdfSettings, bdf_index1};

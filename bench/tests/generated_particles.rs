@@ -13,7 +13,7 @@ use dae_particles::{
     FAR_EDGE_SLACK, FRAME, GrabPath, GridPins, Kinematics, Motion, ParticleDae, ParticleModel, Pin,
     System, chain, grid, grid_with_slack, strands,
 };
-use dae_runtime::{Integrator, Model, SolverChoice};
+use dae_runtime::{Model, settings::Integrator, solve::SolverChoice};
 
 /// Both models at one random state (pinned particles on their pins at `t`, the others
 /// off the manifold, moving, with random tensions): `f`, the w-derivatives, `s`,

@@ -58,7 +58,7 @@ fn allocations_of_frames(b: &mut Dbsmc<ParticleModel>, from: usize, to: usize) -
 
 fn assert_no_allocation_per_frame(label: &str, system: &Particles, eps: f64) {
     let model = ParticleModel::new(system).unwrap();
-    let settings = relaxed_settings(&model, eps, 4.0).ramp_against_drift();
+    let settings = dae_bench::ramped(relaxed_settings(&model, eps, 4.0));
     let mut b = Dbsmc::new(model, settings, label).unwrap();
     // The first frames start the run (its buffers, the solver's symbolic analysis).
     allocations_of_frames(&mut b, 0, 2);

@@ -1,19 +1,20 @@
 //! The particle model against the generated scalar chain, and the particle baselines
 //! (XPBD, index-1) against a reference on a tiny chain.
 
+use dae_runtime::settings::{GainRule, InLayer};
 use std::time::Duration;
 
 use dae_bench::{
     Chain5, IndexOneParticles, Lcg, MethodSpec, ParticleRecord, ParticleScene,
     RELAXED_DRIFT_SAFETY, RELAXED_GRAZE_PER_MU, RELAXED_MU_PER_FRAME, RELAXED_STEP_PER_MU,
-    RELAXED_TOLERANCE_PER_EPS, SweepOrder, Xpbd, c1, c3_with_slack, drive_scene, relaxed_settings,
-    run_particle_method, run_relaxed_with,
+    RELAXED_TOLERANCE_PER_EPS, SweepOrder, Xpbd, c1, c3_with_slack, drive_scene, ramped,
+    relaxed_settings, run_particle_method, run_relaxed_with,
 };
 use dae_particles::{
     Backend, Dbsmc, FAR_EDGE_SLACK, FRAME, GridPins, ParticleDae, ParticleModel, Scene, System,
     chain,
 };
-use dae_runtime::{Integrator, Model, Settings, SolverChoice};
+use dae_runtime::{Model, Settings, settings::Integrator, solve::SolverChoice};
 
 /// The hand-written 3-D particle model of a planar 5-link chain (unit links, 0.1 kg,
 /// gravity 9.8 along -y, pinned at the origin) is the generated `chain5_planar.dae`
@@ -243,23 +244,26 @@ fn the_relaxed_design_holds_a_heavy_end_chain_without_a_pilot() {
     let mu = RELAXED_MU_PER_FRAME * FRAME;
     for i in 0..model.n_constraints() {
         let e = eps * model.rest_length(i);
-        assert_eq!((st.eps[i], st.mu[i]), (e, mu));
-        assert!((st.gains[i] - 8.0 * e / mu).abs() <= 1e-15 * st.gains[i]);
+        assert_eq!((st.layers.eps[i], st.layers.mu[i]), (e, mu));
+        assert!((st.layers.gains[i] - 8.0 * e / mu).abs() <= 1e-15 * st.layers.gains[i]);
     }
-    assert_eq!(st.integrator, Integrator::DormandPrince);
-    assert_eq!(st.alpha, dae_runtime::AlphaChoice::Exact);
-    assert_eq!(st.max_step, RELAXED_STEP_PER_MU * mu);
-    let min_eps = st.eps.iter().copied().fold(f64::INFINITY, f64::min);
+    assert_eq!(st.integration.integrator, Integrator::DormandPrince);
+    assert_eq!(st.alpha, dae_runtime::settings::AlphaChoice::Exact);
+    assert_eq!(st.integration.max_step, RELAXED_STEP_PER_MU * mu);
+    let min_eps = st.layers.eps.iter().copied().fold(f64::INFINITY, f64::min);
     let tol = RELAXED_TOLERANCE_PER_EPS * min_eps;
     assert_eq!(
-        st.tolerance,
-        Some(dae_runtime::Tolerance {
+        st.integration.tolerance,
+        Some(dae_runtime::settings::Tolerance {
             rtol: tol,
             atol: tol
         })
     );
-    assert_eq!(st.follow_drift, Some(RELAXED_DRIFT_SAFETY));
-    assert_eq!(st.graze, Some(RELAXED_GRAZE_PER_MU * mu));
+    assert_eq!(
+        st.law.follows_drift(),
+        Some((RELAXED_DRIFT_SAFETY, Some(RELAXED_GRAZE_PER_MU * mu)))
+    );
+    assert!(st.law.saturates() && !st.law.ramps());
 
     let relaxed = run_particle_method(
         &scene,
@@ -323,11 +327,15 @@ fn grazing_gains_keep_the_layer_with_fewer_updates_than_sweeping_ones() {
     let eps = 1e-3;
     let run = |graze: bool| {
         run_relaxed_with(&scene, eps, 4.0, Duration::from_secs(120), |s| {
-            assert!(s.graze.is_some());
+            assert!(s.law.follows_drift().is_some_and(|(_, g)| g.is_some()));
             if graze {
                 s
             } else {
-                Settings { graze: None, ..s }
+                with_law(s, |d| {
+                    if let GainRule::FollowDrift { graze, .. } = &mut d.gains {
+                        *graze = None;
+                    }
+                })
             }
         })
     };
@@ -355,7 +363,7 @@ fn a_ramp_against_the_drift_keeps_the_layer_with_fewer_updates_on_a_light_chain(
     let eps = 1e-3;
     let run = |ramp: bool| {
         run_relaxed_with(&scene, eps, 4.0, Duration::from_secs(120), |s| {
-            if ramp { s.ramp_against_drift() } else { s }
+            if ramp { ramped(s) } else { s }
         })
     };
     let (held, ramped) = (run(false), run(true));
@@ -383,8 +391,8 @@ fn saturating_inside_the_layer_keeps_it_with_fewer_updates_on_a_chain() {
     for ramp in [false, true] {
         let run = |saturate: bool| {
             run_relaxed_with(&scene, eps, 4.0, Duration::from_secs(120), |s| {
-                let s = Settings { saturate, ..s };
-                if ramp { s.ramp_against_drift() } else { s }
+                let s = with_law(s, |d| d.in_layer = in_layer(saturate));
+                if ramp { ramped(s) } else { s }
             })
         };
         let (sat, sgn) = (run(true), run(false));
@@ -408,10 +416,9 @@ fn cloth_ramped(slack: f64, saturate: bool) -> (ParticleRecord, Vec<u64>, Vec<(u
     scene.duration = 0.2;
     let model = ParticleModel::new(&scene.system).unwrap();
     let ends = model.ends().to_vec();
-    let settings = Settings {
-        saturate,
-        ..relaxed_settings(&model, 1e-2, 4.0).ramp_against_drift()
-    };
+    let settings = with_law(ramped(relaxed_settings(&model, 1e-2, 4.0)), |d| {
+        d.in_layer = in_layer(saturate)
+    });
     let mut backend = Dbsmc::new(model, settings, "ramped")
         .unwrap()
         .keep_going_after_bound_loss();
@@ -558,13 +565,8 @@ fn fixed_gains_with_short_steps_keep_the_layer_on_the_heavy_end_chain() {
     let scene = c1(10, 1e4).unwrap();
     let eps = 1e-2;
     let run = run_relaxed_with(&scene, eps, 8.0, Duration::from_secs(240), |s| {
-        let h = s.max_step / 16.0;
-        Settings {
-            follow_drift: None,
-            graze: None,
-            ..s
-        }
-        .max_step(h)
+        let h = s.integration.max_step / 16.0;
+        with_law(s, |d| d.gains = GainRule::Fixed).max_step(h)
     });
     assert!(run.complete(), "{}", run.status);
     assert_eq!(run.counters.layer_lost_at, None);
@@ -578,11 +580,7 @@ fn relaxed_run(scene: &ParticleScene, eps: f64, gain: f64, follow: bool) -> Part
         if follow {
             s
         } else {
-            Settings {
-                follow_drift: None,
-                graze: None,
-                ..s
-            }
+            with_law(s, |d| d.gains = GainRule::Fixed)
         }
     })
 }
@@ -714,7 +712,7 @@ fn a_searched_mu_moves_and_keeps_every_layer_and_the_strain() {
     for (scene, eps) in [(&chain, 1e-3), (&grab, 1e-2)] {
         let what = scene.title();
         let model = ParticleModel::new(&scene.system).unwrap();
-        let settings = relaxed_settings(&model, eps, 4.0).ramp_against_drift();
+        let settings = ramped(relaxed_settings(&model, eps, 4.0));
         let mut backend = Dbsmc::new(model, settings, "adaptive")
             .unwrap()
             .adapt_mu(dae_particles::AdaptiveMu::default())
@@ -757,4 +755,25 @@ fn a_searched_mu_moves_and_keeps_every_layer_and_the_strain() {
         })
         .unwrap_err();
     assert!(err.reason.contains("step"), "{}", err.reason);
+}
+
+/// `settings` (the frame-tied design's DBSMC law) with its law changed by `change`.
+fn with_law(
+    mut settings: Settings,
+    change: impl FnOnce(&mut dae_runtime::settings::Dbsmc),
+) -> Settings {
+    change(
+        settings
+            .dbsmc_mut()
+            .expect("the frame-tied design uses the DBSMC law"),
+    );
+    settings
+}
+
+fn in_layer(saturate: bool) -> InLayer {
+    if saturate {
+        InLayer::Saturate
+    } else {
+        InLayer::Sign
+    }
 }

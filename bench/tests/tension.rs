@@ -5,7 +5,7 @@
 use std::f64::consts::FRAC_PI_2;
 
 use dae_bench::{DoublePendulum, PlanarChain, TRUTH_TOL, chain_scene, reference};
-use dae_runtime::{Integrator, NoTrace, Settings, Simulator, Summary};
+use dae_runtime::{Settings, Simulator, Summary, settings::Integrator, trace::NoTrace};
 
 #[test]
 fn truth_tensions_of_a_hanging_chain_carry_the_weight_below() {

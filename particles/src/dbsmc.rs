@@ -11,7 +11,9 @@
 use std::cell::{Cell, RefCell};
 use std::io;
 
-use dae_runtime::{Layout, Model, Sample, Settings, SimError, Simulator, Sink};
+use dae_runtime::{
+    Model, Settings, SimError, Simulator, trace::Layout, trace::Sample, trace::Sink,
+};
 
 use crate::adaptive_mu::{AdaptiveMu, Searcher};
 use crate::backend::{Backend, BackendError, Counters};
@@ -164,7 +166,7 @@ impl<M: ParticleDae> Dbsmc<M> {
             reason,
             deadline: false,
         };
-        let per_frame = FRAME / settings.step;
+        let per_frame = FRAME / settings.integration.step;
         if !(per_frame.is_finite()
             && per_frame >= 1.0
             && (per_frame - per_frame.round()).abs() < 1e-6)
@@ -173,14 +175,14 @@ impl<M: ParticleDae> Dbsmc<M> {
                 0.0,
                 format!(
                     "step {} does not divide the frame of 1/60 s (choose 1/(60 k))",
-                    settings.step
+                    settings.integration.step
                 ),
             ));
         }
-        if settings.t_start != 0.0 {
+        if settings.window.t_start != 0.0 {
             return Err(fail(
                 0.0,
-                format!("t_start is {}, must be 0", settings.t_start),
+                format!("t_start is {}, must be 0", settings.window.t_start),
             ));
         }
         let slots: Vec<(usize, usize)> = (0..model.n_particles())
@@ -188,7 +190,7 @@ impl<M: ParticleDae> Dbsmc<M> {
             .collect();
         let n = model.n_states();
         let mut settings = settings;
-        settings.t_end = f64::MAX;
+        settings.window.t_end = f64::MAX;
         let counted = Counted {
             model,
             rhs_calls: Cell::new(0),

@@ -35,7 +35,7 @@
 //!
 //! ```
 //! use dae_particles::{Backend, Dbsmc, FRAME, ParticleDae, ParticleModel, Scene, chain};
-//! use dae_runtime::{AlphaChoice, Model, Settings};
+//! use dae_runtime::{settings::AlphaChoice, Model, Settings};
 //!
 //! let system = chain(10, 1.0)?;
 //! let model = ParticleModel::new(&system)?;

@@ -27,7 +27,7 @@
 
 use std::cell::RefCell;
 
-use dae_runtime::{LinearSolver, Model, Solver, SolverChoice};
+use dae_runtime::{Model, solve::LinearSolver, solve::Solver, solve::SolverChoice};
 
 use crate::motion::Pin;
 use crate::system::System;

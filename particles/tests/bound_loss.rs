@@ -3,7 +3,7 @@
 //! time; with `keep_going_after_bound_loss` it goes on and the counters say when.
 
 use dae_particles::{Backend, Dbsmc, FRAME, ParticleDae, ParticleModel, chain};
-use dae_runtime::{AlphaChoice, Model, Settings};
+use dae_runtime::{Model, Settings, settings::AlphaChoice};
 
 /// A heavy-end chain with gains far too small to hold layers of 0.1 % of a link.
 fn weak(keep_going: bool) -> Dbsmc<ParticleModel> {

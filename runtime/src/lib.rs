@@ -235,7 +235,7 @@
 //! earlier value): the last update can precede the configuration that stopped the run.
 //! Partial pivoting can keep a nearly singular dense `J_s`'s pivots large, so the dense
 //! LU is read from that solve at every factorisation too (one `O(m^2)` solve, not
-//! counted in [`SolverStats::solves`](crate::SolverStats), against the factorisation's
+//! counted in [`SolverStats::solves`](crate::solve::SolverStats), against the factorisation's
 //! `O(m^3)`): on `daec`'s taut-edge cloth its pivots kept 0.88 of their largest at
 //! t = 0.0036 s while the solve read 0.013 (the sparse solver's pivots 0.016), and the
 //! report of the layer lost just after said nothing of `J_s` before. When the
@@ -441,47 +441,27 @@
 pub use dae_macros::{dae, dae_file};
 
 #[cfg(feature = "plot")]
-mod charts;
-mod design;
+pub mod charts;
+pub mod design;
+pub mod error;
 #[cfg(feature = "families")]
 pub mod family;
+pub mod model;
+pub mod settings;
+mod sim;
+pub mod solve;
+pub mod summary;
+pub mod trace;
+
 /// `dae-lang` for the code that `dae-codegen` generates for family models (it builds the
 /// model's `Construction` from literals). Not an API of this crate.
 #[cfg(feature = "families")]
 #[doc(hidden)]
 pub use dae_lang as __dae_lang;
-mod model;
 
-#[cfg(feature = "plot")]
-pub use charts::{
-    ChartError, ErrorSeries, RunCharts, SlidingSeries, YScale, plot_errors, plot_periods, plot_run,
-    plot_sliding,
-};
-pub use design::{
-    AutoDesign, AutoDesignOptions, ConstraintDesign, ConstraintSpec, Design, DesignError,
-    DesignPass, GainChoice, LayerBound, MAX_INDEX, MuChoice, MuSearch, PilotError, PilotEstimate,
-    PilotEstimator, PilotRun, PilotRunError, ROUNDING_FLOOR, approximate_inverse_gain,
-    approximate_inverse_gains, auto_design, c_r, design, design_at, jacobi_coupling, optimise_mu,
-    pilot_run, pilot_specs, reachable_bound, robust_gain, sufficient_gain, t_min,
-};
-pub use model::{Model, w_offsets};
-
-// The simulator: settings, control law, integration, traces, summary, errors.
-mod error;
-mod settings;
-mod sim;
-mod solve;
-mod summary;
-mod trace;
-
-pub use error::{Quantity, SimError};
-pub use settings::{
-    AlphaChoice, BOUND_TOL, CROSSING_TOL, Crossing, Initial, Integrator, LAYER_ERROR_PER_STEP,
-    Policy, Reaching, Settings, TOLERANCE_PER_EPS, Tolerance,
-};
+pub use error::SimError;
+pub use model::Model;
+pub use settings::Settings;
 pub use sim::Simulator;
-pub use solve::{
-    DENSE_MAX, InverseKind, LinearSolver, SolveError, Solver, SolverChoice, SolverStats, mul_js,
-};
-pub use summary::{BoundLoss, NEAR_SINGULAR, NearSingular, SolverSummary, Summary};
-pub use trace::{CsvSink, Decimate, Layout, NoTrace, Sample, Sink, Tee, Trace};
+pub use summary::Summary;
+pub use trace::Trace;

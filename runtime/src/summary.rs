@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::SolverChoice;
+use crate::solve::SolverChoice;
 
 /// What the solver of `J_s` did during a run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -55,7 +55,7 @@ use dae_bench::{
     strain_chart, timed_repeatedly, write_particles_csv, write_pictures,
 };
 use dae_particles::{FAR_EDGE_SLACK, GridPins};
-use dae_runtime::{Integrator, SolverChoice};
+use dae_runtime::{settings::Integrator, solve::SolverChoice};
 
 /// The least budget of a run on the small C4 (W = 8), whose point is the grab at 1 s
 /// and the release at 2.5 s.

@@ -8,7 +8,7 @@ use dae_bench::{
     particle_pilot, run_particle_method, scene_title, timed_repeatedly,
 };
 use dae_particles::GridPins;
-use dae_runtime::{Integrator, SolverChoice};
+use dae_runtime::{settings::Integrator, solve::SolverChoice};
 
 use super::{Options, bisect_small_steps, print};
 

@@ -110,9 +110,9 @@ pub fn frame_tied_draws(
                     let s = if design == FrameTied::Held {
                         s
                     } else {
-                        s.ramp_against_drift()
+                        super::ramped(s)
                     };
-                    let mu = s.mu[0];
+                    let mu = s.layers.mu[0];
                     s.max_step(per_mu * nudge * mu)
                 },
             )

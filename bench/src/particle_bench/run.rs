@@ -7,9 +7,10 @@ use std::time::{Duration, Instant};
 use dae_particles::{
     AdaptiveMu, Backend, BackendError, Counters, Dbsmc, FRAME, ParticleDae, ParticleModel, Scene,
 };
+use dae_runtime::settings::{self, GainRule, Hold, InLayer};
 use dae_runtime::{
-    AlphaChoice, ConstraintSpec, GainChoice, Integrator, LayerBound, MuSearch, Settings,
-    SolverChoice, design,
+    Settings, design::ConstraintSpec, design::GainChoice, design::LayerBound, design::MuSearch,
+    design::design, settings::AlphaChoice, settings::Integrator, solve::SolverChoice,
 };
 
 use super::scenes::{ParticleScene, SceneShape};
@@ -460,8 +461,8 @@ pub const RELAXED_STEP_PER_MU: f64 = 0.5;
 
 /// The state tolerance of the relaxed design's Dormand-Prince steps, as a fraction of the
 /// smallest layer: `rtol = atol = RELAXED_TOLERANCE_PER_EPS * min eps_i`, ten times the
-/// runtime's default ([`dae_runtime::TOLERANCE_PER_EPS`]). What keeps `s` within its
-/// layer is each step's error in `s` ([`dae_runtime::LAYER_ERROR_PER_STEP`]), which
+/// runtime's default ([`dae_runtime::settings::TOLERANCE_PER_EPS`]). What keeps `s` within its
+/// layer is each step's error in `s` ([`dae_runtime::settings::LAYER_ERROR_PER_STEP`]), which
 /// does not depend on it; on the heavy 10-link chain at eps = 1e-3 the default
 /// tolerance set the steps (68 per frame for 18 updates; 47 at ten times it, 42 at 30
 /// times, the same updates, every layer kept: one-off runs, 2026-11-27).
@@ -526,9 +527,25 @@ pub fn relaxed_settings_at<M: ParticleDae>(
         .integrator(Integrator::DormandPrince)
         .step(FRAME)
         .max_step(RELAXED_STEP_PER_MU * mu)
-        .follow_drift(RELAXED_DRIFT_SAFETY)
-        .graze(RELAXED_GRAZE_PER_MU * mu)
-        .saturate_in_layer()
+        .law(
+            settings::Dbsmc::default()
+                .gains(GainRule::FollowDrift {
+                    safety: RELAXED_DRIFT_SAFETY,
+                    graze: Some(RELAXED_GRAZE_PER_MU * mu),
+                    raise: None,
+                })
+                .in_layer(InLayer::Saturate),
+        )
+}
+
+/// `settings` (a DBSMC law, as every frame-tied design is) with `v` ramping against the
+/// drift between updates instead of held.
+pub fn ramped(mut settings: Settings) -> Settings {
+    settings
+        .dbsmc_mut()
+        .expect("the frame-tied designs use the DBSMC law")
+        .hold = Hold::RampAgainstDrift;
+    settings
 }
 
 /// The frame-tied design ([`relaxed_settings`]) on the hand-written model of `scene`,
@@ -772,7 +789,7 @@ impl RunDbsmc<'_, '_> {
             // No guaranteed period: the design assumes its drift (see relaxed_settings).
             Design::Relaxed { gain, ramp, .. } => {
                 let settings = relaxed_settings(&model, self.eps, gain);
-                Ok((Settings { ramp, ..settings }, None))
+                Ok((if ramp { ramped(settings) } else { settings }, None))
             }
         };
         let (settings, t_min) = match designed {
@@ -782,7 +799,7 @@ impl RunDbsmc<'_, '_> {
                 return r;
             }
         };
-        let step = settings.step;
+        let step = settings.integration.step;
         let name = format!("{} {}", self.spec.method(), self.spec.knob());
         let search = match self.design {
             Design::Relaxed { search, .. } => search,

@@ -36,7 +36,7 @@ use std::cell::{Cell, OnceCell, RefCell};
 
 use dae_particles::{ModelError, ParticleDae, Pin, System, check_pin_change, distance};
 use dae_runtime::family::{FamilyInstance, Kernels};
-use dae_runtime::{LinearSolver, Model, Solver, SolverChoice};
+use dae_runtime::{Model, solve::LinearSolver, solve::Solver, solve::SolverChoice};
 
 /// A family model (any back end `K`: generated kernels or the interpreter) as the
 /// particle model of a [`System`] (module docs).

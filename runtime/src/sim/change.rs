@@ -59,7 +59,7 @@ impl<M: Model> Simulator<M> {
     /// Scale every `mu_i` by `factor` during a run, without a jump of the sliding
     /// variables, and with `mu` what a design ties to it: the configured gains by
     /// `1 / factor` (a floor `k_i = g eps_i / mu_i` keeps its `g`), the longest step and
-    /// the grazing return ([`crate::Settings::graze`]) by `factor`. Returns whether the change
+    /// the grazing return (([`GainRule::FollowDrift`](crate::settings::GainRule::FollowDrift))) by `factor`. Returns whether the change
     /// was made.
     ///
     /// `s_i = (mu_i d/dt + 1)^(r_i - 1) w_i` keeps `|w_i| <= eps_i` while `|s_i| <=
@@ -76,7 +76,7 @@ impl<M: Model> Simulator<M> {
     /// `s` is kept where it was by moving `z` (the part of `s` that depends on it is
     /// `mu_i^(r_i - 1) Omega_i`), as [`change_model`](Self::change_model) does: one
     /// exact factorisation, and a control update before the next step. The drift
-    /// estimates of [`crate::Settings::follow_drift`] are scaled by `factor^(r_i - 1)` where `mu`
+    /// estimates of [`GainRule::FollowDrift`](crate::settings::GainRule::FollowDrift) are scaled by `factor^(r_i - 1)` where `mu`
     /// grows (the highest term of `s'` grows so) and kept where it shrinks (its lower
     /// terms do not shrink), so that the next gains err high.
     ///
@@ -91,7 +91,7 @@ impl<M: Model> Simulator<M> {
                 reason: format!("rescale_mu: factor {factor:e} must be finite and > 0"),
             });
         }
-        let new_mu: Vec<f64> = self.set.mu.iter().map(|m| m * factor).collect();
+        let new_mu: Vec<f64> = self.set.layers.mu.iter().map(|m| m * factor).collect();
         let mu_pow = mu_powers(&self.model, &new_mu)?;
         let running = self.run.phase == Phase::Running;
         let t = self.t;
@@ -103,8 +103,8 @@ impl<M: Model> Simulator<M> {
                 let stages = 0..w.len().saturating_sub(1);
                 let bound = stages
                     .clone()
-                    .map(|k| filter_stage(w, self.set.mu[i], k).abs())
-                    .fold(self.set.eps[i], f64::max);
+                    .map(|k| filter_stage(w, self.set.layers.mu[i], k).abs())
+                    .fold(self.set.layers.eps[i], f64::max);
                 { stages }.all(|k| filter_stage(w, new_mu[i], k).abs() <= bound)
             });
             if !admitted {
@@ -122,16 +122,17 @@ impl<M: Model> Simulator<M> {
                 *d *= factor.powi(r as i32 - 1);
             }
         }
-        self.set.mu.copy_from_slice(&new_mu);
-        for k in &mut self.set.gains {
+        self.set.layers.mu.copy_from_slice(&new_mu);
+        for k in &mut self.set.layers.gains {
             *k /= factor;
         }
-        self.set.max_step *= factor;
-        if let Some(g) = &mut self.set.graze {
+        self.set.integration.max_step *= factor;
+        if let Some(g) = self.set.law.graze_mut() {
             *g *= factor;
         }
         self.mu_min *= factor;
-        self.ctl.set_mu(&self.set.mu, mu_pow, &self.set.gains);
+        self.ctl
+            .set_mu(&self.set.layers.mu, mu_pow, &self.set.layers.gains);
         if running {
             self.carry_to_omega_before()?;
         }

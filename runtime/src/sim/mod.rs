@@ -20,10 +20,11 @@ use control::{Check, Controller, Switch};
 use rk::Rk;
 use stats::{Stats, StepMeasure};
 
+use crate::settings::{AlphaChoice, Law, Update};
 use crate::solve::LinearSolver;
 use crate::summary::{BoundLoss, NEAR_SINGULAR};
 use crate::trace::{Layout, Sink};
-use crate::{AlphaChoice, Crossing, Model, Policy, Settings, SimError, Summary};
+use crate::{Model, Settings, SimError, Summary};
 
 /// Simulates a [`Model`] with DBSMC (or SPSM) under given [`Settings`].
 ///
@@ -187,10 +188,10 @@ impl<M: Model> Simulator<M> {
         settings.validate(n, m)?;
         let ctl = Controller::new(
             &model,
-            &settings.mu,
-            &settings.gains,
-            &settings.crossing_margin,
-            &settings.eps,
+            &settings.layers.mu,
+            &settings.layers.gains,
+            &settings.layers.crossing_margin,
+            &settings.layers.eps,
             settings.alpha == AlphaChoice::Exact,
             settings.solver,
         )?;
@@ -203,18 +204,23 @@ impl<M: Model> Simulator<M> {
         };
         let vn = || vec![0.0; n];
         let vm = || vec![0.0; m];
-        let mu_min = settings.mu.iter().copied().fold(f64::INFINITY, f64::min);
+        let mu_min = settings
+            .layers
+            .mu
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
         Ok(Self {
             model,
             mu_min,
             layout,
             ctl,
             rk: Rk::new(n),
-            t: settings.t_start,
+            t: settings.window.t_start,
             x: vn(),
             z: vm(),
             zb: vm(),
-            tb: settings.t_start,
+            tb: settings.window.t_start,
             v: vm(),
             va: vm(),
             v_now: vm(),
@@ -238,7 +244,7 @@ impl<M: Model> Simulator<M> {
             z_star: vm(),
             wres: vm(),
             omega_before: vm(),
-            eps_k: settings.eps.clone(),
+            eps_k: settings.layers.eps.clone(),
             sgn_k: vm(),
             outside_k: vec![false; m],
             measure: StepMeasure::new(m),
@@ -254,10 +260,10 @@ impl<M: Model> Simulator<M> {
             run: RunState {
                 phase: Phase::Idle,
                 clock: None,
-                origin: settings.t_start,
+                origin: settings.window.t_start,
                 k: 0,
                 n: 0,
-                grid_target: settings.t_start,
+                grid_target: settings.window.t_start,
                 h_next: None,
                 pending_record: false,
                 recorded: None,
@@ -325,13 +331,13 @@ impl<M: Model> Simulator<M> {
     }
 
     /// Where `J_s` was nearest singular, if its smallest conditioning ratio (of its
-    /// pivots or of one solve, [`crate::NearSingular`]) fell below [`NEAR_SINGULAR`] in
+    /// pivots or of one solve, [`crate::summary::NearSingular`]) fell below [`NEAR_SINGULAR`] in
     /// the run so far.
-    pub(super) fn near_singular(&self) -> Option<crate::NearSingular> {
+    pub(super) fn near_singular(&self) -> Option<crate::summary::NearSingular> {
         self.ctl
             .min_pivot_ratio
             .filter(|(r, _)| *r < NEAR_SINGULAR)
-            .map(|(pivot_ratio, t)| crate::NearSingular { pivot_ratio, t })
+            .map(|(pivot_ratio, t)| crate::summary::NearSingular { pivot_ratio, t })
     }
 
     /// Per constraint, the monitored updates its `s_i` asked for so far (what
@@ -342,7 +348,7 @@ impl<M: Model> Simulator<M> {
 
     /// The counters of the `J_s` solver so far (what [`Summary::solver`] will say), for a
     /// run driven in pieces.
-    pub fn solver_stats(&self) -> crate::SolverStats {
+    pub fn solver_stats(&self) -> crate::solve::SolverStats {
         self.ctl.solver.stats()
     }
 
@@ -370,7 +376,7 @@ impl<M: Model> Simulator<M> {
     /// On error the sink keeps everything recorded before the failure.
     pub fn run<S: Sink + ?Sized>(&mut self, sink: &mut S) -> Result<Summary, SimError> {
         self.start(sink)?;
-        self.advance_to(self.set.t_end, sink)?;
+        self.advance_to(self.set.window.t_end, sink)?;
         self.finish(sink)
     }
 
@@ -379,9 +385,9 @@ impl<M: Model> Simulator<M> {
     pub fn start<S: Sink + ?Sized>(&mut self, sink: &mut S) -> Result<(), SimError> {
         let m = self.z.len();
         self.stats = Stats::new(m);
-        self.ctl.reset(&self.set.gains);
+        self.ctl.reset(&self.set.layers.gains);
         self.drift.fill(0.0);
-        let t0 = self.set.t_start;
+        let t0 = self.set.window.t_start;
         self.t = t0;
         self.tb = t0;
         match &self.set.initial {
@@ -394,7 +400,7 @@ impl<M: Model> Simulator<M> {
                 self.model.initial_alg(&mut self.z);
             }
         }
-        self.eps_k.copy_from_slice(&self.set.eps);
+        self.eps_k.copy_from_slice(&self.set.layers.eps);
         self.run = RunState {
             phase: Phase::Running,
             clock: Some(Instant::now()),
@@ -437,7 +443,7 @@ impl<M: Model> Simulator<M> {
             }
             Phase::Running => {}
         }
-        let target = t.min(self.set.t_end);
+        let target = t.min(self.set.window.t_end);
         if target.is_nan() || target < self.t {
             return Err(SimError::Backwards {
                 requested: t,
@@ -520,17 +526,17 @@ impl<M: Model> Simulator<M> {
         self.check_finite()?;
         self.track_reaching()?;
         self.stats.steps_since_update += 1;
-        let due = match self.set.policy {
-            Policy::Spsm => true,
-            Policy::Fixed(p) => {
-                if self.set.integrator.is_adaptive() {
+        let due = match self.set.law.update() {
+            None => true,
+            Some(Update::Fixed { period: p }) => {
+                if self.set.integration.integrator.is_adaptive() {
                     self.t >= self.tb + p
                 } else {
-                    let period = ((p / self.set.step).round() as u64).max(1);
+                    let period = ((p / self.set.integration.step).round() as u64).max(1);
                     self.stats.steps_since_update >= period
                 }
             }
-            Policy::Monitor => {
+            Some(Update::Monitor { .. }) => {
                 let forced = self.located() && std::mem::take(&mut self.run.force_update);
                 forced || self.monitor_due()
             }
@@ -538,7 +544,7 @@ impl<M: Model> Simulator<M> {
         if due {
             self.update(sink)?;
         }
-        let last = self.t >= self.set.t_end;
+        let last = self.t >= self.set.window.t_end;
         if last {
             self.record(true, sink)?;
         } else if self.t >= self.run.grid_target {
@@ -546,7 +552,7 @@ impl<M: Model> Simulator<M> {
         } else if sink.wants(self.stats.steps, self.t) {
             self.record(false, sink)?;
         }
-        if let Some(limit) = self.set.max_steps {
+        if let Some(limit) = self.set.integration.max_steps {
             if self.stats.steps + self.stats.rejected >= limit && !last {
                 return Err(SimError::StepLimit { limit, t: self.t });
             }
@@ -558,12 +564,12 @@ impl<M: Model> Simulator<M> {
     /// ends at `t` (`ds` still holds the rate with the old `v`: the settings only allow
     /// it with located crossings) and set the gains.
     fn follow_drift(&mut self, t: f64) {
-        let Some(safety) = self.set.follow_drift else {
+        let Some((safety, graze)) = self.set.law.follows_drift() else {
             return;
         };
         let how = drift::Follow {
             safety,
-            min_return: self.set.graze.unwrap_or(f64::INFINITY),
+            min_return: graze.unwrap_or(f64::INFINITY),
         };
         if self.stats.updates == 0 || t <= self.tb {
             return;
@@ -572,8 +578,8 @@ impl<M: Model> Simulator<M> {
         for i in 0..self.drift.len() {
             let measured = (self.ds[i] - self.ds_b[i]).abs() / dt;
             let (d, k) = drift::follow(
-                self.set.gains[i],
-                self.set.eps[i],
+                self.set.layers.gains[i],
+                self.set.layers.eps[i],
                 how,
                 self.drift[i],
                 measured,
@@ -648,14 +654,11 @@ impl<M: Model> Simulator<M> {
 
     /// Whether crossings are located inside the step (DBSMC with a held control).
     fn located(&self) -> bool {
-        matches!(self.set.crossing, Crossing::Located { .. }) && self.set.policy != Policy::Spsm
+        matches!(self.set.law, Law::Dbsmc(_))
     }
 
     fn crossing_tol(&self) -> f64 {
-        match self.set.crossing {
-            Crossing::Located { tol } => tol,
-            Crossing::StepEnd => 0.0,
-        }
+        self.set.law.crossing_tol().unwrap_or(0.0)
     }
 
     /// Evaluate at the current point what the next step and an update need: `s`,
@@ -687,14 +690,17 @@ impl<M: Model> Simulator<M> {
         let s = &self.ctl.s;
         let was_reached = self.stats.reaching_time.is_some();
         if !was_reached {
-            if s.iter().zip(&self.set.eps).all(|(s, e)| s.abs() <= *e) {
+            if s.iter()
+                .zip(&self.set.layers.eps)
+                .all(|(s, e)| s.abs() <= *e)
+            {
                 self.stats.reaching_time = Some(t);
-            } else if t - self.set.t_start > self.set.reaching_limit {
+            } else if t - self.set.window.t_start > self.set.window.reaching_limit {
                 let outside: Vec<usize> = (0..s.len())
-                    .filter(|&i| s[i].abs() > self.set.eps[i])
+                    .filter(|&i| s[i].abs() > self.set.layers.eps[i])
                     .collect();
                 return Err(SimError::ReachingTimeout {
-                    limit: self.set.reaching_limit,
+                    limit: self.set.window.reaching_limit,
                     t,
                     names: outside
                         .iter()
@@ -715,12 +721,15 @@ impl<M: Model> Simulator<M> {
                 t,
                 self.measure.h,
                 &self.measure,
-                &self.set.eps,
+                &self.set.layers.eps,
                 self.set.bound_tol,
             );
         }
         let in_window = st.stats_from.is_some();
-        if !in_window && st.reaching_time.is_some() && t >= self.set.t_start + self.set.settle {
+        if !in_window
+            && st.reaching_time.is_some()
+            && t >= self.set.window.t_start + self.set.window.settle
+        {
             st.stats_from = Some(t);
         }
         if st.stats_from.is_some() {

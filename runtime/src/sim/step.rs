@@ -5,7 +5,8 @@
 use super::rk::{self, BOGACKI_SHAMPINE, DORMAND_PRINCE, Pair};
 use super::{Check, Simulator, Switch};
 use crate::error::Quantity;
-use crate::{Integrator, LAYER_ERROR_PER_STEP, Model, Policy, SimError};
+use crate::settings::{Integrator, LAYER_ERROR_PER_STEP, Law, Update};
+use crate::{Model, SimError};
 
 /// How far past the crossing predicted from the current `s'` an error-controlled step
 /// may reach (`s'` drifts within an interval, so the crossing lands somewhat before or
@@ -43,7 +44,7 @@ impl<M: Model> Simulator<M> {
     /// Steps of the fixed-step grid from `run.origin` to `target` (the last one ends
     /// exactly at `target`).
     pub(super) fn grid_steps(&self, target: f64) -> u64 {
-        let h = self.set.step;
+        let h = self.set.integration.step;
         (((target - self.run.origin) / h) - 1e-9).ceil().max(1.0) as u64
     }
 
@@ -65,17 +66,17 @@ impl<M: Model> Simulator<M> {
         self.x0.copy_from_slice(&self.x);
         self.z0.copy_from_slice(&self.z);
         let t0 = self.t;
-        if self.set.policy == Policy::Spsm {
+        if self.set.law == Law::Spsm {
             let t_new = self.grid_time();
             self.spsm_step(t_new - t0);
             self.t = t_new;
             self.eval_point(t_new);
             self.measure_ends(t_new - t0);
-        } else if self.set.integrator.is_adaptive() {
+        } else if self.set.integration.integrator.is_adaptive() {
             self.adaptive_step(target)?;
         } else {
             let mut t_new = self.grid_time();
-            let monitored = self.located() && self.set.policy == Policy::Monitor;
+            let monitored = self.located() && self.set.law.monitors();
             let aims = monitored && !self.stalled();
             let mut aim = if aims {
                 t0 + AIM_PAST_CROSSING * self.predicted_crossing()
@@ -144,7 +145,7 @@ impl<M: Model> Simulator<M> {
         if self.run.k >= self.run.n {
             self.run.grid_target
         } else {
-            self.run.origin + self.run.k as f64 * self.set.step
+            self.run.origin + self.run.k as f64 * self.set.integration.step
         }
     }
 
@@ -163,7 +164,7 @@ impl<M: Model> Simulator<M> {
         self.ctl.sliding(model, t1, &self.xs, &self.z_trial);
         self.s_embedded.copy_from_slice(&self.ctl.s);
         self.ctl.sliding(model, t1, &self.rk.y1, &self.z_trial);
-        layer_error(&self.ctl.s, &self.s_embedded, &self.set.eps)
+        layer_error(&self.ctl.s, &self.s_embedded, &self.set.layers.eps)
     }
 
     /// Without located crossings (or under SPSM), a step's measure is its end.
@@ -172,7 +173,7 @@ impl<M: Model> Simulator<M> {
             let a = self.ctl.s[i].abs();
             self.measure.max_s[i] = a;
             // A NaN counts as beyond.
-            let within = a <= (1.0 + self.set.bound_tol) * self.set.eps[i];
+            let within = a <= (1.0 + self.set.bound_tol) * self.set.layers.eps[i];
             let beyond = !within;
             self.measure.time_beyond[i] = if beyond { h } else { 0.0 };
         }
@@ -198,7 +199,7 @@ impl<M: Model> Simulator<M> {
         let (x, z, v, va) = (&self.x0, &self.z0, &self.v_now, &self.va);
         let model = &self.model;
         let rk = &mut self.rk;
-        match self.set.integrator {
+        match self.set.integration.integrator {
             Integrator::Euler => {
                 for ((y, x), k) in rk.y1.iter_mut().zip(x).zip(&rk.k[0]) {
                     *y = x + h * k;
@@ -238,11 +239,11 @@ impl<M: Model> Simulator<M> {
     fn fixed_layer_error(&mut self, t0: f64, t_new: &mut f64, off_grid: &mut bool) -> bool {
         // `x_hat = x + h (f(x) - k_last) / d`; the estimate is of order h^2 (Euler) or
         // h^4 (RK4).
-        let (order, last, d) = match self.set.integrator {
+        let (order, last, d) = match self.set.integration.integrator {
             Integrator::Euler => (2.0, 0, 2.0),
             _ => (4.0, 3, 6.0),
         };
-        let user_step = self.set.step;
+        let user_step = self.set.integration.step;
         for attempt in 0..=MAX_LAYER_RETRIES {
             let h = *t_new - t0;
             if self.rk.y1.iter().any(|y| !y.is_finite()) {
@@ -300,7 +301,7 @@ impl<M: Model> Simulator<M> {
     }
 
     fn pair(&self) -> &'static Pair {
-        match self.set.integrator {
+        match self.set.integration.integrator {
             Integrator::BogackiShampine => &BOGACKI_SHAMPINE,
             _ => &DORMAND_PRINCE,
         }
@@ -316,12 +317,12 @@ impl<M: Model> Simulator<M> {
         self.first_stage();
         self.v_at(t0);
         let mut end = target;
-        if let Policy::Fixed(p) = self.set.policy {
+        if let Some(Update::Fixed { period: p }) = self.set.law.update() {
             end = end.min(self.tb + p);
         }
         let remaining = end - t0;
-        let mut h_max = self.set.max_step.min(remaining);
-        if self.located() && self.set.policy == Policy::Monitor && !self.stalled() {
+        let mut h_max = self.set.integration.max_step.min(remaining);
+        if self.located() && self.set.law.monitors() && !self.stalled() {
             // Aim a little beyond the next crossing that s' predicts, so that the cut
             // falls near the step's end: the dense output there is as accurate as the
             // step itself, and one step usually spans a control interval.
@@ -424,7 +425,7 @@ impl<M: Model> Simulator<M> {
                 rk::step_factor(pair, err, true)
             };
             rejected_before = true;
-            if let Some(limit) = self.set.max_steps {
+            if let Some(limit) = self.set.integration.max_steps {
                 if self.stats.steps + self.stats.rejected >= limit {
                     break Err(SimError::StepLimit { limit, t: t0 });
                 }
@@ -479,13 +480,14 @@ impl<M: Model> Simulator<M> {
     /// it is 1 ms, the length of an ordinary step between updates, and the guard then
     /// took steps whole (uncut) that the control needed cut, and the layer was lost.
     fn reference_step(&self) -> f64 {
-        if self.set.integrator.is_adaptive() {
+        if self.set.integration.integrator.is_adaptive() {
             self.set
+                .integration
                 .max_step
-                .min(self.set.t_end - self.set.t_start)
+                .min(self.set.window.t_end - self.set.window.t_start)
                 .min(self.mu_min)
         } else {
-            self.set.step
+            self.set.integration.step
         }
     }
 
@@ -494,7 +496,7 @@ impl<M: Model> Simulator<M> {
     /// there): the last update can precede the configuration that stopped the run (a
     /// taut edge reached between two updates), and partial pivoting can hide it from
     /// the pivots ([`Controller::probe_singular`](super::control::Controller::probe_singular)).
-    fn near_singular_at_failure(&mut self, t: f64) -> Option<crate::NearSingular> {
+    fn near_singular_at_failure(&mut self, t: f64) -> Option<crate::summary::NearSingular> {
         if self.near_singular().is_none() {
             self.ctl.probe_singular(&self.model, t, &self.x, &self.z);
         }
@@ -510,7 +512,7 @@ impl<M: Model> Simulator<M> {
     /// `t0`, the step's start) with `z` on its ramp.
     pub(super) fn s_along(&mut self, t0: f64, h: f64, theta: f64, i: usize) -> f64 {
         let tau = t0 + theta * h;
-        if !self.set.integrator.is_adaptive() {
+        if !self.set.integration.integrator.is_adaptive() {
             self.fixed_end_derivative();
         }
         let th = ((tau - t0) / self.rk.step_length()).clamp(0.0, 1.0);
@@ -523,7 +525,7 @@ impl<M: Model> Simulator<M> {
     /// Shorten the current step from `t0` to `t_cut`: the dense output (embedded
     /// pairs) or a new step (fixed-step integrators), then the end point evaluated.
     pub(super) fn cut(&mut self, t0: f64, t_cut: f64) {
-        if self.set.integrator.is_adaptive() {
+        if self.set.integration.integrator.is_adaptive() {
             let th = (t_cut - t0) / self.rk.step_length();
             self.rk.dense(th, &mut self.x);
             self.f_cur_valid = false;
@@ -547,7 +549,7 @@ impl<M: Model> Simulator<M> {
     fn spsm_step(&mut self, h: f64) {
         let (t, model) = (self.t, &self.model);
         let k = &mut self.rk.k;
-        match self.set.integrator {
+        match self.set.integration.integrator {
             Integrator::Euler => {
                 model.rhs(t, &self.x, &self.z, &mut k[0]);
                 axpy_into(&mut self.x, h, &k[0]);

@@ -3,9 +3,11 @@
 
 use super::{Check, Simulator, Switch};
 use crate::error::Quantity;
+use crate::settings::Law;
 use crate::solve::LinearSolver;
+use crate::summary::SolverSummary;
 use crate::trace::{Sample, Sink};
-use crate::{Model, Policy, SimError, SolverSummary, Summary};
+use crate::{Model, SimError, Summary};
 
 impl<M: Model> Simulator<M> {
     /// A control update at the current point (after `eval_point` there).
@@ -17,7 +19,7 @@ impl<M: Model> Simulator<M> {
             self.ctl.factor(&self.model, t, &self.x, &self.z)?;
             self.run.j_current = true;
         }
-        let switch = if self.set.policy == Policy::Spsm || self.set.saturate {
+        let switch = if self.set.law.saturates() {
             Switch::Saturation
         } else {
             Switch::Sign
@@ -26,9 +28,9 @@ impl<M: Model> Simulator<M> {
         let count = self.set.check_robustness && in_window;
         let located = self.located();
         let check = Check {
-            evaluate: count || self.set.raise_gains.is_some(),
+            evaluate: count || self.set.law.raise_margin().is_some(),
             count,
-            raise: self.set.raise_gains,
+            raise: self.set.law.raise_margin(),
             beta_ready: self.run.beta_current,
         };
         self.follow_drift(t);
@@ -45,10 +47,10 @@ impl<M: Model> Simulator<M> {
         if located {
             // `s'` with the new `v` (`va` is 0 until the ramp is set).
             self.rate_at(t);
-            if self.set.ramp {
+            if self.set.law.ramps() {
                 self.ramp_against_drift(t);
             }
-            if self.set.follow_drift.is_some() {
+            if self.set.law.follows_drift().is_some() {
                 self.ds_b.copy_from_slice(&self.ds);
             }
         }
@@ -61,9 +63,9 @@ impl<M: Model> Simulator<M> {
         if st.reaching_time.is_none() {
             st.reaching_updates += 1;
             for (i, s) in self.ctl.s.iter().enumerate() {
-                self.eps_k[i] = s.abs().max(self.set.eps[i]);
+                self.eps_k[i] = s.abs().max(self.set.layers.eps[i]);
                 self.sgn_k[i] = s.signum();
-                self.outside_k[i] = s.abs() > self.set.eps[i];
+                self.outside_k[i] = s.abs() > self.set.layers.eps[i];
             }
         }
         if in_window {
@@ -74,7 +76,7 @@ impl<M: Model> Simulator<M> {
             }
             st.last_window_update = Some(t);
         }
-        if self.set.policy != Policy::Spsm {
+        if self.set.law != Law::Spsm {
             sink.update(t)?;
         }
         Ok(())

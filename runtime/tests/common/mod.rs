@@ -3,7 +3,7 @@
 
 pub mod pendulum;
 
-use dae_runtime::{AlphaChoice, Model, Settings, SimError, Simulator};
+use dae_runtime::{Model, Settings, SimError, Simulator, settings::AlphaChoice};
 
 /// [`pendulum::Pendulum`] with the designed gains of docs/method.md section 8 (`mu^2 beta`) at layers of 0.2, the
 /// fixed step `h`, over 2 s.

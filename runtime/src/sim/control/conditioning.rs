@@ -3,7 +3,7 @@
 //! its own (at the run's first factorisation, at every one of the dense LU, whose
 //! partial pivoting can keep every pivot large, and where the step control gave up).
 //! The run's smallest ratio is `Controller::min_pivot_ratio`, reported with the lost
-//! layer or the step-size underflow when below [`NEAR_SINGULAR`](crate::NEAR_SINGULAR).
+//! layer or the step-size underflow when below [`NEAR_SINGULAR`](crate::summary::NEAR_SINGULAR).
 
 use super::Controller;
 use crate::Model;
