@@ -29,9 +29,9 @@ impl<M: Model> Simulator<M> {
         if self.run.phase != Phase::Running {
             return Ok(change(self.model_mut()));
         }
-        let t = self.t;
-        self.ctl.sliding(&self.model, t, &self.x, &self.z);
-        self.ctl.omega(&mut self.omega_before);
+        let t = self.pt.t;
+        self.ctl.sliding(&self.model, t, &self.pt.x, &self.pt.z);
+        self.ctl.omega(&mut self.scratch.omega_before);
         let out = change(&mut self.model);
         self.carry_to_omega_before()?;
         Ok(out)
@@ -42,16 +42,17 @@ impl<M: Model> Simulator<M> {
     /// and ask for an update before the next step; the quantities cached at the point
     /// are evaluated again then.
     fn carry_to_omega_before(&mut self) -> Result<(), SimError> {
-        let t = self.t;
-        self.ctl.sliding(&self.model, t, &self.x, &self.z);
-        self.ctl.eval_jacobian(&self.model, t, &self.x, &self.z);
-        self.run.j_current = false;
-        self.run.dirty = true;
+        let t = self.pt.t;
+        self.ctl.sliding(&self.model, t, &self.pt.x, &self.pt.z);
         self.ctl
-            .carry_omega(&self.model, t, &self.omega_before, &mut self.z)?;
-        self.zb.copy_from_slice(&self.z);
-        self.tb = t;
-        self.va.fill(0.0);
+            .eval_jacobian(&self.model, t, &self.pt.x, &self.pt.z);
+        self.fresh.jacobian = false;
+        self.fresh.stale = true;
+        self.ctl
+            .carry_omega(&self.model, t, &self.scratch.omega_before, &mut self.pt.z)?;
+        self.pt.zb.copy_from_slice(&self.pt.z);
+        self.pt.tb = t;
+        self.pt.va.fill(0.0);
         self.run.update_requested = true;
         Ok(())
     }
@@ -94,9 +95,9 @@ impl<M: Model> Simulator<M> {
         let new_mu: Vec<f64> = self.set.layers.mu.iter().map(|m| m * factor).collect();
         let mu_pow = mu_powers(&self.model, &new_mu)?;
         let running = self.run.phase == Phase::Running;
-        let t = self.t;
+        let t = self.pt.t;
         if running {
-            self.ctl.sliding(&self.model, t, &self.x, &self.z);
+            self.ctl.sliding(&self.model, t, &self.pt.x, &self.pt.z);
             let offs = &self.ctl.offs;
             let admitted = (0..new_mu.len()).all(|i| {
                 let w = &self.ctl.w[offs[i]..offs[i + 1]];
@@ -111,7 +112,13 @@ impl<M: Model> Simulator<M> {
                 return Ok(false);
             }
             // The `Omega` that gives `s` its present value at the new `mu`.
-            for (i, (target, &mu)) in self.omega_before.iter_mut().zip(&new_mu).enumerate() {
+            for (i, (target, &mu)) in self
+                .scratch
+                .omega_before
+                .iter_mut()
+                .zip(&new_mu)
+                .enumerate()
+            {
                 let w = &self.ctl.w[self.ctl.offs[i]..self.ctl.offs[i + 1]];
                 let top = w.len() - 1;
                 *target = (self.ctl.s[i] - filter_terms(w, mu, top)) / mu.powi(top as i32);

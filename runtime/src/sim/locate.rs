@@ -102,7 +102,7 @@ impl<M: Model> Simulator<M> {
     /// only), and measure the accepted step on the cubic of each `s_i`.
     pub(super) fn locate(&mut self, t0: f64) {
         let tol = self.crossing_tol();
-        self.build_cubics(self.t - t0);
+        self.build_cubics(self.pt.t - t0);
         if self.stalled() {
             // Two steps in a row made (almost) no progress: this one is not cut, and
             // the control is updated at its end, as the step-end rule does.
@@ -111,7 +111,7 @@ impl<M: Model> Simulator<M> {
         } else if self.set.law.monitors() {
             let mut cut = false;
             for _ in 0..MAX_CUTS {
-                let h = self.t - t0;
+                let h = self.pt.t - t0;
                 let Some(ev) = self.first_event() else {
                     break;
                 };
@@ -149,7 +149,7 @@ impl<M: Model> Simulator<M> {
                 let theta = self.refine(t0, h, &ev, &c, tol * scale).unwrap_or(ev.theta);
                 self.cut(t0, t0 + theta * h);
                 cut = true;
-                self.build_cubics(self.t - t0);
+                self.build_cubics(self.pt.t - t0);
                 // An outward motion that starts at an extremum (outside the layer, or on
                 // its boundary where the rate's sign is lost in rounding) asks for an
                 // update at the cut whatever the end-of-step test says; so does a cut
@@ -162,7 +162,7 @@ impl<M: Model> Simulator<M> {
                 self.stats.cuts += 1;
             }
         }
-        let h = self.t - t0;
+        let h = self.pt.t - t0;
         let bound = 1.0 + self.set.bound_tol;
         for (i, c) in self.cubics.iter().enumerate() {
             self.measure.max_s[i] = c.max_abs_above(self.measure_floor(i));
