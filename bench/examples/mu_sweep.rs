@@ -125,7 +125,7 @@ fn main() {
         println!(
             "| {label} | {:.3} | {:.1} | {:.1} | {:.3} | {}/{} {} | {} |",
             r.ms_mean,
-            r.counters.updates as f64 / f,
+            r.counters.updates() as f64 / f,
             r.counters.steps as f64 / f,
             r.worst_strain / eps,
             r.frames,
@@ -133,7 +133,7 @@ fn main() {
             r.status,
             if left {
                 r.counters
-                    .layer_lost_at
+                    .layer_lost_at()
                     .map_or("strain".into(), |t| format!("layer at {t:.3} s"))
             } else {
                 "-".into()

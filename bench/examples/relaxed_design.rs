@@ -102,7 +102,7 @@ fn run(scene: &ParticleScene, eps: f64, gain: f64, control: Control) -> String {
         }
     });
     let frames = r.frames.max(1) as f64;
-    let lost = match (r.counters.layer_lost_at, r.counters.layer_worst_ratio) {
+    let lost = match (r.counters.layer_lost_at(), r.counters.layer_worst_ratio()) {
         (Some(t), Some(q)) if q < 1e3 => format!("{t:.3} s, {q:.3} eps"),
         (Some(t), Some(q)) => format!("{t:.3} s, {q:.2e} eps"),
         _ => "-".into(),
@@ -113,7 +113,7 @@ fn run(scene: &ParticleScene, eps: f64, gain: f64, control: Control) -> String {
         control.label(),
         r.worst_strain,
         r.ms_mean,
-        r.counters.updates as f64 / frames,
+        r.counters.updates() as f64 / frames,
         r.counters.steps as f64 / frames,
         r.frames,
         r.frames_total,

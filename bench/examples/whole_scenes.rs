@@ -160,7 +160,7 @@ fn main() {
     let mut picture_errors = Vec::new();
     for (scene, (r, picture_error)) in scenes.iter().zip(runs) {
         picture_errors.extend(picture_error);
-        let layer = match (r.counters.layer_lost_at, r.counters.layer_worst_ratio) {
+        let layer = match (r.counters.layer_lost_at(), r.counters.layer_worst_ratio()) {
             (Some(t), Some(q)) => format!("{t:.3} s, {q:.3} eps"),
             _ => "-".into(),
         };
@@ -176,8 +176,8 @@ fn main() {
             r.worst_strain / eps,
             r.ms_mean,
             r.ms_max,
-            r.counters.updates as f64 / r.frames.max(1) as f64,
-            r.counters.links_asking,
+            r.counters.updates() as f64 / r.frames.max(1) as f64,
+            r.counters.links_asking(),
             r.frames,
             r.frames_total,
             r.status

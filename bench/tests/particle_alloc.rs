@@ -42,7 +42,7 @@ static GLOBAL: Counting = Counting;
 /// updates they made.
 fn allocations_of_frames(b: &mut Dbsmc<ParticleModel>, from: usize, to: usize) -> (u64, u64) {
     let mut positions = vec![[0.0; 3]; b.n_particles()];
-    let updates = b.counters().updates;
+    let updates = b.counters().updates();
     let before = ALLOCATIONS.load(Ordering::Relaxed);
     COUNTING.with(|c| c.set(true));
     for f in from + 1..=to {
@@ -52,7 +52,7 @@ fn allocations_of_frames(b: &mut Dbsmc<ParticleModel>, from: usize, to: usize) -
     COUNTING.with(|c| c.set(false));
     (
         ALLOCATIONS.load(Ordering::Relaxed) - before,
-        b.counters().updates - updates,
+        b.counters().updates() - updates,
     )
 }
 

@@ -210,7 +210,7 @@ fn dbsmc_keeps_its_bound_on_a_tiny_chain_through_the_harness() {
             "{integrator:?}: {}",
             r.worst_strain
         );
-        assert!(r.counters.updates > 0 && r.counters.f_evals > 0);
+        assert!(r.counters.updates() > 0 && r.counters.f_evals > 0);
     }
     // The driver counts the frames of the scene.
     let r = drive_scene(
@@ -279,7 +279,7 @@ fn the_relaxed_design_holds_a_heavy_end_chain_without_a_pilot() {
         "{}",
         relaxed.worst_strain
     );
-    assert_eq!(relaxed.counters.layer_lost_at, None);
+    assert_eq!(relaxed.counters.layer_lost_at(), None);
     assert!(
         relaxed.t_min.is_none(),
         "the relaxed design guarantees no period"
@@ -290,7 +290,7 @@ fn the_relaxed_design_holds_a_heavy_end_chain_without_a_pilot() {
 /// kept its `s`-layer (the runtime's monitor) and held its strain within 1.05 `eps`.
 fn assert_held(r: &ParticleRecord, eps: f64, what: &str) {
     assert!(r.complete(), "{what}: {}", r.status);
-    assert_eq!(r.counters.layer_lost_at, None, "{what}");
+    assert_eq!(r.counters.layer_lost_at(), None, "{what}");
     assert!(r.worst_strain <= 1.05 * eps, "{what}: {}", r.worst_strain);
 }
 
@@ -344,10 +344,10 @@ fn grazing_gains_keep_the_layer_with_fewer_updates_than_sweeping_ones() {
         assert_held(r, eps, what);
     }
     assert!(
-        3 * grazing.counters.updates < 2 * sweeping.counters.updates,
+        3 * grazing.counters.updates() < 2 * sweeping.counters.updates(),
         "updates: grazing {}, sweeping {}",
-        grazing.counters.updates,
-        sweeping.counters.updates
+        grazing.counters.updates(),
+        sweeping.counters.updates()
     );
 }
 
@@ -371,10 +371,10 @@ fn a_ramp_against_the_drift_keeps_the_layer_with_fewer_updates_on_a_light_chain(
         assert_held(r, eps, what);
     }
     assert!(
-        5 * ramped.counters.updates < 4 * held.counters.updates,
+        5 * ramped.counters.updates() < 4 * held.counters.updates(),
         "updates: ramped {}, held {}",
-        ramped.counters.updates,
-        held.counters.updates
+        ramped.counters.updates(),
+        held.counters.updates()
     );
 }
 
@@ -400,10 +400,10 @@ fn saturating_inside_the_layer_keeps_it_with_fewer_updates_on_a_chain() {
             assert_held(r, eps, &format!("{what}, ramp {ramp}"));
         }
         assert!(
-            5 * sat.counters.updates < 4 * sgn.counters.updates,
+            5 * sat.counters.updates() < 4 * sgn.counters.updates(),
             "ramp {ramp}: updates saturated {}, sgn {}",
-            sat.counters.updates,
-            sgn.counters.updates
+            sat.counters.updates(),
+            sgn.counters.updates()
         );
     }
 }
@@ -440,10 +440,11 @@ fn cloth_ramped(slack: f64, saturate: bool) -> (ParticleRecord, Vec<u64>, Vec<(u
         r.status
     );
     assert_eq!(
-        r.counters.layer_lost_at, None,
+        r.counters.layer_lost_at(),
+        None,
         "slack {slack}, saturate {saturate}"
     );
-    assert_eq!(r.counters.factorisations, r.counters.updates);
+    assert_eq!(r.counters.factorisations, r.counters.updates());
     (r, backend.triggered_updates().to_vec(), ends)
 }
 
@@ -471,24 +472,29 @@ fn on_a_nearly_taut_cloth_a_few_links_ask_for_every_update_and_each_update_facto
     let w = 16;
     let (r, asked, ends) = cloth_ramped(1e-3, true);
     let c = r.counters;
-    assert!(c.updates > 12, "{} updates", c.updates);
+    assert!(c.updates() > 12, "{} updates", c.updates());
     let links = ends.len() as u64;
     eprintln!(
         "{} of {links} links asked for the {} updates",
-        c.links_asking, c.updates
+        c.links_asking(),
+        c.updates()
     );
     assert!(
-        c.links_asking > 0 && 10 * c.links_asking < links,
+        c.links_asking() > 0 && 10 * c.links_asking() < links,
         "{} of {links} links asked",
-        c.links_asking
+        c.links_asking()
     );
     // Per link: the counts agree with the counter, and the links with a particle in
     // the far row asked for most of them.
     let asking = asked.iter().filter(|&&n| n > 0).count() as u64;
-    assert_eq!(asking, c.links_asking);
+    assert_eq!(asking, c.links_asking());
     let (at_edge, all) = far_edge_asks(w, &asked, &ends);
     // Every update but the one at the start was asked for by at least one link.
-    assert!(all + 1 >= c.updates, "{all} asks for {} updates", c.updates);
+    assert!(
+        all + 1 >= c.updates(),
+        "{all} asks for {} updates",
+        c.updates()
+    );
     eprintln!("{at_edge} of the {all} asks came from links at the far edge");
     assert!(
         5 * at_edge >= 4 * all,
@@ -511,7 +517,7 @@ fn a_far_edge_with_slack_above_the_layers_asks_for_fewer_updates() {
     for saturate in [false, true] {
         let (taut, _, _) = cloth_ramped(1e-3, saturate);
         let (slack, asked, ends) = cloth_ramped(FAR_EDGE_SLACK, saturate);
-        let (u_slack, u_taut) = (slack.counters.updates, taut.counters.updates);
+        let (u_slack, u_taut) = (slack.counters.updates(), taut.counters.updates());
         if saturate {
             assert!(
                 u_slack < u_taut,
@@ -547,7 +553,7 @@ fn fixed_gains_that_graze_the_layer_keep_it_on_a_light_chain() {
     let eps = 1e-4;
     let fixed = relaxed_run(&scene, eps, 8.0, false);
     assert!(fixed.complete(), "{}", fixed.status);
-    assert_eq!(fixed.counters.layer_lost_at, None);
+    assert_eq!(fixed.counters.layer_lost_at(), None);
     assert!(fixed.worst_strain <= 1.05 * eps, "{}", fixed.worst_strain);
 }
 
@@ -569,7 +575,7 @@ fn fixed_gains_with_short_steps_keep_the_layer_on_the_heavy_end_chain() {
         with_law(s, |d| d.gains = GainRule::Fixed).max_step(h)
     });
     assert!(run.complete(), "{}", run.status);
-    assert_eq!(run.counters.layer_lost_at, None);
+    assert_eq!(run.counters.layer_lost_at(), None);
     assert!(run.worst_strain <= 1.05 * eps, "{}", run.worst_strain);
 }
 
@@ -730,9 +736,9 @@ fn a_searched_mu_moves_and_keeps_every_layer_and_the_strain() {
         assert_held(&r, eps, &what);
         let (made, refused) = backend.mu_moves();
         // The record (and the CSV) says what the search did.
-        let c = &r.counters;
-        assert_eq!((c.mu_moves, c.mu_refused), (made, refused), "{what}");
-        assert_eq!(c.mu_scale, Some(backend.mu_scale()), "{what}");
+        let search = r.counters.mu_search().expect("the run searched for mu");
+        assert_eq!((search.moves, search.refused), (made, refused), "{what}");
+        assert_eq!(search.scale, backend.mu_scale(), "{what}");
         eprintln!(
             "{what}: {made} moves, {refused} refused, mu ends at {} of the start's",
             backend.mu_scale()

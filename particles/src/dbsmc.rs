@@ -16,7 +16,7 @@ use dae_runtime::{
 };
 
 use crate::adaptive_mu::{AdaptiveMu, Searcher};
-use crate::backend::{Backend, BackendError, Counters};
+use crate::backend::{Backend, BackendError, Counters, MuSearchCounters, SlidingCounters};
 use crate::model::ParticleDae;
 use crate::motion::{Kinematics, Pin};
 use crate::scene::FRAME;
@@ -269,7 +269,7 @@ impl<M: ParticleDae> Dbsmc<M> {
     }
 
     /// Do not stop when a layer is left after reaching: record the first time in
-    /// [`Counters::layer_lost_at`] and go on (for benchmarks that measure what follows,
+    /// [`SlidingCounters::layer_lost_at`] and go on (for benchmarks that measure what follows,
     /// e.g. the strain, which a lost `s`-layer does not necessarily break).
     pub fn keep_going_after_bound_loss(mut self) -> Self {
         self.keep_going = true;
@@ -303,7 +303,7 @@ impl<M: ParticleDae> Dbsmc<M> {
 
     /// Per constraint (in the model's order of constraint links), the monitored
     /// updates its own `s_i` asked for so far ([`Simulator::triggered_updates`]): which
-    /// links set the update rate, and so the cost. [`Counters::links_asking`] counts
+    /// links set the update rate, and so the cost. [`SlidingCounters::links_asking`] counts
     /// the links with at least one.
     pub fn triggered_updates(&self) -> &[u64] {
         self.sim.triggered_updates()
@@ -410,21 +410,25 @@ impl<M: ParticleDae> Backend for Dbsmc<M> {
             f_evals: model.rhs_calls.get(),
             factorisations: self.sim.solver_stats().factorisations,
             iterations: 0,
-            updates: self.sink.updates,
-            links_asking: self
-                .sim
-                .triggered_updates()
-                .iter()
-                .filter(|&&c| c > 0)
-                .count() as u64,
-            layer_lost_at: self.layer_lost_at,
-            // How far, read once from the simulator's record of the whole run.
-            layer_worst_ratio: self
-                .layer_lost_at
-                .and(self.sim.bound_loss().map(|loss| loss.worst_ratio)),
-            mu_scale: self.search.as_ref().map(Searcher::scale),
-            mu_moves,
-            mu_refused,
+            sliding: Some(SlidingCounters {
+                updates: self.sink.updates,
+                links_asking: self
+                    .sim
+                    .triggered_updates()
+                    .iter()
+                    .filter(|&&c| c > 0)
+                    .count() as u64,
+                layer_lost_at: self.layer_lost_at,
+                // How far, read once from the simulator's record of the whole run.
+                layer_worst_ratio: self
+                    .layer_lost_at
+                    .and(self.sim.bound_loss().map(|loss| loss.worst_ratio)),
+                mu_search: self.search.as_ref().map(|search| MuSearchCounters {
+                    scale: search.scale(),
+                    moves: mu_moves,
+                    refused: mu_refused,
+                }),
+            }),
         }
     }
 }

@@ -63,7 +63,7 @@
 //! }
 //! let worst = scene.worst_strain();
 //! assert!(worst.strain <= 1.05e-3, "{worst:?}");
-//! println!("end at {:?}, {} control updates", scene.positions()[end], scene.backend().counters().updates);
+//! println!("end at {:?}, {} control updates", scene.positions()[end], scene.backend().counters().updates());
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
@@ -91,7 +91,7 @@ mod scene;
 mod system;
 
 pub use adaptive_mu::AdaptiveMu;
-pub use backend::{Backend, BackendError, Counters};
+pub use backend::{Backend, BackendError, Counters, MuSearchCounters, SlidingCounters};
 pub use builders::{
     FAR_EDGE_SLACK, GridPins, HEAD_RADIUS, STRAND_LENGTH, STRAND_PARTICLE_MASS, chain, grid,
     grid_index, grid_with_slack, strands,

@@ -111,7 +111,7 @@ pub fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Option
                 // and a lost layer on a big cloth can take minutes per frame.
                 if let Some(prev) = runs
                     .last()
-                    .filter(|r| !r.complete() || r.counters.layer_lost_at.is_some())
+                    .filter(|r| !r.complete() || r.counters.layer_lost_at().is_some())
                 {
                     println!(
                         "  {family}: {:22} {:16} size {}: not run (left its {} at {} links)",
@@ -158,14 +158,19 @@ pub fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Option
                     r.status.chars().take(40).collect()
                 }),
                 if is_dbsmc {
-                    col(&|r| format!("{:.0}", r.counters.updates as f64 / r.frames.max(1) as f64))
+                    col(&|r| {
+                        format!(
+                            "{:.0}",
+                            r.counters.updates() as f64 / r.frames.max(1) as f64
+                        )
+                    })
                 } else {
                     "-".into()
                 },
                 if is_dbsmc {
                     col(&|r| {
-                        r.counters.layer_lost_at.map_or("-".into(), |t| {
-                            let ratio = r.counters.layer_worst_ratio.unwrap_or(f64::NAN);
+                        r.counters.layer_lost_at().map_or("-".into(), |t| {
+                            let ratio = r.counters.layer_worst_ratio().unwrap_or(f64::NAN);
                             if ratio < 100.0 {
                                 format!("{t:.3} s (max {ratio:.2} eps)")
                             } else {
