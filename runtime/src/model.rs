@@ -71,7 +71,7 @@ pub trait Model {
     /// one pass over its links, where `J_Omega` has an entry per pair of links sharing
     /// a particle) spares `J_Omega` at every step that ends without an update. Family
     /// models give it (their compiled rate program, in
-    /// [`FamilyInstance`](crate::family::FamilyInstance)); version-1 models do not.
+    /// `family::FamilyInstance`, feature `families`); version-1 models do not.
     fn omega_rate(&self, t: f64, x: &[f64], z: &[f64], zdot: &[f64], rate: &mut [f64]) -> bool {
         let _ = (t, x, z, zdot, rate);
         false

@@ -82,9 +82,9 @@ pub struct PilotRun {
 /// what it measures then is not a motion to design for.
 ///
 /// Cost: per step one `beta` and one `J_Omega` evaluation on top of the simulation.
-/// Works with [`Policy::Monitor`](crate::Policy::Monitor) and
-/// [`Policy::Fixed`](crate::Policy::Fixed); [`Policy::Spsm`](crate::Policy::Spsm) has no
-/// held control and is rejected.
+/// Works with the DBSMC laws ([`Law::Dbsmc`](crate::settings::Law::Dbsmc) and
+/// [`Law::StepEnd`](crate::settings::Law::StepEnd), monitored or at a fixed period);
+/// [`Law::Spsm`](crate::settings::Law::Spsm) has no held control and is rejected.
 pub fn pilot_run<M: Model + ?Sized>(
     model: &M,
     settings: &Settings,

@@ -222,12 +222,12 @@ impl<M: Model> Simulator<M> {
         &self.ctl.s
     }
     /// The gains `k_i` in use now: the configured ones, or as raised
-    /// ([`Settings::raise_gains`]) or followed ([`Settings::follow_drift`]) at the last
+    /// ([`GainRule::Raise`](crate::settings::GainRule::Raise)) or followed ([`GainRule::FollowDrift`](crate::settings::GainRule::FollowDrift)) at the last
     /// update.
     pub fn gains(&self) -> &[f64] {
         &self.ctl.gains
     }
-    /// The loss of a layer after reaching so far (what [`Summary::bound_loss`] will
+    /// The loss of a layer after reaching so far (what [`Summary::bound_loss`](crate::Summary::bound_loss) will
     /// say), for a run driven in pieces that must notice it before `finish`. `None`
     /// (without allocating) while every layer held.
     pub fn bound_loss(&self) -> Option<BoundLoss> {
@@ -247,12 +247,12 @@ impl<M: Model> Simulator<M> {
     }
 
     /// Per constraint, the monitored updates its `s_i` asked for so far (what
-    /// [`Summary::triggered_updates`] will say), for a run driven in pieces.
+    /// [`Summary::triggered_updates`](crate::Summary::triggered_updates) will say), for a run driven in pieces.
     pub fn triggered_updates(&self) -> &[u64] {
         &self.stats.triggered
     }
 
-    /// The counters of the `J_s` solver so far (what [`Summary::solver`] will say), for a
+    /// The counters of the `J_s` solver so far (what [`Summary::solver`](crate::Summary::solver) will say), for a
     /// run driven in pieces.
     pub fn solver_stats(&self) -> crate::solve::SolverStats {
         self.ctl.solver.stats()

@@ -13,7 +13,7 @@ use crate::{Model, SimError, Summary};
 
 impl<M: Model> Simulator<M> {
     /// Run from the model's initial state and initial algebraic guess (or from
-    /// [`Settings::initial`] when given) over `[t_start, t_end]`, sending samples and
+    /// [`Settings::initial`](crate::Settings::initial) when given) over `[t_start, t_end]`, sending samples and
     /// update times to `sink`: [`start`](Self::start),
     /// [`advance_to`](Self::advance_to)`(t_end)`, [`finish`](Self::finish).
     ///
