@@ -6,7 +6,7 @@ use std::cell::RefCell;
 
 use dae_lang::CompiledModel;
 use dae_lang::tape::{Inputs, Tape};
-use dae_runtime::Model;
+use dae_runtime::{Model, ModelInfo};
 
 /// A model evaluated from its tapes.
 #[derive(Debug)]
@@ -16,6 +16,7 @@ pub struct Interpreted {
     /// Scratch slots, sized for the longest tape. `Model` methods take `&self`, so the
     /// buffer sits in a `RefCell`; evaluation never re-enters, so the borrow cannot fail.
     slots: RefCell<Vec<f64>>,
+    info: ModelInfo,
 }
 
 impl Interpreted {
@@ -28,10 +29,19 @@ impl Interpreted {
             .iter()
             .map(|(_, t)| t.n_slots())
             .fold(sliding, usize::max);
+        let info = ModelInfo {
+            name: model.name.clone(),
+            states: model.states.clone(),
+            algs: model.algs.clone(),
+            constraints: model.constraints.clone(),
+            params: model.params.iter().map(|(name, _)| name.clone()).collect(),
+            indices: model.indices.clone(),
+        };
         Interpreted {
             model,
             params,
             slots: RefCell::new(vec![0.0; longest]),
+            info,
         }
     }
 
@@ -58,32 +68,8 @@ impl Interpreted {
 }
 
 impl Model for Interpreted {
-    fn name(&self) -> &str {
-        &self.model.name
-    }
-    fn n_states(&self) -> usize {
-        self.model.states.len()
-    }
-    fn n_constraints(&self) -> usize {
-        self.model.algs.len()
-    }
-    fn n_params(&self) -> usize {
-        self.params.len()
-    }
-    fn state_name(&self, i: usize) -> &str {
-        &self.model.states[i]
-    }
-    fn alg_name(&self, i: usize) -> &str {
-        &self.model.algs[i]
-    }
-    fn constraint_name(&self, i: usize) -> &str {
-        &self.model.constraints[i]
-    }
-    fn param_name(&self, i: usize) -> &str {
-        &self.model.params[i].0
-    }
-    fn indices(&self) -> &[usize] {
-        &self.model.indices
+    fn info(&self) -> &ModelInfo {
+        &self.info
     }
     fn param(&self, i: usize) -> f64 {
         self.params[i]

@@ -12,7 +12,7 @@ use std::cell::{Cell, RefCell};
 use std::io;
 
 use dae_runtime::{
-    Model, Settings, SimError, Simulator, trace::Layout, trace::Sample, trace::Sink,
+    Model, ModelInfo, Settings, SimError, Simulator, trace::Layout, trace::Sample, trace::Sink,
 };
 
 use crate::adaptive_mu::{AdaptiveMu, Searcher};
@@ -28,32 +28,8 @@ struct Counted<M> {
 }
 
 impl<M: ParticleDae> Model for Counted<M> {
-    fn name(&self) -> &str {
-        self.model.name()
-    }
-    fn n_states(&self) -> usize {
-        self.model.n_states()
-    }
-    fn n_constraints(&self) -> usize {
-        self.model.n_constraints()
-    }
-    fn n_params(&self) -> usize {
-        self.model.n_params()
-    }
-    fn state_name(&self, i: usize) -> &str {
-        self.model.state_name(i)
-    }
-    fn alg_name(&self, i: usize) -> &str {
-        self.model.alg_name(i)
-    }
-    fn constraint_name(&self, i: usize) -> &str {
-        self.model.constraint_name(i)
-    }
-    fn param_name(&self, i: usize) -> &str {
-        self.model.param_name(i)
-    }
-    fn indices(&self) -> &[usize] {
-        self.model.indices()
+    fn info(&self) -> &ModelInfo {
+        self.model.info()
     }
     fn param(&self, i: usize) -> f64 {
         self.model.param(i)

@@ -48,7 +48,7 @@
 //!
 //! `mu` and the gains need not be guessed: [`design::auto_design`] measures what the
 //! gains must cover in pilot runs and designs both (docs/method.md, section 5). A model
-//! can also be written by hand: implement [`Model`] (the model's sizes and names, `f`,
+//! can also be written by hand: implement [`Model`] (its [`ModelInfo`]: name, sizes and names; `f`,
 //! the sliding variables, `J_Omega` and `beta`).
 //!
 //! # Features
@@ -111,7 +111,7 @@ pub mod trace;
 pub use dae_lang as __dae_lang;
 
 pub use error::SimError;
-pub use model::Model;
+pub use model::{Model, ModelInfo};
 pub use settings::Settings;
 pub use sim::Simulator;
 pub use summary::Summary;

@@ -6,8 +6,10 @@ mod common;
 
 use common::pendulum::Pendulum;
 use dae_runtime::settings::{Dbsmc, GainRule};
+use std::sync::LazyLock;
+
 use dae_runtime::{
-    Model, Settings, SimError, Simulator, settings::AlphaChoice, settings::Integrator,
+    Model, ModelInfo, Settings, SimError, Simulator, settings::AlphaChoice, settings::Integrator,
     trace::NoTrace,
 };
 
@@ -101,32 +103,10 @@ fn a_rescaled_mu_keeps_s_where_it_was_scales_the_design_and_keeps_the_layers() {
 struct Slider;
 
 impl Model for Slider {
-    fn name(&self) -> &str {
-        "slider"
-    }
-    fn n_states(&self) -> usize {
-        2
-    }
-    fn n_constraints(&self) -> usize {
-        1
-    }
-    fn n_params(&self) -> usize {
-        0
-    }
-    fn state_name(&self, i: usize) -> &str {
-        ["x", "v"][i]
-    }
-    fn alg_name(&self, _: usize) -> &str {
-        "z"
-    }
-    fn constraint_name(&self, _: usize) -> &str {
-        "rail"
-    }
-    fn param_name(&self, _: usize) -> &str {
-        ""
-    }
-    fn indices(&self) -> &[usize] {
-        &[3]
+    fn info(&self) -> &ModelInfo {
+        static INFO: LazyLock<ModelInfo> =
+            LazyLock::new(|| ModelInfo::new("slider", &["x", "v"], &["z"], &["rail"], &[], &[3]));
+        &INFO
     }
     fn param(&self, _: usize) -> f64 {
         f64::NAN

@@ -44,18 +44,15 @@ use crate::{Model, Settings, SimError};
 /// (the sink may, e.g. a growing [`Trace`](crate::Trace)).
 ///
 /// ```
-/// # use dae_runtime::{Model, Settings, Simulator, Trace};
+/// # use dae_runtime::{Model, ModelInfo, Settings, Simulator, Trace};
 /// # struct Tracking;
 /// # impl Model for Tracking {
-/// #     fn name(&self) -> &str { "tracking" }
-/// #     fn n_states(&self) -> usize { 1 }
-/// #     fn n_constraints(&self) -> usize { 1 }
-/// #     fn n_params(&self) -> usize { 0 }
-/// #     fn state_name(&self, _: usize) -> &str { "x" }
-/// #     fn alg_name(&self, _: usize) -> &str { "z" }
-/// #     fn constraint_name(&self, _: usize) -> &str { "track" }
-/// #     fn param_name(&self, _: usize) -> &str { "" }
-/// #     fn indices(&self) -> &[usize] { &[2] }
+/// #     fn info(&self) -> &ModelInfo {
+/// #         static INFO: std::sync::LazyLock<ModelInfo> = std::sync::LazyLock::new(|| {
+/// #             ModelInfo::new("tracking", &["x"], &["z"], &["track"], &[], &[2])
+/// #         });
+/// #         &INFO
+/// #     }
 /// #     fn param(&self, _: usize) -> f64 { 0.0 }
 /// #     fn set_param(&mut self, _: usize, _: f64) {}
 /// #     fn initial_state(&self, x: &mut [f64]) { x[0] = 0.0 }
@@ -124,6 +121,10 @@ pub struct Simulator<M: Model> {
 impl<M: Model> Simulator<M> {
     /// Prepare a simulator; checks the settings against the model.
     pub fn new(model: M, settings: Settings) -> Result<Self, SimError> {
+        model.info().check().map_err(|reason| SimError::Settings {
+            field: "model",
+            reason: format!("the metadata of model `{}`: {reason}", model.name()),
+        })?;
         let n = model.n_states();
         let m = model.n_constraints();
         settings.validate(n, m)?;
