@@ -74,7 +74,7 @@ pub fn thesis_t_min() -> Result<[f64; 2], DesignError> {
 
 /// The monitored run of the thesis: published `mu`, relaxed gains, cheap alpha_hat, RK4
 /// with `h = 1e-4` and the thesis's rule of noticing a crossing at the end of the step
-/// ([`Crossing::StepEnd`]: `|s|` overshoots its layer by up to one step of motion, 1 %
+/// ([`Law::StepEnd`](dae_runtime::settings::Law::StepEnd): `|s|` overshoots its layer by up to one step of motion, 1 %
 /// here), attracting surfaces, `t` in `[0, t_end]`, statistics after `settle`.
 pub fn monitored(t_end: f64, settle: f64) -> Settings {
     Settings::new(vec![EPS; 2], THESIS_MU.to_vec(), thesis_gains())

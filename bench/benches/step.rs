@@ -13,9 +13,10 @@ use std::time::Duration;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 #[cfg(feature = "bdf")]
-use dae_bench::{BdfSettings, bdf_index1};
+use dae_bench::{baseline::BdfSettings, baseline::bdf_index1};
 use dae_bench::{
-    Chain5, DoublePendulum, IndexOneRk4, IndexOneSettings, PlanarChain, Scene, chain_scene,
+    baseline::IndexOneRk4, baseline::IndexOneSettings, generated::Chain5,
+    generated::DoublePendulum, harness::Scene, scenes::chain_scene, truth::PlanarChain,
 };
 use dae_runtime::{Model, Settings, Simulator, trace::NoTrace};
 

@@ -14,7 +14,7 @@
 
 use std::f64::consts::FRAC_PI_2;
 
-use dae_bench::{DoublePendulum, PlanarChain, chain_scene};
+use dae_bench::{generated::DoublePendulum, scenes::chain_scene, truth::PlanarChain};
 use dae_runtime::{Model, Simulator, trace::NoTrace};
 
 fn main() {

@@ -18,7 +18,10 @@
 
 use std::time::Duration;
 
-use dae_bench::{ParticleScene, RELAXED_DRIFT_SAFETY, c1, c3, ramped, run_relaxed_with};
+use dae_bench::{
+    particle_bench::ParticleScene, particle_bench::RELAXED_DRIFT_SAFETY, particle_bench::c1,
+    particle_bench::c3, particle_bench::ramped, particle_bench::run_relaxed_with,
+};
 use dae_particles::GridPins;
 use dae_runtime::Settings;
 use dae_runtime::settings::{GainRule, InLayer};

@@ -12,7 +12,7 @@
 use std::hint::black_box;
 use std::time::Instant;
 
-use dae_bench::{Lcg, Particles, best_time};
+use dae_bench::{particles::Lcg, particles::Particles, timing::best_time};
 use dae_runtime::{
     solve::DENSE_MAX, solve::LinearSolver, solve::Solver, solve::SolverChoice, solve::mul_js,
 };

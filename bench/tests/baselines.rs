@@ -7,10 +7,11 @@ use std::f64::consts::FRAC_PI_2;
 
 use common::{Cubic, Tracking};
 #[cfg(feature = "bdf")]
-use dae_bench::{BdfSettings, bdf_index1};
+use dae_bench::{baseline::BdfSettings, baseline::bdf_index1};
 use dae_bench::{
-    DoublePendulum, IndexOneRk4, IndexOneSettings, Method, PlanarChain, ZSolver, chain_scene,
-    largest_stable_step, run_method, spsm_stable,
+    baseline::IndexOneRk4, baseline::IndexOneSettings, baseline::ZSolver,
+    baseline::largest_stable_step, baseline::spsm_stable, generated::DoublePendulum,
+    harness::Method, harness::run_method, scenes::chain_scene, truth::PlanarChain,
 };
 use dae_runtime::{Settings, Simulator, trace::NoTrace};
 
@@ -179,5 +180,5 @@ fn bdf_method_without_the_feature_is_a_recorded_error() {
         1,
     );
     assert!(!r.ok);
-    assert_eq!(r.error, dae_bench::BDF_MISSING);
+    assert_eq!(r.error, dae_bench::harness::BDF_MISSING);
 }

@@ -6,8 +6,10 @@
 use std::time::Duration;
 
 use dae_bench::{
-    Lcg, MethodSpec, c1, c4, generated_chain, generated_grid, generated_strands, particle_pilot,
-    run_particle_method,
+    particle_bench::MethodSpec, particle_bench::c1, particle_bench::c4,
+    particle_bench::particle_pilot, particle_bench::run_particle_method,
+    particle_methods::generated_chain, particle_methods::generated_grid,
+    particle_methods::generated_strands, particles::Lcg,
 };
 use dae_particles::{
     FAR_EDGE_SLACK, FRAME, GrabPath, GridPins, Kinematics, Motion, ParticleDae, ParticleModel, Pin,

@@ -9,7 +9,7 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use dae_bench::relaxed_settings;
+use dae_bench::particle_bench::relaxed_settings;
 use dae_particles::{
     Backend, Dbsmc, FRAME, GridPins, ParticleModel, System as Particles, chain, grid,
 };
@@ -58,7 +58,7 @@ fn allocations_of_frames(b: &mut Dbsmc<ParticleModel>, from: usize, to: usize) -
 
 fn assert_no_allocation_per_frame(label: &str, system: &Particles, eps: f64) {
     let model = ParticleModel::new(system).unwrap();
-    let settings = dae_bench::ramped(relaxed_settings(&model, eps, 4.0));
+    let settings = dae_bench::particle_bench::ramped(relaxed_settings(&model, eps, 4.0));
     let mut b = Dbsmc::new(model, settings, label).unwrap();
     // The first frames start the run (its buffers, the solver's symbolic analysis).
     allocations_of_frames(&mut b, 0, 2);

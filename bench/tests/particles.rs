@@ -5,10 +5,14 @@ use dae_runtime::settings::{GainRule, InLayer};
 use std::time::Duration;
 
 use dae_bench::{
-    Chain5, IndexOneParticles, Lcg, MethodSpec, ParticleRecord, ParticleScene,
-    RELAXED_DRIFT_SAFETY, RELAXED_GRAZE_PER_MU, RELAXED_MU_PER_FRAME, RELAXED_STEP_PER_MU,
-    RELAXED_TOLERANCE_PER_EPS, SweepOrder, Xpbd, c1, c3_with_slack, drive_scene, ramped,
-    relaxed_settings, run_particle_method, run_relaxed_with,
+    generated::Chain5, particle_bench::MethodSpec, particle_bench::ParticleRecord,
+    particle_bench::ParticleScene, particle_bench::RELAXED_DRIFT_SAFETY,
+    particle_bench::RELAXED_GRAZE_PER_MU, particle_bench::RELAXED_MU_PER_FRAME,
+    particle_bench::RELAXED_STEP_PER_MU, particle_bench::RELAXED_TOLERANCE_PER_EPS,
+    particle_bench::c1, particle_bench::c3_with_slack, particle_bench::drive_scene,
+    particle_bench::ramped, particle_bench::relaxed_settings, particle_bench::run_particle_method,
+    particle_bench::run_relaxed_with, particle_methods::IndexOneParticles,
+    particle_methods::SweepOrder, particle_methods::Xpbd, particles::Lcg,
 };
 use dae_particles::{
     Backend, Dbsmc, FAR_EDGE_SLACK, FRAME, GridPins, ParticleDae, ParticleModel, Scene, System,
@@ -188,7 +192,8 @@ fn dbsmc_keeps_its_bound_on_a_tiny_chain_through_the_harness() {
     let scene = c1(3, 1.0).unwrap();
     let mut short = scene.clone();
     short.duration = 0.5;
-    let (bounds, pilot) = dae_bench::particle_pilot(&short, 64, Duration::from_secs(60)).unwrap();
+    let (bounds, pilot) =
+        dae_bench::particle_bench::particle_pilot(&short, 64, Duration::from_secs(60)).unwrap();
     assert!(pilot.complete());
     for integrator in [Integrator::Rk4, Integrator::Euler] {
         let spec = MethodSpec::Dbsmc {
@@ -600,7 +605,8 @@ fn relaxed_run(scene: &ParticleScene, eps: f64, gain: f64, follow: bool) -> Part
 #[test]
 fn the_budget_stops_a_run_inside_a_frame() {
     let scene = c1(10, 1.0).unwrap();
-    let (bounds, pilot) = dae_bench::particle_pilot(&scene, 64, Duration::from_secs(60)).unwrap();
+    let (bounds, pilot) =
+        dae_bench::particle_bench::particle_pilot(&scene, 64, Duration::from_secs(60)).unwrap();
     assert!(pilot.complete(), "{}", pilot.status);
     let spec = MethodSpec::Dbsmc {
         eps: 1e-3,
@@ -691,8 +697,8 @@ fn runs_on_two_threads_end_as_they_do_one_at_a_time() {
         let (scene, spec) = runs[i];
         run_particle_method(scene, spec, None, Duration::from_secs(120), None, None)
     };
-    let one = dae_bench::parallel_map(runs.len(), 1, run);
-    let two = dae_bench::parallel_map(runs.len(), 2, run);
+    let one = dae_bench::particle_bench::parallel_map(runs.len(), 1, run);
+    let two = dae_bench::particle_bench::parallel_map(runs.len(), 2, run);
     for ((a, b), (scene, spec)) in one.iter().zip(&two).zip(&runs) {
         let what = format!("{} {} {}", scene.title(), spec.method(), spec.knob());
         assert!(a.complete(), "{what}: {}", a.status);
@@ -714,7 +720,7 @@ fn runs_on_two_threads_end_as_they_do_one_at_a_time() {
 fn a_searched_mu_moves_and_keeps_every_layer_and_the_strain() {
     let mut chain = c1(30, 1.0).unwrap();
     chain.duration = 3.0;
-    let grab = dae_bench::c4(8).unwrap();
+    let grab = dae_bench::particle_bench::c4(8).unwrap();
     for (scene, eps) in [(&chain, 1e-3), (&grab, 1e-2)] {
         let what = scene.title();
         let model = ParticleModel::new(&scene.system).unwrap();

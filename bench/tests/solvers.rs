@@ -4,7 +4,8 @@
 //! gain-raising policy on a straight chain solved with the inverse diagonal.
 
 use dae_bench::{
-    Chain3, Chain5, DoublePendulum, DoublePendulum3D, Lcg, Particles, PlanarChain, chain_scene,
+    generated::Chain3, generated::Chain5, generated::DoublePendulum, generated::DoublePendulum3D,
+    particles::Lcg, particles::Particles, scenes::chain_scene, truth::PlanarChain,
 };
 use dae_runtime::settings::{Dbsmc, GainRule, Update};
 use dae_runtime::{

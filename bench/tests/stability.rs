@@ -5,8 +5,9 @@ use std::f64::consts::FRAC_PI_2;
 use dae_runtime::Model;
 
 use dae_bench::{
-    DoublePendulum, Method, PlanarChain, Scene, Verdict, chain_scene, envelope_run, judge,
-    largest_step_row,
+    generated::DoublePendulum, harness::Method, harness::Scene, scenes::chain_scene,
+    stability::Verdict, stability::envelope_run, stability::judge, stability::largest_step_row,
+    truth::PlanarChain,
 };
 
 #[test]
@@ -95,7 +96,7 @@ fn index_one_survives_larger_steps_than_spsm_on_the_double_pendulum() {
 
 #[test]
 fn designed_dbsmc_maximises_the_guaranteed_period_and_holds_its_layer() {
-    use dae_bench::{Method, designed_bounds, run_method};
+    use dae_bench::{harness::Method, harness::designed_bounds, harness::run_method};
     use dae_runtime::{
         design::ConstraintSpec, design::GainChoice, design::LayerBound, design::t_min,
     };

@@ -71,7 +71,7 @@
 //!
 //! [`Dbsmc::new`] takes any `M: ParticleDae`. A model generated from a `.dae` family
 //! (chain, hair, cloth) implements [`dae_runtime::Model`] already; it needs the methods
-//! of [`ParticleDae`] besides (`dae_bench::FamilyParticles` does it for any family model
+//! of [`ParticleDae`] besides (`dae_bench::particle_methods::FamilyParticles` does it for any family model
 //! with a parameter `free[p]` and an input `pin[p]`, and runs the scenes C1-C4 on
 //! generated models): the particle count, where each particle's position and velocity
 //! live in the state, which constraint belongs to which link of the [`System`], the rest

@@ -4,8 +4,11 @@ use std::path::Path;
 use std::time::Duration;
 
 use dae_bench::{
-    MethodSpec, ParticleRecord, ParticleScene, c1, c3_with_slack, cheapest, parallel_map,
-    particle_pilot, run_particle_method, scene_title, timed_repeatedly,
+    particle_bench::MethodSpec, particle_bench::ParticleRecord, particle_bench::ParticleScene,
+    particle_bench::c1, particle_bench::c3_with_slack, particle_bench::cheapest,
+    particle_bench::parallel_map, particle_bench::particle_pilot,
+    particle_bench::run_particle_method, particle_bench::scene_title,
+    particle_bench::timed_repeatedly,
 };
 use dae_particles::GridPins;
 use dae_runtime::{settings::Integrator, solve::SolverChoice};
@@ -138,7 +141,7 @@ pub fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Option
                 .filter(|r| r.complete())
                 .map(|r| (r.size as f64, r.ms_mean))
                 .collect();
-            let exp = dae_bench::fitted_exponent(&points);
+            let exp = dae_bench::particle_bench::fitted_exponent(&points);
             let col = |f: &dyn Fn(&ParticleRecord) -> String| {
                 runs.iter()
                     .map(f)
@@ -188,7 +191,7 @@ pub fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Option
                 Some(p) => format!("{label} (exponent {p:.2})"),
                 None => label,
             };
-            lines.push(dae_bench::Line { label, points });
+            lines.push(dae_bench::particle_bench::Line { label, points });
             records.extend(runs);
         }
         records.extend(bisect_xpbd(&scenes, records, o));
@@ -212,7 +215,7 @@ pub fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Option
                 .collect();
             // An exponent only where every size holds: a gap would fit other sizes.
             let exp = if points.len() == scenes.len() {
-                dae_bench::fitted_exponent(&points)
+                dae_bench::particle_bench::fitted_exponent(&points)
             } else {
                 None
             };
@@ -229,7 +232,7 @@ pub fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Option
         }
     }
     md += &hold;
-    if let Err(e) = dae_bench::loglog(
+    if let Err(e) = dae_bench::particle_bench::loglog(
         &pictures.join("cost_vs_size.svg"),
         &format!("mean cost per frame against links (first {SWEEP_FRAMES} frames, fixed settings)"),
         "links",

@@ -32,7 +32,7 @@ pub struct Scene<'a, M: Model + ?Sized> {
     /// Initial states (on the constraint manifold for work-precision).
     pub x0: Vec<f64>,
     /// Initial algebraic unknowns (consistent with `x0`, e.g. from
-    /// [`consistent_alg`](crate::consistent_alg)).
+    /// [`consistent_alg`](crate::baseline::consistent_alg)).
     pub z0: Vec<f64>,
     /// End time (the start is 0).
     pub t_end: f64,

@@ -14,7 +14,10 @@ use dae_runtime::{
 };
 
 use super::scenes::{ParticleScene, SceneShape};
-use crate::{IndexOneParticles, PilotBounds, SweepOrder, Xpbd};
+use crate::{
+    particle_methods::IndexOneParticles, particle_methods::PilotBounds,
+    particle_methods::SweepOrder, particle_methods::Xpbd,
+};
 
 /// A method and its setting.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -31,7 +34,7 @@ pub enum MethodSpec {
     /// DBSMC designed as [`MethodSpec::Dbsmc`] (automatic solver), run on the scene's
     /// generated family model (C1: `examples/models/chain.dae`, C2:
     /// `bench/models/c2_hair.dae`, C3 and C4: `bench/models/c3_cloth.dae`; see
-    /// [`crate::FamilyParticles`]).
+    /// [`crate::particle_methods::FamilyParticles`]).
     DbsmcGenerated {
         /// Relative layer (strain bound).
         eps: f64,
@@ -47,7 +50,7 @@ pub enum MethodSpec {
         gain: f64,
     },
     /// The frame-tied design of [`relaxed_settings`] with `v` ramping between updates
-    /// against the drift of `s'` ([`Settings::ramp_against_drift`]).
+    /// against the drift of `s'` ([`Hold::RampAgainstDrift`]).
     DbsmcRamped {
         /// Relative layer (strain bound).
         eps: f64,
@@ -469,13 +472,13 @@ pub const RELAXED_STEP_PER_MU: f64 = 0.5;
 pub const RELAXED_TOLERANCE_PER_EPS: f64 = 0.1;
 
 /// Safety factor of the relaxed design's gains over the drift of `s'` measured online
-/// ([`Settings::follow_drift`]): 1 kept the layer on every scene of `relaxed_design`,
+/// ([`GainRule::FollowDrift`]): 1 kept the layer on every scene of `relaxed_design`,
 /// 2 cost 1.5-3.8x more per frame there and kept nothing more (one run of
 /// `cargo run --release -p dae-bench --example relaxed_design`).
 pub const RELAXED_DRIFT_SAFETY: f64 = 1.0;
 
 /// The shortest time between the grazing returns of a relaxed design's gain, as a
-/// fraction of `mu` ([`Settings::graze`]): a gain is raised over its floor only as far
+/// fraction of `mu` (its `graze`): a gain is raised over its floor only as far
 /// as its returns need to stay `mu / 8` apart, not to the gain that sweeps the whole
 /// layer. On C1 N=10 r=1e4 at eps = 1e-3 with the floor `4 eps / mu` this made 23
 /// updates per frame against 143 with the sweeping gains; `mu / 16` made as many,
@@ -747,16 +750,22 @@ impl RunDbsmc<'_, '_> {
             SceneShape::Chain {
                 links,
                 end_mass_ratio,
-            } => self.with(crate::generated_chain(sys, links, end_mass_ratio)),
-            SceneShape::Strands { strands, links } => {
-                self.with(crate::generated_strands(sys, strands, links))
-            }
+            } => self.with(crate::particle_methods::generated_chain(
+                sys,
+                links,
+                end_mass_ratio,
+            )),
+            SceneShape::Strands { strands, links } => self.with(
+                crate::particle_methods::generated_strands(sys, strands, links),
+            ),
             SceneShape::Grid {
                 w,
                 pins,
                 shear,
                 slack,
-            } => self.with(crate::generated_grid(sys, w, pins, shear, slack)),
+            } => self.with(crate::particle_methods::generated_grid(
+                sys, w, pins, shear, slack,
+            )),
         }
     }
 

@@ -58,7 +58,7 @@ pub struct SceneDraws {
 
 /// Target 3's scenes, with the DBSMC run it reads on each: the cheapest that held worst
 /// strain 1e-3 over the whole scene. The benchmark runs these settings nine times more
-/// ([`crate::frame_tied_draws`]) and gives the draws to [`targets_section`].
+/// ([`crate::particle_bench::frame_tied_draws`]) and gives the draws to [`targets_section`].
 pub fn heavy_chain_choices(records: &[ParticleRecord]) -> Vec<(String, &ParticleRecord)> {
     let heavy = records
         .iter()
