@@ -68,7 +68,10 @@
 //! # Example
 //!
 //! ```
-//! use dae_bench::{DoublePendulum, Method, PlanarChain, chain_scene, run_method};
+//! use dae_bench::generated::DoublePendulum;
+//! use dae_bench::harness::{Method, run_method};
+//! use dae_bench::scenes::chain_scene;
+//! use dae_bench::truth::PlanarChain;
 //!
 //! let chain = PlanarChain::double_pendulum();
 //! let model = DoublePendulum::default();
