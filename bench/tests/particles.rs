@@ -654,7 +654,7 @@ fn xpbd_swept_by_colour_loses_energy_where_the_grid_builders_order_gains_it() {
 /// Runs side by side on two threads (the benchmark's default, `parallel_map`) end as
 /// they do one at a time: the same steps, updates, evaluations, frames, status and worst
 /// strain to the bit, for every kind of method, with the results in the order asked.
-/// Only the wall time may differ (docs/particles-log.md, "Two runs at a time"; docs/particles.md, "Running it").
+/// Only the wall time may differ (docs/particles.md, "Running it").
 #[test]
 fn runs_on_two_threads_end_as_they_do_one_at_a_time() {
     let mut light = c1(10, 1.0).unwrap();
