@@ -471,7 +471,7 @@ pub const RELAXED_DRIFT_SAFETY: f64 = 1.0;
 /// as its returns need to stay `mu / 8` apart, not to the gain that sweeps the whole
 /// layer. On C1 N=10 r=1e4 at eps = 1e-3 with the floor `4 eps / mu` this made 23
 /// updates per frame against 143 with the sweeping gains; `mu / 16` made as many,
-/// `mu / 4` 69 (one-off runs of the design with the fraction changed, 2026-11-26).
+/// `mu / 4` 69 (one-off runs of the design with the fraction changed).
 pub const RELAXED_GRAZE_PER_MU: f64 = 0.125;
 
 /// The relaxed DBSMC design: no pilot, `mu = RELAXED_MU_PER_FRAME * FRAME` on every
