@@ -1,6 +1,6 @@
 //! The relaxed DBSMC design (`dbsmc-relaxed`, docs/particles.md) on the five runs of the
-//! particle benchmark where its gains, held fixed at the frame-tied floor `c eps / mu`,
-//! once left their `s`-layer (before the runtime's located crossings were fixed): with
+//! particle benchmark that are hardest for gains held fixed at the frame-tied floor
+//! `c eps / mu`: with
 //! fixed gains at the runtime's default Dormand-Prince tolerance (`TOLERANCE_PER_EPS =
 //! 0.01` of the smallest layer), at a tolerance 100 times tighter, and with steps of at
 //! most 1/4 and 1/16 of the design's longest (`mu / 2`); with the gains following the

@@ -324,7 +324,7 @@ fn fixed_and_followed_gains_keep_the_layer_on_the_heavy_end_chain() {
 /// sqrt(eps D)`): on the heavy-end 10-link chain at eps = 1e-3 over 1 s both keep the
 /// layer and the strain, and grazing makes about half the updates (measured: 1,048
 /// against 2,656 with the design's saturation; with `sgn(s)` in the law, over the whole
-/// 5 s with the longest step `mu / 4` before 2026-11-27, 23 against 143 per frame).
+/// 5 s with the longest step `mu / 4`, 23 against 143 per frame).
 #[test]
 fn grazing_gains_keep_the_layer_with_fewer_updates_than_sweeping_ones() {
     let mut scene = c1(10, 1e4).unwrap();
@@ -359,8 +359,7 @@ fn grazing_gains_keep_the_layer_with_fewer_updates_than_sweeping_ones() {
 /// `v` ramping against the drift between updates (`Settings::ramp_against_drift`) on
 /// the light 100-link chain at eps = 1e-3 over its first second: the layer and the
 /// strain are kept, with fewer updates than with `v` held (measured: 428 against 1,094;
-/// over the whole 5 s with the longest step `mu / 4` before 2026-11-27, 300 against
-/// 851 per frame).
+/// over the whole 5 s with the longest step `mu / 4`, 300 against 851 per frame).
 #[test]
 fn a_ramp_against_the_drift_keeps_the_layer_with_fewer_updates_on_a_light_chain() {
     let mut scene = c1(100, 1.0).unwrap();
@@ -664,7 +663,7 @@ fn xpbd_swept_by_colour_loses_energy_where_the_grid_builders_order_gains_it() {
 /// Runs side by side on two threads (the benchmark's default, `parallel_map`) end as
 /// they do one at a time: the same steps, updates, evaluations, frames, status and worst
 /// strain to the bit, for every kind of method, with the results in the order asked.
-/// Only the wall time may differ (docs/particles-log.md, "Two runs at a time"; docs/particles.md, "Running it").
+/// Only the wall time may differ (docs/particles.md, "Running it").
 #[test]
 fn runs_on_two_threads_end_as_they_do_one_at_a_time() {
     let mut light = c1(10, 1.0).unwrap();

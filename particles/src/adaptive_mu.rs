@@ -7,8 +7,8 @@
 //! and changes during it: on light and medium 100-link chains the whole scene costs
 //! 3x less at `mu` = 1/32 of the frame than at 1/4, on the 100-link chain with an end
 //! 10^4 times heavier 2.3x less at 1/2, and over the first calm frames of every scene
-//! the large `mu` is the cheaper (docs/particles-log.md, "How the design's cost depends on
-//! `mu`"). The counts of each frame say which way the cost went after a move.
+//! the large `mu` is the cheaper (measured by `mu_sweep`: docs/particles.md says where the
+//! measurements are). The counts of each frame say which way the cost went after a move.
 //!
 //! The search dithers and follows the slope it measures (extremum seeking): `mu`
 //! alternates between two values a `step` apart, `window` frames at each, and after

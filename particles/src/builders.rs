@@ -116,9 +116,9 @@ pub fn grid_index(w: usize, ix: usize, iy: usize) -> usize {
 ///
 /// Why 2 % and not less: a bounded method holds each link only within its layer, and
 /// links shortened by the slack make the edge straight again. The slack must exceed
-/// the largest layer a scene runs with (1 % of a link): with 0.1 % (the default before
-/// 2026-11-27) the edge could come straight within the layers, `J_Omega` came near
-/// singular there, and its links set the whole cloth's update rate (docs/particles.md,
+/// the largest layer a scene runs with (1 % of a link): with 0.1 % the edge can come
+/// straight within the layers, `J_Omega` comes near singular there, and its links set
+/// the whole cloth's update rate (docs/particles.md,
 /// "The far edge's slack").
 pub const FAR_EDGE_SLACK: f64 = 0.02;
 

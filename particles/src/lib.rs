@@ -21,8 +21,8 @@
 //!   by implementing [`ParticleDae`].
 //! * **`mu` during a run** ([`AdaptiveMu`], [`Dbsmc::adapt_mu`]): DBSMC's `mu` searched
 //!   for frame by frame, towards the one at which the run costs least, each move keeping
-//!   the sliding variables continuous and the layer's guarantee (docs/particles-log.md,
-//!   "`mu` that follows the motion").
+//!   the sliding variables continuous and the layer's guarantee (docs/particles.md,
+//!   "Whole scenes without the budget").
 //! * **A scene** ([`Scene`]): steps by frames of [`FRAME`] = 1/60 s, reads positions,
 //!   tracks the worst strain of every link, grabs a particle where it is and moves it
 //!   on a three times differentiable path ([`GrabPath`]), releases it.

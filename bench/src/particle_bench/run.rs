@@ -452,23 +452,17 @@ pub const RELAXED_MU_PER_FRAME: f64 = 0.25;
 
 /// The longest Dormand-Prince step of the relaxed design, as a fraction of `mu`: the
 /// cubic of `s` that locates the crossings is then fitted over a step no longer than half
-/// of the surface's time constant. `mu / 4` until 2026-11-27: `count_spread` (nine draws
-/// of the longest step within 4 % at each of `mu / 4`, `mu / 2` and `mu`, 198 draws on
-/// 11 scenes, docs/particles-log.md "How much one run's counts say") kept every layer at
-/// all three, and `mu / 2` made a third fewer steps than `mu / 4` where the longest step
-/// sets them (the 10-link chains, the small cloth) with as many updates; `mu` saved
-/// little more (11.7 against 13.5 steps per frame on C1 N=10 r=1e2), and with an older
-/// law (on C1 N=10 r=1e4 at eps = 1e-3, `mu / 8`, gain 8) steps of a whole control
-/// interval left the layer at 1.6 s.
+/// of the surface's time constant. docs/particles.md ("Methods") has the `count_spread`
+/// draws that chose it.
 pub const RELAXED_STEP_PER_MU: f64 = 0.5;
 
 /// The state tolerance of the relaxed design's Dormand-Prince steps, as a fraction of the
 /// smallest layer: `rtol = atol = RELAXED_TOLERANCE_PER_EPS * min eps_i`, ten times the
-/// runtime's default ([`dae_runtime::settings::TOLERANCE_PER_EPS`]). What keeps `s` within its
-/// layer is each step's error in `s` ([`dae_runtime::settings::LAYER_ERROR_PER_STEP`]), which
-/// does not depend on it; on the heavy 10-link chain at eps = 1e-3 the default
-/// tolerance set the steps (68 per frame for 18 updates; 47 at ten times it, 42 at 30
-/// times, the same updates, every layer kept: one-off runs, 2026-11-27).
+/// runtime's default ([`dae_runtime::settings::TOLERANCE_PER_EPS`]). What keeps `s`
+/// within its layer is each step's error in `s`
+/// ([`dae_runtime::settings::LAYER_ERROR_PER_STEP`]), which does not depend on it; the
+/// looser tolerance takes fewer steps for the same updates (docs/particles.md,
+/// "Methods").
 pub const RELAXED_TOLERANCE_PER_EPS: f64 = 0.1;
 
 /// Safety factor of the relaxed design's gains over the drift of `s'` measured online
@@ -482,7 +476,7 @@ pub const RELAXED_DRIFT_SAFETY: f64 = 1.0;
 /// as its returns need to stay `mu / 8` apart, not to the gain that sweeps the whole
 /// layer. On C1 N=10 r=1e4 at eps = 1e-3 with the floor `4 eps / mu` this made 23
 /// updates per frame against 143 with the sweeping gains; `mu / 16` made as many,
-/// `mu / 4` 69 (one-off runs of the design with the fraction changed, 2026-11-26).
+/// `mu / 4` 69 (one-off runs of the design with the fraction changed).
 pub const RELAXED_GRAZE_PER_MU: f64 = 0.125;
 
 /// The relaxed DBSMC design: no pilot, `mu = RELAXED_MU_PER_FRAME * FRAME` on every
