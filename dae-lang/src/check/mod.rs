@@ -333,6 +333,25 @@ fn order_lets(decls: &[&Decl], exprs: &[Option<RExpr>], diags: &mut Vec<Diagnost
     order.order
 }
 
+/// `der(name)` of a name declared as something other than a state.
+fn der_of_non_state(name: &str, at: Span, what: &str, declared: Span) -> Diagnostic {
+    Diagnostic::new(
+        format!("`der({name})`: `{name}` is {what}, not a state"),
+        at,
+        what,
+    )
+    .related(declared, format!("`{name}` is declared here"))
+    .hint(format!(
+        "only states have a derivative: declare `{name}` with `state`"
+    ))
+}
+
+/// `der(t)`.
+fn der_of_time(at: Span) -> Diagnostic {
+    Diagnostic::new("`der(t)`: `t` is time, not a state", at, "time")
+        .hint("`der` takes a state declared with `state`")
+}
+
 /// The `der` equations, one per state (indexed like `states`).
 fn ders(
     m: &ModelAst,
@@ -356,26 +375,15 @@ fn ders(
             // `der` of a name declared twice, once as a state: already reported.
             Some(_) if scope.duplicated.contains(name) => continue,
             Some(e) => {
-                diags.push(
-                    Diagnostic::new(
-                        format!("`der({name})`: `{name}` is {}, not a state", e.kind.words()),
-                        target.span,
-                        e.kind.words(),
-                    )
-                    .related(e.span, format!("`{name}` is declared here"))
-                    .hint(format!(
-                        "only states have a derivative: declare `{name}` with `state`"
-                    )),
-                );
+                diags.push(der_of_non_state(name, target.span, e.kind.words(), e.span));
                 continue;
             }
             None => {
-                let mut d = scope.unknown_name(name, target.span);
-                if name == "t" {
-                    d = Diagnostic::new("`der(t)`: `t` is time, not a state", target.span, "time")
-                        .hint("`der` takes a state declared with `state`");
-                }
-                diags.push(d);
+                diags.push(if name == "t" {
+                    der_of_time(target.span)
+                } else {
+                    scope.unknown_name(name, target.span)
+                });
                 continue;
             }
         };

@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use super::expr::{Env, Ty, Val, Where};
 use super::{Checker, Component, Kind, LET_STRIDE, LetState};
 use crate::ast::{BinOp, Item, Span};
-use crate::check::lets;
+use crate::check::{der_of_non_state, der_of_time, lets};
 use crate::diag::Diagnostic;
 use crate::model::{
     ConstraintDef, DerDef, Family, InputDef, LetDef, MapKind, Model, ParamDef, RExpr, VarDef,
@@ -199,30 +199,13 @@ impl Checker<'_> {
                 Some(e) if e.kind == Kind::State => *e,
                 Some(_) if self.duplicated.contains(name) => continue,
                 Some(e) => {
-                    let e = *e;
-                    self.diags.push(
-                        Diagnostic::new(
-                            format!("`der({name})`: `{name}` is {}, not a state", e.kind.words()),
-                            target.span,
-                            e.kind.words(),
-                        )
-                        .related(e.span, format!("`{name}` is declared here"))
-                        .hint(format!(
-                            "only states have a derivative: declare `{name}` with `state`"
-                        )),
-                    );
+                    let d = der_of_non_state(name, target.span, e.kind.words(), e.span);
+                    self.diags.push(d);
                     continue;
                 }
                 None => {
                     if name == "t" {
-                        self.diags.push(
-                            Diagnostic::new(
-                                "`der(t)`: `t` is time, not a state",
-                                target.span,
-                                "time",
-                            )
-                            .hint("`der` takes a state declared with `state`"),
-                        );
+                        self.diags.push(der_of_time(target.span));
                     } else {
                         self.unknown_name(name, target.span);
                     }
