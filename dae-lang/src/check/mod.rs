@@ -309,26 +309,7 @@ fn order_lets(decls: &[&Decl], exprs: &[Option<RExpr>], diags: &mut Vec<Diagnost
         .collect();
     let order = lets::order(&uses);
     for cycle in &order.cycles {
-        let names: Vec<&str> = cycle.iter().map(|&i| decls[i].name.name.as_str()).collect();
-        let path = format!("{} -> {}", names.join(" -> "), names[0]);
-        let first = decls[cycle[0]];
-        let mut d = Diagnostic::new(
-            format!("the definitions form a cycle: {path}"),
-            first.name.span,
-            if cycle.len() == 1 {
-                "uses itself".to_string()
-            } else {
-                "this definition starts the cycle".into()
-            },
-        )
-        .hint("a `let` may not use itself, directly or through other `let`s: break the cycle");
-        for &i in &cycle[1..] {
-            d = d.related(
-                decls[i].name.span,
-                format!("`{}` is on the cycle", decls[i].name.name),
-            );
-        }
-        diags.push(d);
+        diags.push(lets::cycle_error(cycle, decls));
     }
     order.order
 }

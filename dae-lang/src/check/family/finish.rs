@@ -447,29 +447,7 @@ impl Checker<'_> {
             .collect();
         let order = lets::order(&uses);
         for cycle in &order.cycles {
-            let names: Vec<&str> = cycle
-                .iter()
-                .map(|&i| self.lets[i].name.name.as_str())
-                .collect();
-            let path = format!("{} -> {}", names.join(" -> "), names[0]);
-            let first = self.lets[cycle[0]];
-            let mut d = Diagnostic::new(
-                format!("the definitions form a cycle: {path}"),
-                first.name.span,
-                if cycle.len() == 1 {
-                    "uses itself".to_string()
-                } else {
-                    "this definition starts the cycle".into()
-                },
-            )
-            .hint("a `let` may not use itself, directly or through other `let`s: break the cycle");
-            for &i in &cycle[1..] {
-                d = d.related(
-                    self.lets[i].name.span,
-                    format!("`{}` is on the cycle", self.lets[i].name.name),
-                );
-            }
-            self.diags.push(d);
+            self.diags.push(lets::cycle_error(cycle, &self.lets));
         }
         order.order
     }
