@@ -5,9 +5,10 @@
 //! Used by `examples/double_pendulum.rs`, `examples/bench_double_pendulum.rs` and the
 //! tests in `tests/chapter5.rs`.
 
+use dae_runtime::settings::{Dbsmc, StepEnd, Update};
 use dae_runtime::{
-    ConstraintSpec, Crossing, Design, DesignError, GainChoice, LayerBound, Model, MuSearch, Policy,
-    Settings, design,
+    Model, Settings, design::ConstraintSpec, design::Design, design::DesignError,
+    design::GainChoice, design::LayerBound, design::MuSearch, design::design,
 };
 
 dae_runtime::dae_file!("models/double_pendulum_3d.dae");
@@ -66,26 +67,28 @@ pub fn thesis_t_min() -> Result<[f64; 2], DesignError> {
             beta_abs: THESIS_BETA[i],
             layer: LayerBound::TightIndex3,
         };
-        out[i] = dae_runtime::t_min(&spec, THESIS_MU[i], k[i])?;
+        out[i] = dae_runtime::design::t_min(&spec, THESIS_MU[i], k[i])?;
     }
     Ok(out)
 }
 
 /// The monitored run of the thesis: published `mu`, relaxed gains, cheap alpha_hat, RK4
 /// with `h = 1e-4` and the thesis's rule of noticing a crossing at the end of the step
-/// ([`Crossing::StepEnd`]: `|s|` overshoots its layer by up to one step of motion, 1 %
+/// ([`Law::StepEnd`](dae_runtime::settings::Law::StepEnd): `|s|` overshoots its layer by up to one step of motion, 1 %
 /// here), attracting surfaces, `t` in `[0, t_end]`, statistics after `settle`.
 pub fn monitored(t_end: f64, settle: f64) -> Settings {
     Settings::new(vec![EPS; 2], THESIS_MU.to_vec(), thesis_gains())
         .step(STEP)
-        .crossing(Crossing::StepEnd)
+        .law(StepEnd::default())
         .t_end(t_end)
         .settle(settle)
 }
 
 /// The same without monitoring: an update every [`FIXED_PERIOD`].
 pub fn fixed(t_end: f64, settle: f64) -> Settings {
-    monitored(t_end, settle).policy(Policy::Fixed(FIXED_PERIOD))
+    monitored(t_end, settle).law(Dbsmc::default().update(Update::Fixed {
+        period: FIXED_PERIOD,
+    }))
 }
 
 /// Tensions from the physics alone, for comparison with the simulator's `z_eq`.

@@ -6,17 +6,19 @@
 //! steps/s); baseline (a) is timed one step at a time; the adaptive BDF over a 0.2 s run,
 //! reported per accepted step (with `--features bdf`).
 
+use dae_runtime::settings::{Dbsmc, Law, Update};
 use std::f64::consts::FRAC_PI_2;
 use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 #[cfg(feature = "bdf")]
-use dae_bench::{BdfSettings, bdf_index1};
+use dae_bench::{baseline::BdfSettings, baseline::bdf_index1};
 use dae_bench::{
-    Chain5, DoublePendulum, IndexOneRk4, IndexOneSettings, PlanarChain, Scene, chain_scene,
+    baseline::IndexOneRk4, baseline::IndexOneSettings, generated::Chain5,
+    generated::DoublePendulum, harness::Scene, scenes::chain_scene, truth::PlanarChain,
 };
-use dae_runtime::{Model, NoTrace, Policy, Settings, Simulator};
+use dae_runtime::{Model, Settings, Simulator, trace::NoTrace};
 
 const STEPS: u64 = 1000;
 const H: f64 = 1e-4;
@@ -44,15 +46,21 @@ fn group<M: Model>(c: &mut Criterion, scene: &Scene<'_, M>) {
     g.throughput(Throughput::Elements(STEPS));
     let t_end = STEPS as f64 * H;
     for (name, policy) in [
-        ("dbsmc_step_no_update", Policy::Fixed(1e9)),
-        ("dbsmc_step_with_update_every_step", Policy::Fixed(H)),
-        ("dbsmc_monitor_step", Policy::Monitor),
-        ("spsm_step", Policy::Spsm),
+        (
+            "dbsmc_step_no_update",
+            Law::from(Dbsmc::default().update(Update::Fixed { period: 1e9 })),
+        ),
+        (
+            "dbsmc_step_with_update_every_step",
+            Law::from(Dbsmc::default().update(Update::Fixed { period: H })),
+        ),
+        ("dbsmc_monitor_step", Law::default()),
+        ("spsm_step", Law::Spsm),
     ] {
         let settings = Settings::new(vec![1e-3; m], vec![0.05; m], scene.gains(0.05, 1.5))
             .step(H)
             .t_end(t_end)
-            .policy(policy)
+            .law(policy)
             .check_robustness(false)
             .initial(scene.x0.clone(), scene.z0.clone());
         g.bench_function(name, |b| {

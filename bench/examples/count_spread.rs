@@ -1,4 +1,4 @@
-//! How much one run's counts say: the frame-tied design (`dae_bench::relaxed_settings`)
+//! How much one run's counts say: the frame-tied design (`dae_bench::particle_bench::relaxed_settings`)
 //! run on one scene with its longest step moved by -4 % ... +4 % around `mu / 4`, `mu / 2`
 //! and `mu`, and the spread of the control updates and steps per frame it makes.
 //!
@@ -20,7 +20,10 @@
 
 use std::time::Duration;
 
-use dae_bench::{FrameTied, RELAXED_STEP_PER_MU, frame_tied_draws, scene_of_spec};
+use dae_bench::{
+    particle_bench::FrameTied, particle_bench::RELAXED_STEP_PER_MU,
+    particle_bench::frame_tied_draws, particle_bench::scene_of_spec,
+};
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();

@@ -1,6 +1,6 @@
 //! Where the generated family models' extra cost is: one evaluation of each per-step
 //! function (`rhs`, `sliding`, `jacobian`, `beta`, `omega_rate`) of the generated model of a scene
-//! (`dae_bench::generated_chain`, `generated_grid`: the `.dae` family compiled by
+//! (`dae_bench::particle_methods::generated_chain`, `generated_grid`: the `.dae` family compiled by
 //! `dae_file!`, behind `FamilyParticles`) against the hand-written
 //! `dae_particles::ParticleModel` of the same system, both through the runtime's `Model`
 //! trait, at the scene's initial point with every tension 1.
@@ -30,7 +30,9 @@
 
 use std::hint::black_box;
 
-use dae_bench::{best_time, generated_chain, generated_grid};
+use dae_bench::{
+    particle_methods::generated_chain, particle_methods::generated_grid, timing::best_time,
+};
 use dae_particles::{FAR_EDGE_SLACK, GridPins, ParticleModel, System};
 use dae_runtime::Model;
 

@@ -14,8 +14,8 @@
 
 use std::f64::consts::FRAC_PI_2;
 
-use dae_bench::{DoublePendulum, PlanarChain, chain_scene};
-use dae_runtime::{Model, NoTrace, Simulator};
+use dae_bench::{generated::DoublePendulum, scenes::chain_scene, truth::PlanarChain};
+use dae_runtime::{Model, Simulator, trace::NoTrace};
 
 fn main() {
     let t_end: f64 = match std::env::args().nth(1).map(|a| a.parse()) {
@@ -43,7 +43,7 @@ fn main() {
     };
     println!(
         "T = {t_end} s: mu {:?}, gains {:?}, eps {:?}",
-        settings.mu, settings.gains, settings.eps
+        settings.layers.mu, settings.layers.gains, settings.layers.eps
     );
     let summary =
         Simulator::new(&dp_dae as &dyn Model, settings).and_then(|mut sim| sim.run(&mut NoTrace));

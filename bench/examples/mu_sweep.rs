@@ -1,5 +1,5 @@
 //! How the frame-tied design's cost depends on `mu`: the ramped design (`dbsmc-ramp`,
-//! `dae_bench::relaxed_settings_at` with `v` ramped against the drift) through one whole
+//! `dae_bench::particle_bench::relaxed_settings_at` with `v` ramped against the drift) through one whole
 //! scene at several `mu`, each a fraction of the 1/60 s frame. The benchmark runs the
 //! design at `mu` = a quarter of the frame only (`RELAXED_MU_PER_FRAME`).
 //!
@@ -22,8 +22,9 @@
 use std::time::Duration;
 
 use dae_bench::{
-    RELAXED_MU_PER_FRAME, default_workers, left_a_guarantee, parallel_map, run_relaxed_at,
-    scene_of_spec,
+    particle_bench::RELAXED_MU_PER_FRAME, particle_bench::default_workers,
+    particle_bench::left_a_guarantee, particle_bench::parallel_map, particle_bench::run_relaxed_at,
+    particle_bench::scene_of_spec,
 };
 use dae_particles::AdaptiveMu;
 
@@ -110,7 +111,13 @@ fn main() {
             start,
             search,
             Duration::from_secs_f64(budget),
-            |s| if held { s } else { s.ramp_against_drift() },
+            |s| {
+                if held {
+                    s
+                } else {
+                    dae_bench::particle_bench::ramped(s)
+                }
+            },
         )
     });
     let mut lost = false;
@@ -125,7 +132,7 @@ fn main() {
         println!(
             "| {label} | {:.3} | {:.1} | {:.1} | {:.3} | {}/{} {} | {} |",
             r.ms_mean,
-            r.counters.updates as f64 / f,
+            r.counters.updates() as f64 / f,
             r.counters.steps as f64 / f,
             r.worst_strain / eps,
             r.frames,
@@ -133,7 +140,7 @@ fn main() {
             r.status,
             if left {
                 r.counters
-                    .layer_lost_at
+                    .layer_lost_at()
                     .map_or("strain".into(), |t| format!("layer at {t:.3} s"))
             } else {
                 "-".into()

@@ -18,9 +18,13 @@
 
 use std::time::Duration;
 
-use dae_bench::{ParticleScene, RELAXED_DRIFT_SAFETY, c1, c3, run_relaxed_with};
+use dae_bench::{
+    particle_bench::ParticleScene, particle_bench::RELAXED_DRIFT_SAFETY, particle_bench::c1,
+    particle_bench::c3, particle_bench::ramped, particle_bench::run_relaxed_with,
+};
 use dae_particles::GridPins;
 use dae_runtime::Settings;
+use dae_runtime::settings::{GainRule, InLayer};
 
 /// Budget of one run (wall clock).
 const BUDGET: Duration = Duration::from_secs(30);
@@ -67,39 +71,41 @@ impl Control {
 fn run(scene: &ParticleScene, eps: f64, gain: f64, control: Control) -> String {
     let r = run_relaxed_with(scene, eps, gain, BUDGET, |settings| {
         let design = settings.clone();
-        let settings = Settings {
-            follow_drift: None,
-            graze: None,
-            ..settings
-        };
+        let settings = with_gains(settings, GainRule::Fixed);
         match control {
             Control::Graze => design,
-            Control::GrazeRamp => design.ramp_against_drift(),
+            Control::GrazeRamp => ramped(design),
             Control::GrazeSign(ramp) => {
-                let sign = Settings {
-                    saturate: false,
-                    ..design
-                };
-                if ramp {
-                    sign.ramp_against_drift()
-                } else {
-                    sign
-                }
+                let mut sign = design;
+                sign.dbsmc_mut().expect("a DBSMC design").in_layer = InLayer::Sign;
+                if ramp { ramped(sign) } else { sign }
             }
             Control::Fixed => settings,
             Control::State(f) => {
-                let smallest = settings.eps.iter().copied().fold(f64::INFINITY, f64::min);
+                let smallest = settings
+                    .layers
+                    .eps
+                    .iter()
+                    .copied()
+                    .fold(f64::INFINITY, f64::min);
                 settings.tolerance(f * smallest, f * smallest)
             }
             Control::Shorter(f) => {
-                let h = settings.max_step * f;
+                let h = settings.integration.max_step * f;
                 settings.max_step(h)
             }
-            Control::Follow(f) => settings.follow_drift(f),
+            Control::Follow(f) => with_gains(
+                settings,
+                GainRule::FollowDrift {
+                    safety: f,
+                    graze: None,
+                    raise: None,
+                },
+            ),
         }
     });
     let frames = r.frames.max(1) as f64;
-    let lost = match (r.counters.layer_lost_at, r.counters.layer_worst_ratio) {
+    let lost = match (r.counters.layer_lost_at(), r.counters.layer_worst_ratio()) {
         (Some(t), Some(q)) if q < 1e3 => format!("{t:.3} s, {q:.3} eps"),
         (Some(t), Some(q)) => format!("{t:.3} s, {q:.2e} eps"),
         _ => "-".into(),
@@ -110,7 +116,7 @@ fn run(scene: &ParticleScene, eps: f64, gain: f64, control: Control) -> String {
         control.label(),
         r.worst_strain,
         r.ms_mean,
-        r.counters.updates as f64 / frames,
+        r.counters.updates() as f64 / frames,
         r.counters.steps as f64 / frames,
         r.frames,
         r.frames_total,
@@ -158,4 +164,10 @@ fn main() {
             println!("{}", run(scene, *eps, *gain, control));
         }
     }
+}
+
+/// The design's settings with other gains.
+fn with_gains(mut settings: Settings, gains: GainRule) -> Settings {
+    settings.dbsmc_mut().expect("a DBSMC design").gains = gains;
+    settings
 }

@@ -12,8 +12,10 @@
 use std::hint::black_box;
 use std::time::Instant;
 
-use dae_bench::{Lcg, Particles, best_time};
-use dae_runtime::{DENSE_MAX, LinearSolver, Solver, SolverChoice, mul_js};
+use dae_bench::{particles::Lcg, particles::Particles, timing::best_time};
+use dae_runtime::{
+    solve::DENSE_MAX, solve::LinearSolver, solve::Solver, solve::SolverChoice, solve::mul_js,
+};
 
 struct Row {
     family: &'static str,

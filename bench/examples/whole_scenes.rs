@@ -34,8 +34,11 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use dae_bench::{
-    Capture, MethodSpec, ParticleScene, c1, c2, c3, c4, capture_frame, default_workers,
-    left_a_guarantee, parallel_map, run_particle_method, write_pictures,
+    particle_bench::Capture, particle_bench::MethodSpec, particle_bench::ParticleScene,
+    particle_bench::c1, particle_bench::c2, particle_bench::c3, particle_bench::c4,
+    particle_bench::capture_frame, particle_bench::default_workers,
+    particle_bench::left_a_guarantee, particle_bench::parallel_map,
+    particle_bench::run_particle_method, particle_bench::write_pictures,
 };
 use dae_particles::GridPins;
 
@@ -72,10 +75,11 @@ fn main() {
             "--generated" => generated = true,
             "--adapt" => adapt = true,
             "--jobs" => {
-                jobs = dae_bench::parse_workers(given.next().as_deref()).unwrap_or_else(|e| {
-                    eprintln!("whole_scenes: {e}");
-                    std::process::exit(2);
-                });
+                jobs = dae_bench::particle_bench::parse_workers(given.next().as_deref())
+                    .unwrap_or_else(|e| {
+                        eprintln!("whole_scenes: {e}");
+                        std::process::exit(2);
+                    });
             }
             "--pictures" => match given.next() {
                 Some(dir) => pictures = Some(PathBuf::from(dir)),
@@ -131,9 +135,9 @@ fn main() {
         // about 5 MB).
         let mut capture: Capture = Vec::new();
         let mut keep = |f: u64, p: &[[f64; 3]]| capture_frame(&mut capture, f, p);
-        let observe: Option<dae_bench::FrameObserver<'_>> = pictures
+        let observe: Option<dae_bench::particle_bench::FrameObserver<'_>> = pictures
             .as_ref()
-            .map(|_| &mut keep as dae_bench::FrameObserver<'_>);
+            .map(|_| &mut keep as dae_bench::particle_bench::FrameObserver<'_>);
         let r = run_particle_method(scene, &spec, None, budget, None, observe);
         eprintln!(
             "{}: {} ({}/{} frames)",
@@ -160,7 +164,7 @@ fn main() {
     let mut picture_errors = Vec::new();
     for (scene, (r, picture_error)) in scenes.iter().zip(runs) {
         picture_errors.extend(picture_error);
-        let layer = match (r.counters.layer_lost_at, r.counters.layer_worst_ratio) {
+        let layer = match (r.counters.layer_lost_at(), r.counters.layer_worst_ratio()) {
             (Some(t), Some(q)) => format!("{t:.3} s, {q:.3} eps"),
             _ => "-".into(),
         };
@@ -176,8 +180,8 @@ fn main() {
             r.worst_strain / eps,
             r.ms_mean,
             r.ms_max,
-            r.counters.updates as f64 / r.frames.max(1) as f64,
-            r.counters.links_asking,
+            r.counters.updates() as f64 / r.frames.max(1) as f64,
+            r.counters.links_asking(),
             r.frames,
             r.frames_total,
             r.status

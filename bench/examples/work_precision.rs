@@ -11,10 +11,12 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use dae_bench::{
-    Chain3, Chain5, CostAxis, DbsmcStep, DoublePendulum, DoublePendulum3D, ErrorAxis, Method,
-    PlanarChain, Record, Scene, StabilityRow, chain_scene, chart, designed_bounds,
-    embedded_chain_scene, largest_step_row, run_method, stability_row, vertical_plane_map,
-    write_csv, write_table,
+    generated::Chain3, generated::Chain5, generated::DoublePendulum, generated::DoublePendulum3D,
+    harness::CostAxis, harness::DbsmcStep, harness::ErrorAxis, harness::Method, harness::Record,
+    harness::Scene, harness::chart, harness::designed_bounds, harness::run_method,
+    harness::write_csv, scenes::chain_scene, scenes::embedded_chain_scene,
+    scenes::vertical_plane_map, stability::StabilityRow, stability::largest_step_row,
+    stability::stability_row, stability::write_table, truth::PlanarChain,
 };
 use dae_runtime::Model;
 

@@ -23,7 +23,7 @@ pub enum SceneError {
 pub const TRUTH_TOL: f64 = 1e-13;
 
 /// A scene for a Cartesian chain model (`[x_k, y_k, vx_k, vy_k]` per particle, e.g. the
-/// generated [`DoublePendulum`](crate::DoublePendulum) and [`Chain5`](crate::Chain5)) of
+/// generated [`DoublePendulum`](crate::generated::DoublePendulum) and [`Chain5`](crate::generated::Chain5)) of
 /// `chain`, starting at the angles `theta0` at rest, ending at `t_end`: consistent
 /// `x0` from the angles, consistent `z0` by Newton on `s = 0`, the truth by
 /// [`reference()`], the `|beta|` bound by a pilot run of baseline (a) with `h = 1e-3`,
@@ -41,7 +41,7 @@ pub fn chain_scene<'a, M: Model + ?Sized>(
 
 /// Where the planar chain's Cartesian state lies in a 3-D model whose states are all
 /// positions `(x, y, z)` per particle, then all velocities (the layout of the generated
-/// [`DoublePendulum3D`](crate::DoublePendulum3D)): the chain moves in the vertical
+/// [`DoublePendulum3D`](crate::generated::DoublePendulum3D)): the chain moves in the vertical
 /// `x`-`z` plane, planar `x -> x`, planar `y -> z` (gravity along `-y` in the plane,
 /// along `-z` in 3-D); the out-of-plane `y` and its velocity stay 0.
 pub fn vertical_plane_map(links: usize) -> Vec<usize> {

@@ -3,7 +3,7 @@
 
 use std::io::{self, Write};
 
-use dae_runtime::{Layout, Model, Sample, Simulator, Sink};
+use dae_runtime::{Model, Simulator, trace::Layout, trace::Sample, trace::Sink};
 
 #[cfg(feature = "bdf")]
 use crate::baseline::{BdfSettings, bdf_index1};
@@ -297,7 +297,7 @@ pub fn with_step(method: &Method, h: f64) -> Method {
 /// Test (v): the largest step in `[h_min, h_max]` (geometric bisection, `iters` halvings)
 /// for which `method` survives `scene`: the run finishes with all values finite and
 /// `max |w| <= tol`, and for DBSMC and SPSM also reaches its layers and keeps
-/// `max |s_i| <= 2 eps` afterwards (as [`spsm_stable`](crate::spsm_stable)). For the
+/// `max |s_i| <= 2 eps` afterwards (as [`spsm_stable`](crate::baseline::spsm_stable)). For the
 /// adaptive BDF the row reports the mean step it takes at its tolerance instead.
 pub fn largest_step_row<M: Model + ?Sized>(
     scene: &Scene<'_, M>,

@@ -27,7 +27,7 @@
 //!
 //! All of this is checked against finite differences in the tests.
 
-use dae_runtime::Model;
+use dae_runtime::{Model, ModelInfo};
 
 use crate::truth::{PlanarChain, TruthError};
 
@@ -45,11 +45,7 @@ pub struct PlanarChainDae {
     pub x0: Vec<f64>,
     /// Initial guess returned by [`Model::initial_alg`].
     pub z0: Vec<f64>,
-    name: String,
-    state_names: Vec<String>,
-    alg_names: Vec<String>,
-    constraint_names: Vec<String>,
-    indices: Vec<usize>,
+    info: ModelInfo,
     pattern: Vec<(usize, usize)>,
 }
 
@@ -102,11 +98,14 @@ impl PlanarChainDae {
             g: chain.g,
             x0,
             z0: vec![0.0; n],
-            name: format!("planar_chain_{n}"),
-            state_names,
-            alg_names: (1..=n).map(|k| format!("z{k}")).collect(),
-            constraint_names: (1..=n).map(|k| format!("link{k}")).collect(),
-            indices: vec![3; n],
+            info: ModelInfo {
+                name: format!("planar_chain_{n}"),
+                states: state_names,
+                algs: (1..=n).map(|k| format!("z{k}")).collect(),
+                constraints: (1..=n).map(|k| format!("link{k}")).collect(),
+                params: Vec::new(),
+                indices: vec![3; n],
+            },
             pattern,
         })
     }
@@ -163,32 +162,8 @@ impl PlanarChainDae {
 }
 
 impl Model for PlanarChainDae {
-    fn name(&self) -> &str {
-        &self.name
-    }
-    fn n_states(&self) -> usize {
-        4 * self.links()
-    }
-    fn n_constraints(&self) -> usize {
-        self.links()
-    }
-    fn n_params(&self) -> usize {
-        0
-    }
-    fn state_name(&self, i: usize) -> &str {
-        &self.state_names[i]
-    }
-    fn alg_name(&self, i: usize) -> &str {
-        &self.alg_names[i]
-    }
-    fn constraint_name(&self, i: usize) -> &str {
-        &self.constraint_names[i]
-    }
-    fn param_name(&self, _: usize) -> &str {
-        ""
-    }
-    fn indices(&self) -> &[usize] {
-        &self.indices
+    fn info(&self) -> &ModelInfo {
+        &self.info
     }
     fn param(&self, _: usize) -> f64 {
         f64::NAN

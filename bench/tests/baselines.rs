@@ -2,16 +2,18 @@
 
 mod common;
 
+use dae_runtime::settings::Law;
 use std::f64::consts::FRAC_PI_2;
 
 use common::{Cubic, Tracking};
 #[cfg(feature = "bdf")]
-use dae_bench::{BdfSettings, bdf_index1};
+use dae_bench::{baseline::BdfSettings, baseline::bdf_index1};
 use dae_bench::{
-    DoublePendulum, IndexOneRk4, IndexOneSettings, Method, PlanarChain, ZSolver, chain_scene,
-    largest_stable_step, run_method, spsm_stable,
+    baseline::IndexOneRk4, baseline::IndexOneSettings, baseline::ZSolver,
+    baseline::largest_stable_step, baseline::spsm_stable, generated::DoublePendulum,
+    harness::Method, harness::run_method, scenes::chain_scene, truth::PlanarChain,
 };
-use dae_runtime::{NoTrace, Policy, Settings, Simulator};
+use dae_runtime::{Settings, Simulator, trace::NoTrace};
 
 #[test]
 fn index_one_keeps_s_at_round_off_with_one_newton_iteration_per_stage_on_an_affine_model() {
@@ -137,7 +139,7 @@ fn spsm_holds_at_a_small_step_and_not_at_a_large_one() {
         let set = Settings::new(eps.clone(), vec![0.05; 2], scene.gains(0.05, 1.5))
             .step(h)
             .t_end(1.0)
-            .policy(Policy::Spsm)
+            .law(Law::Spsm)
             .check_robustness(false);
         Simulator::new(&dae, set.initial(scene.x0.clone(), scene.z0.clone()))
             .unwrap()
@@ -178,5 +180,5 @@ fn bdf_method_without_the_feature_is_a_recorded_error() {
         1,
     );
     assert!(!r.ok);
-    assert_eq!(r.error, dae_bench::BDF_MISSING);
+    assert_eq!(r.error, dae_bench::harness::BDF_MISSING);
 }

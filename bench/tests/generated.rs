@@ -2,8 +2,8 @@
 //! `PlanarChainDae` (an independent oracle of the compiler's output) at random points.
 
 use dae_bench::{
-    Chain3, Chain5, DoublePendulum, DoublePendulum3D, PlanarChain, PlanarChainDae,
-    vertical_plane_map,
+    generated::Chain3, generated::Chain5, generated::DoublePendulum, generated::DoublePendulum3D,
+    scenes::vertical_plane_map, standin::PlanarChainDae, truth::PlanarChain,
 };
 use dae_runtime::Model;
 

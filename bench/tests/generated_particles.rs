@@ -6,14 +6,16 @@
 use std::time::Duration;
 
 use dae_bench::{
-    Lcg, MethodSpec, c1, c4, generated_chain, generated_grid, generated_strands, particle_pilot,
-    run_particle_method,
+    particle_bench::MethodSpec, particle_bench::c1, particle_bench::c4,
+    particle_bench::particle_pilot, particle_bench::run_particle_method,
+    particle_methods::generated_chain, particle_methods::generated_grid,
+    particle_methods::generated_strands, particles::Lcg,
 };
 use dae_particles::{
     FAR_EDGE_SLACK, FRAME, GrabPath, GridPins, Kinematics, Motion, ParticleDae, ParticleModel, Pin,
     System, chain, grid, grid_with_slack, strands,
 };
-use dae_runtime::{Integrator, Model, SolverChoice};
+use dae_runtime::{Model, settings::Integrator, solve::SolverChoice};
 
 /// Both models at one random state (pinned particles on their pins at `t`, the others
 /// off the manifold, moving, with random tensions): `f`, the w-derivatives, `s`,
@@ -367,7 +369,7 @@ fn a_short_c4_grab_and_release_on_the_generated_cloth_holds_the_bound_as_the_han
         for (f, &(_, strain)) in frames.iter().enumerate() {
             assert!(strain <= 1.05 * eps, "{what}: strain {strain} at frame {f}");
         }
-        assert_eq!(r.counters.layer_lost_at, None, "{what}");
+        assert_eq!(r.counters.layer_lost_at(), None, "{what}");
         let (p0, at_release, end) = (frames[fa].0, frames[fr].0, frames[fe].0);
         for c in 0..3 {
             let target = p0[c] + grab.offset[c];
@@ -430,8 +432,8 @@ fn the_frame_tied_design_on_the_generated_models_holds_and_follows_the_hand_writ
             );
             assert!(r.complete(), "{what}: {}", r.status);
             assert_eq!(r.eps, Some(eps), "{what}: the record carries its bound");
-            assert_eq!(r.counters.layer_lost_at, None, "{what}");
-            runs.push((r.counters.updates, tracked));
+            assert_eq!(r.counters.layer_lost_at(), None, "{what}");
+            runs.push((r.counters.updates(), tracked));
         }
         let (hand, generated) = (&runs[0], &runs[1]);
         let title = scene.title();

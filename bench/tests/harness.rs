@@ -4,8 +4,9 @@ mod common;
 
 use common::Tracking;
 use dae_bench::{
-    DbsmcStep, Envelope, Method, Record, Scene, StabilityRow, Verdict, judge, run_method,
-    write_csv, write_table,
+    harness::DbsmcStep, harness::Method, harness::Record, harness::Scene, harness::run_method,
+    harness::write_csv, stability::Envelope, stability::StabilityRow, stability::Verdict,
+    stability::judge, stability::write_table,
 };
 
 fn tracking_scene(model: &Tracking, offset: f64) -> Scene<'_, Tracking> {
@@ -125,7 +126,7 @@ fn csv_has_the_header_and_one_line_per_record() {
 
 #[test]
 fn chart_draws_one_legend_entry_per_line_and_refuses_an_empty_set() {
-    use dae_bench::{CostAxis, ErrorAxis, chart};
+    use dae_bench::{harness::CostAxis, harness::ErrorAxis, harness::chart};
     let rec = |line: &str, wall: f64, err: f64| Record {
         scene: "s".into(),
         line: line.into(),

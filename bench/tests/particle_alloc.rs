@@ -9,7 +9,7 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use dae_bench::relaxed_settings;
+use dae_bench::particle_bench::relaxed_settings;
 use dae_particles::{
     Backend, Dbsmc, FRAME, GridPins, ParticleModel, System as Particles, chain, grid,
 };
@@ -42,7 +42,7 @@ static GLOBAL: Counting = Counting;
 /// updates they made.
 fn allocations_of_frames(b: &mut Dbsmc<ParticleModel>, from: usize, to: usize) -> (u64, u64) {
     let mut positions = vec![[0.0; 3]; b.n_particles()];
-    let updates = b.counters().updates;
+    let updates = b.counters().updates();
     let before = ALLOCATIONS.load(Ordering::Relaxed);
     COUNTING.with(|c| c.set(true));
     for f in from + 1..=to {
@@ -52,13 +52,13 @@ fn allocations_of_frames(b: &mut Dbsmc<ParticleModel>, from: usize, to: usize) -
     COUNTING.with(|c| c.set(false));
     (
         ALLOCATIONS.load(Ordering::Relaxed) - before,
-        b.counters().updates - updates,
+        b.counters().updates() - updates,
     )
 }
 
 fn assert_no_allocation_per_frame(label: &str, system: &Particles, eps: f64) {
     let model = ParticleModel::new(system).unwrap();
-    let settings = relaxed_settings(&model, eps, 4.0).ramp_against_drift();
+    let settings = dae_bench::particle_bench::ramped(relaxed_settings(&model, eps, 4.0));
     let mut b = Dbsmc::new(model, settings, label).unwrap();
     // The first frames start the run (its buffers, the solver's symbolic analysis).
     allocations_of_frames(&mut b, 0, 2);

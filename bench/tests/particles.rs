@@ -1,19 +1,24 @@
 //! The particle model against the generated scalar chain, and the particle baselines
 //! (XPBD, index-1) against a reference on a tiny chain.
 
+use dae_runtime::settings::{GainRule, InLayer};
 use std::time::Duration;
 
 use dae_bench::{
-    Chain5, IndexOneParticles, Lcg, MethodSpec, ParticleRecord, ParticleScene,
-    RELAXED_DRIFT_SAFETY, RELAXED_GRAZE_PER_MU, RELAXED_MU_PER_FRAME, RELAXED_STEP_PER_MU,
-    RELAXED_TOLERANCE_PER_EPS, SweepOrder, Xpbd, c1, c3_with_slack, drive_scene, relaxed_settings,
-    run_particle_method, run_relaxed_with,
+    generated::Chain5, particle_bench::MethodSpec, particle_bench::ParticleRecord,
+    particle_bench::ParticleScene, particle_bench::RELAXED_DRIFT_SAFETY,
+    particle_bench::RELAXED_GRAZE_PER_MU, particle_bench::RELAXED_MU_PER_FRAME,
+    particle_bench::RELAXED_STEP_PER_MU, particle_bench::RELAXED_TOLERANCE_PER_EPS,
+    particle_bench::c1, particle_bench::c3_with_slack, particle_bench::drive_scene,
+    particle_bench::ramped, particle_bench::relaxed_settings, particle_bench::run_particle_method,
+    particle_bench::run_relaxed_with, particle_methods::IndexOneParticles,
+    particle_methods::SweepOrder, particle_methods::Xpbd, particles::Lcg,
 };
 use dae_particles::{
     Backend, Dbsmc, FAR_EDGE_SLACK, FRAME, GridPins, ParticleDae, ParticleModel, Scene, System,
     chain,
 };
-use dae_runtime::{Integrator, Model, Settings, SolverChoice};
+use dae_runtime::{Model, Settings, settings::Integrator, solve::SolverChoice};
 
 /// The hand-written 3-D particle model of a planar 5-link chain (unit links, 0.1 kg,
 /// gravity 9.8 along -y, pinned at the origin) is the generated `chain5_planar.dae`
@@ -187,7 +192,8 @@ fn dbsmc_keeps_its_bound_on_a_tiny_chain_through_the_harness() {
     let scene = c1(3, 1.0).unwrap();
     let mut short = scene.clone();
     short.duration = 0.5;
-    let (bounds, pilot) = dae_bench::particle_pilot(&short, 64, Duration::from_secs(60)).unwrap();
+    let (bounds, pilot) =
+        dae_bench::particle_bench::particle_pilot(&short, 64, Duration::from_secs(60)).unwrap();
     assert!(pilot.complete());
     for integrator in [Integrator::Rk4, Integrator::Euler] {
         let spec = MethodSpec::Dbsmc {
@@ -209,7 +215,7 @@ fn dbsmc_keeps_its_bound_on_a_tiny_chain_through_the_harness() {
             "{integrator:?}: {}",
             r.worst_strain
         );
-        assert!(r.counters.updates > 0 && r.counters.f_evals > 0);
+        assert!(r.counters.updates() > 0 && r.counters.f_evals > 0);
     }
     // The driver counts the frames of the scene.
     let r = drive_scene(
@@ -243,23 +249,26 @@ fn the_relaxed_design_holds_a_heavy_end_chain_without_a_pilot() {
     let mu = RELAXED_MU_PER_FRAME * FRAME;
     for i in 0..model.n_constraints() {
         let e = eps * model.rest_length(i);
-        assert_eq!((st.eps[i], st.mu[i]), (e, mu));
-        assert!((st.gains[i] - 8.0 * e / mu).abs() <= 1e-15 * st.gains[i]);
+        assert_eq!((st.layers.eps[i], st.layers.mu[i]), (e, mu));
+        assert!((st.layers.gains[i] - 8.0 * e / mu).abs() <= 1e-15 * st.layers.gains[i]);
     }
-    assert_eq!(st.integrator, Integrator::DormandPrince);
-    assert_eq!(st.alpha, dae_runtime::AlphaChoice::Exact);
-    assert_eq!(st.max_step, RELAXED_STEP_PER_MU * mu);
-    let min_eps = st.eps.iter().copied().fold(f64::INFINITY, f64::min);
+    assert_eq!(st.integration.integrator, Integrator::DormandPrince);
+    assert_eq!(st.alpha, dae_runtime::settings::AlphaChoice::Exact);
+    assert_eq!(st.integration.max_step, RELAXED_STEP_PER_MU * mu);
+    let min_eps = st.layers.eps.iter().copied().fold(f64::INFINITY, f64::min);
     let tol = RELAXED_TOLERANCE_PER_EPS * min_eps;
     assert_eq!(
-        st.tolerance,
-        Some(dae_runtime::Tolerance {
+        st.integration.tolerance,
+        Some(dae_runtime::settings::Tolerance {
             rtol: tol,
             atol: tol
         })
     );
-    assert_eq!(st.follow_drift, Some(RELAXED_DRIFT_SAFETY));
-    assert_eq!(st.graze, Some(RELAXED_GRAZE_PER_MU * mu));
+    assert_eq!(
+        st.law.follows_drift(),
+        Some((RELAXED_DRIFT_SAFETY, Some(RELAXED_GRAZE_PER_MU * mu)))
+    );
+    assert!(st.law.saturates() && !st.law.ramps());
 
     let relaxed = run_particle_method(
         &scene,
@@ -275,7 +284,7 @@ fn the_relaxed_design_holds_a_heavy_end_chain_without_a_pilot() {
         "{}",
         relaxed.worst_strain
     );
-    assert_eq!(relaxed.counters.layer_lost_at, None);
+    assert_eq!(relaxed.counters.layer_lost_at(), None);
     assert!(
         relaxed.t_min.is_none(),
         "the relaxed design guarantees no period"
@@ -286,7 +295,7 @@ fn the_relaxed_design_holds_a_heavy_end_chain_without_a_pilot() {
 /// kept its `s`-layer (the runtime's monitor) and held its strain within 1.05 `eps`.
 fn assert_held(r: &ParticleRecord, eps: f64, what: &str) {
     assert!(r.complete(), "{what}: {}", r.status);
-    assert_eq!(r.counters.layer_lost_at, None, "{what}");
+    assert_eq!(r.counters.layer_lost_at(), None, "{what}");
     assert!(r.worst_strain <= 1.05 * eps, "{what}: {}", r.worst_strain);
 }
 
@@ -323,11 +332,15 @@ fn grazing_gains_keep_the_layer_with_fewer_updates_than_sweeping_ones() {
     let eps = 1e-3;
     let run = |graze: bool| {
         run_relaxed_with(&scene, eps, 4.0, Duration::from_secs(120), |s| {
-            assert!(s.graze.is_some());
+            assert!(s.law.follows_drift().is_some_and(|(_, g)| g.is_some()));
             if graze {
                 s
             } else {
-                Settings { graze: None, ..s }
+                with_law(s, |d| {
+                    if let GainRule::FollowDrift { graze, .. } = &mut d.gains {
+                        *graze = None;
+                    }
+                })
             }
         })
     };
@@ -336,10 +349,10 @@ fn grazing_gains_keep_the_layer_with_fewer_updates_than_sweeping_ones() {
         assert_held(r, eps, what);
     }
     assert!(
-        3 * grazing.counters.updates < 2 * sweeping.counters.updates,
+        3 * grazing.counters.updates() < 2 * sweeping.counters.updates(),
         "updates: grazing {}, sweeping {}",
-        grazing.counters.updates,
-        sweeping.counters.updates
+        grazing.counters.updates(),
+        sweeping.counters.updates()
     );
 }
 
@@ -355,7 +368,7 @@ fn a_ramp_against_the_drift_keeps_the_layer_with_fewer_updates_on_a_light_chain(
     let eps = 1e-3;
     let run = |ramp: bool| {
         run_relaxed_with(&scene, eps, 4.0, Duration::from_secs(120), |s| {
-            if ramp { s.ramp_against_drift() } else { s }
+            if ramp { ramped(s) } else { s }
         })
     };
     let (held, ramped) = (run(false), run(true));
@@ -363,10 +376,10 @@ fn a_ramp_against_the_drift_keeps_the_layer_with_fewer_updates_on_a_light_chain(
         assert_held(r, eps, what);
     }
     assert!(
-        5 * ramped.counters.updates < 4 * held.counters.updates,
+        5 * ramped.counters.updates() < 4 * held.counters.updates(),
         "updates: ramped {}, held {}",
-        ramped.counters.updates,
-        held.counters.updates
+        ramped.counters.updates(),
+        held.counters.updates()
     );
 }
 
@@ -383,8 +396,8 @@ fn saturating_inside_the_layer_keeps_it_with_fewer_updates_on_a_chain() {
     for ramp in [false, true] {
         let run = |saturate: bool| {
             run_relaxed_with(&scene, eps, 4.0, Duration::from_secs(120), |s| {
-                let s = Settings { saturate, ..s };
-                if ramp { s.ramp_against_drift() } else { s }
+                let s = with_law(s, |d| d.in_layer = in_layer(saturate));
+                if ramp { ramped(s) } else { s }
             })
         };
         let (sat, sgn) = (run(true), run(false));
@@ -392,10 +405,10 @@ fn saturating_inside_the_layer_keeps_it_with_fewer_updates_on_a_chain() {
             assert_held(r, eps, &format!("{what}, ramp {ramp}"));
         }
         assert!(
-            5 * sat.counters.updates < 4 * sgn.counters.updates,
+            5 * sat.counters.updates() < 4 * sgn.counters.updates(),
             "ramp {ramp}: updates saturated {}, sgn {}",
-            sat.counters.updates,
-            sgn.counters.updates
+            sat.counters.updates(),
+            sgn.counters.updates()
         );
     }
 }
@@ -408,10 +421,9 @@ fn cloth_ramped(slack: f64, saturate: bool) -> (ParticleRecord, Vec<u64>, Vec<(u
     scene.duration = 0.2;
     let model = ParticleModel::new(&scene.system).unwrap();
     let ends = model.ends().to_vec();
-    let settings = Settings {
-        saturate,
-        ..relaxed_settings(&model, 1e-2, 4.0).ramp_against_drift()
-    };
+    let settings = with_law(ramped(relaxed_settings(&model, 1e-2, 4.0)), |d| {
+        d.in_layer = in_layer(saturate)
+    });
     let mut backend = Dbsmc::new(model, settings, "ramped")
         .unwrap()
         .keep_going_after_bound_loss();
@@ -433,10 +445,11 @@ fn cloth_ramped(slack: f64, saturate: bool) -> (ParticleRecord, Vec<u64>, Vec<(u
         r.status
     );
     assert_eq!(
-        r.counters.layer_lost_at, None,
+        r.counters.layer_lost_at(),
+        None,
         "slack {slack}, saturate {saturate}"
     );
-    assert_eq!(r.counters.factorisations, r.counters.updates);
+    assert_eq!(r.counters.factorisations, r.counters.updates());
     (r, backend.triggered_updates().to_vec(), ends)
 }
 
@@ -464,24 +477,29 @@ fn on_a_nearly_taut_cloth_a_few_links_ask_for_every_update_and_each_update_facto
     let w = 16;
     let (r, asked, ends) = cloth_ramped(1e-3, true);
     let c = r.counters;
-    assert!(c.updates > 12, "{} updates", c.updates);
+    assert!(c.updates() > 12, "{} updates", c.updates());
     let links = ends.len() as u64;
     eprintln!(
         "{} of {links} links asked for the {} updates",
-        c.links_asking, c.updates
+        c.links_asking(),
+        c.updates()
     );
     assert!(
-        c.links_asking > 0 && 10 * c.links_asking < links,
+        c.links_asking() > 0 && 10 * c.links_asking() < links,
         "{} of {links} links asked",
-        c.links_asking
+        c.links_asking()
     );
     // Per link: the counts agree with the counter, and the links with a particle in
     // the far row asked for most of them.
     let asking = asked.iter().filter(|&&n| n > 0).count() as u64;
-    assert_eq!(asking, c.links_asking);
+    assert_eq!(asking, c.links_asking());
     let (at_edge, all) = far_edge_asks(w, &asked, &ends);
     // Every update but the one at the start was asked for by at least one link.
-    assert!(all + 1 >= c.updates, "{all} asks for {} updates", c.updates);
+    assert!(
+        all + 1 >= c.updates(),
+        "{all} asks for {} updates",
+        c.updates()
+    );
     eprintln!("{at_edge} of the {all} asks came from links at the far edge");
     assert!(
         5 * at_edge >= 4 * all,
@@ -504,7 +522,7 @@ fn a_far_edge_with_slack_above_the_layers_asks_for_fewer_updates() {
     for saturate in [false, true] {
         let (taut, _, _) = cloth_ramped(1e-3, saturate);
         let (slack, asked, ends) = cloth_ramped(FAR_EDGE_SLACK, saturate);
-        let (u_slack, u_taut) = (slack.counters.updates, taut.counters.updates);
+        let (u_slack, u_taut) = (slack.counters.updates(), taut.counters.updates());
         if saturate {
             assert!(
                 u_slack < u_taut,
@@ -540,7 +558,7 @@ fn fixed_gains_that_graze_the_layer_keep_it_on_a_light_chain() {
     let eps = 1e-4;
     let fixed = relaxed_run(&scene, eps, 8.0, false);
     assert!(fixed.complete(), "{}", fixed.status);
-    assert_eq!(fixed.counters.layer_lost_at, None);
+    assert_eq!(fixed.counters.layer_lost_at(), None);
     assert!(fixed.worst_strain <= 1.05 * eps, "{}", fixed.worst_strain);
 }
 
@@ -558,16 +576,11 @@ fn fixed_gains_with_short_steps_keep_the_layer_on_the_heavy_end_chain() {
     let scene = c1(10, 1e4).unwrap();
     let eps = 1e-2;
     let run = run_relaxed_with(&scene, eps, 8.0, Duration::from_secs(240), |s| {
-        let h = s.max_step / 16.0;
-        Settings {
-            follow_drift: None,
-            graze: None,
-            ..s
-        }
-        .max_step(h)
+        let h = s.integration.max_step / 16.0;
+        with_law(s, |d| d.gains = GainRule::Fixed).max_step(h)
     });
     assert!(run.complete(), "{}", run.status);
-    assert_eq!(run.counters.layer_lost_at, None);
+    assert_eq!(run.counters.layer_lost_at(), None);
     assert!(run.worst_strain <= 1.05 * eps, "{}", run.worst_strain);
 }
 
@@ -578,11 +591,7 @@ fn relaxed_run(scene: &ParticleScene, eps: f64, gain: f64, follow: bool) -> Part
         if follow {
             s
         } else {
-            Settings {
-                follow_drift: None,
-                graze: None,
-                ..s
-            }
+            with_law(s, |d| d.gains = GainRule::Fixed)
         }
     })
 }
@@ -596,7 +605,8 @@ fn relaxed_run(scene: &ParticleScene, eps: f64, gain: f64, follow: bool) -> Part
 #[test]
 fn the_budget_stops_a_run_inside_a_frame() {
     let scene = c1(10, 1.0).unwrap();
-    let (bounds, pilot) = dae_bench::particle_pilot(&scene, 64, Duration::from_secs(60)).unwrap();
+    let (bounds, pilot) =
+        dae_bench::particle_bench::particle_pilot(&scene, 64, Duration::from_secs(60)).unwrap();
     assert!(pilot.complete(), "{}", pilot.status);
     let spec = MethodSpec::Dbsmc {
         eps: 1e-3,
@@ -687,8 +697,8 @@ fn runs_on_two_threads_end_as_they_do_one_at_a_time() {
         let (scene, spec) = runs[i];
         run_particle_method(scene, spec, None, Duration::from_secs(120), None, None)
     };
-    let one = dae_bench::parallel_map(runs.len(), 1, run);
-    let two = dae_bench::parallel_map(runs.len(), 2, run);
+    let one = dae_bench::particle_bench::parallel_map(runs.len(), 1, run);
+    let two = dae_bench::particle_bench::parallel_map(runs.len(), 2, run);
     for ((a, b), (scene, spec)) in one.iter().zip(&two).zip(&runs) {
         let what = format!("{} {} {}", scene.title(), spec.method(), spec.knob());
         assert!(a.complete(), "{what}: {}", a.status);
@@ -710,11 +720,11 @@ fn runs_on_two_threads_end_as_they_do_one_at_a_time() {
 fn a_searched_mu_moves_and_keeps_every_layer_and_the_strain() {
     let mut chain = c1(30, 1.0).unwrap();
     chain.duration = 3.0;
-    let grab = dae_bench::c4(8).unwrap();
+    let grab = dae_bench::particle_bench::c4(8).unwrap();
     for (scene, eps) in [(&chain, 1e-3), (&grab, 1e-2)] {
         let what = scene.title();
         let model = ParticleModel::new(&scene.system).unwrap();
-        let settings = relaxed_settings(&model, eps, 4.0).ramp_against_drift();
+        let settings = ramped(relaxed_settings(&model, eps, 4.0));
         let mut backend = Dbsmc::new(model, settings, "adaptive")
             .unwrap()
             .adapt_mu(dae_particles::AdaptiveMu::default())
@@ -732,9 +742,9 @@ fn a_searched_mu_moves_and_keeps_every_layer_and_the_strain() {
         assert_held(&r, eps, &what);
         let (made, refused) = backend.mu_moves();
         // The record (and the CSV) says what the search did.
-        let c = &r.counters;
-        assert_eq!((c.mu_moves, c.mu_refused), (made, refused), "{what}");
-        assert_eq!(c.mu_scale, Some(backend.mu_scale()), "{what}");
+        let search = r.counters.mu_search().expect("the run searched for mu");
+        assert_eq!((search.moves, search.refused), (made, refused), "{what}");
+        assert_eq!(search.scale, backend.mu_scale(), "{what}");
         eprintln!(
             "{what}: {made} moves, {refused} refused, mu ends at {} of the start's",
             backend.mu_scale()
@@ -757,4 +767,25 @@ fn a_searched_mu_moves_and_keeps_every_layer_and_the_strain() {
         })
         .unwrap_err();
     assert!(err.reason.contains("step"), "{}", err.reason);
+}
+
+/// `settings` (the frame-tied design's DBSMC law) with its law changed by `change`.
+fn with_law(
+    mut settings: Settings,
+    change: impl FnOnce(&mut dae_runtime::settings::Dbsmc),
+) -> Settings {
+    change(
+        settings
+            .dbsmc_mut()
+            .expect("the frame-tied design uses the DBSMC law"),
+    );
+    settings
+}
+
+fn in_layer(saturate: bool) -> InLayer {
+    if saturate {
+        InLayer::Saturate
+    } else {
+        InLayer::Sign
+    }
 }

@@ -4,10 +4,13 @@
 //! gain-raising policy on a straight chain solved with the inverse diagonal.
 
 use dae_bench::{
-    Chain3, Chain5, DoublePendulum, DoublePendulum3D, Lcg, Particles, PlanarChain, chain_scene,
+    generated::Chain3, generated::Chain5, generated::DoublePendulum, generated::DoublePendulum3D,
+    particles::Lcg, particles::Particles, scenes::chain_scene, truth::PlanarChain,
 };
+use dae_runtime::settings::{Dbsmc, GainRule, Update};
 use dae_runtime::{
-    LinearSolver, Model, Settings, Simulator, SolveError, Solver, SolverChoice, Trace, mul_js,
+    Model, Settings, Simulator, Trace, solve::LinearSolver, solve::SolveError, solve::Solver,
+    solve::SolverChoice, solve::mul_js,
 };
 
 const EXACT: [SolverChoice; 4] = [
@@ -374,7 +377,7 @@ fn robustness_count_with_jacobi_matches_a_brute_force_dense_evaluation() {
     let (eps, mu) = (1e-3, 0.05);
     let gains = scene.gains(mu, 1.5);
     let settings = jacobi_settings(&scene.x0, &scene.z0, gains.clone(), eps, mu)
-        .policy(dae_runtime::Policy::Fixed(1e-3));
+        .law(Dbsmc::default().update(Update::Fixed { period: 1e-3 }));
     let mut trace = Trace::new();
     let summary = Simulator::new(&model, settings)
         .unwrap()
@@ -420,7 +423,9 @@ fn raised_gains_restore_the_condition_on_a_straight_chain_with_jacobi() {
         "the straight chain's inverse diagonal violates (T 3.22)"
     );
     let mut trace = Trace::new();
-    let raised = Simulator::new(&model, base.raise_gains(0.05))
+    let mut raise = base.clone();
+    raise.dbsmc_mut().expect("a DBSMC law").gains = GainRule::Raise { margin: 0.05 };
+    let raised = Simulator::new(&model, raise)
         .unwrap()
         .run(&mut trace)
         .unwrap();

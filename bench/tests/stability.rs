@@ -5,8 +5,9 @@ use std::f64::consts::FRAC_PI_2;
 use dae_runtime::Model;
 
 use dae_bench::{
-    DoublePendulum, Method, PlanarChain, Scene, Verdict, chain_scene, envelope_run, judge,
-    largest_step_row,
+    generated::DoublePendulum, harness::Method, harness::Scene, scenes::chain_scene,
+    stability::Verdict, stability::envelope_run, stability::judge, stability::largest_step_row,
+    truth::PlanarChain,
 };
 
 #[test]
@@ -95,8 +96,10 @@ fn index_one_survives_larger_steps_than_spsm_on_the_double_pendulum() {
 
 #[test]
 fn designed_dbsmc_maximises_the_guaranteed_period_and_holds_its_layer() {
-    use dae_bench::{Method, designed_bounds, run_method};
-    use dae_runtime::{ConstraintSpec, GainChoice, LayerBound, t_min};
+    use dae_bench::{harness::Method, harness::designed_bounds, harness::run_method};
+    use dae_runtime::{
+        design::ConstraintSpec, design::GainChoice, design::LayerBound, design::t_min,
+    };
 
     let chain = PlanarChain::double_pendulum();
     let dae = DoublePendulum::default();
@@ -153,9 +156,9 @@ fn a_long_runs_span_does_not_make_its_steps_look_stalled() {
         .dbsmc(5e-4, 0.05, 1.5)
         .runtime_settings(&scene)
         .unwrap();
-    settings.t_end = 1000.0;
+    settings.window.t_end = 1000.0;
     let mut sim = dae_runtime::Simulator::new(&dae as &dyn Model, settings).unwrap();
-    let mut sink = dae_runtime::NoTrace;
+    let mut sink = dae_runtime::trace::NoTrace;
     sim.start(&mut sink).unwrap();
     sim.advance_to(1.0, &mut sink).unwrap();
     assert!(sim.bound_loss().is_none(), "{:?}", sim.bound_loss());

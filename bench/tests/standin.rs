@@ -1,6 +1,6 @@
 //! The development stand-in chain DAE against finite differences.
 
-use dae_bench::{PlanarChain, PlanarChainDae};
+use dae_bench::{standin::PlanarChainDae, truth::PlanarChain};
 use dae_runtime::Model;
 
 fn model() -> (PlanarChainDae, Vec<f64>, Vec<f64>) {

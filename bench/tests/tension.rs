@@ -4,8 +4,11 @@
 
 use std::f64::consts::FRAC_PI_2;
 
-use dae_bench::{DoublePendulum, PlanarChain, TRUTH_TOL, chain_scene, reference};
-use dae_runtime::{Integrator, NoTrace, Settings, Simulator, Summary};
+use dae_bench::{
+    generated::DoublePendulum, scenes::TRUTH_TOL, scenes::chain_scene, truth::PlanarChain,
+    truth::reference,
+};
+use dae_runtime::{Settings, Simulator, Summary, settings::Integrator, trace::NoTrace};
 
 #[test]
 fn truth_tensions_of_a_hanging_chain_carry_the_weight_below() {
@@ -92,7 +95,7 @@ fn z_star_follows_the_true_tension_to_first_order_in_eps() {
 /// 34), holds its layer to 1 %, and its position error is no worse than before.
 #[test]
 fn designed_dbsmc_needs_at_most_eight_f_evaluations_per_update() {
-    use dae_bench::{DbsmcStep, designed_bounds, run_method};
+    use dae_bench::{harness::DbsmcStep, harness::designed_bounds, harness::run_method};
     let chain = PlanarChain::double_pendulum();
     let model = DoublePendulum::default();
     let scene = chain_scene("dp", &model, &chain, &[-FRAC_PI_2, -FRAC_PI_2], 2.0).unwrap();
@@ -104,7 +107,7 @@ fn designed_dbsmc_needs_at_most_eight_f_evaluations_per_update() {
         1,
     );
     let before = run_method(&scene, &bounds.dbsmc(eps, None, 1e-3).unwrap(), 1);
-    let per_update = |r: &dae_bench::Record| r.f_evals as f64 / r.updates as f64;
+    let per_update = |r: &dae_bench::harness::Record| r.f_evals as f64 / r.updates as f64;
     eprintln!(
         "now: {} f / {} updates = {:.2}, pos err {:.3e}, max |s| / eps {:.4}; before: {:.2}, pos err {:.3e}, max |s| / eps {:.4}",
         now.f_evals,

@@ -3,7 +3,10 @@
 
 use std::f64::consts::PI;
 
-use dae_bench::{ChainWork, Extrapolation, PlanarChain, PlanarChainDae, reference};
+use dae_bench::{
+    standin::PlanarChainDae, truth::ChainWork, truth::Extrapolation, truth::PlanarChain,
+    truth::reference,
+};
 use dae_runtime::Model;
 
 /// Complete elliptic integral of the first kind by the arithmetic-geometric mean.
@@ -154,7 +157,7 @@ fn minimal_coordinate_accelerations_match_the_cartesian_dae_with_consistent_forc
     let dae = PlanarChainDae::new(&chain).unwrap();
     let y = [0.3, -1.2, 2.5, 1.0, -0.5, 2.0];
     let x = chain.cartesian(&y);
-    let z = dae_bench::consistent_alg(&dae, 0.0, &x, &[0.1; 3], &[0.0; 3]).unwrap();
+    let z = dae_bench::baseline::consistent_alg(&dae, 0.0, &x, &[0.1; 3], &[0.0; 3]).unwrap();
     let mut dx = [0.0; 12];
     dae.rhs(0.0, &x, &z, &mut dx);
     let mut dy = [0.0; 6];
@@ -180,7 +183,7 @@ fn minimal_coordinate_accelerations_match_the_cartesian_dae_with_consistent_forc
 
 #[test]
 fn bad_chains_and_mismatched_scenes_are_errors() {
-    use dae_bench::{SceneError, TruthError, chain_scene};
+    use dae_bench::{scenes::SceneError, scenes::chain_scene, truth::TruthError};
     assert!(matches!(
         PlanarChain::new(vec![0.1], vec![1.0, 2.0], 9.8),
         Err(TruthError::InvalidChain(_))

@@ -4,7 +4,8 @@
 use crate::pilot::{PilotArgs, design_json, per_constraint};
 use crate::{Reported, family, messages};
 use dae_runtime::{
-    ConstraintSpec, DesignError, Integrator, MAX_INDEX, MuSearch, Settings, optimise_mu,
+    Settings, design::ConstraintSpec, design::DesignError, design::MAX_INDEX, design::MuSearch,
+    design::optimise_mu, settings::Integrator,
 };
 use serde_json::json;
 use std::path::PathBuf;

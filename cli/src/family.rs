@@ -525,7 +525,7 @@ pub(crate) fn template_lines(derive_text: &str) -> (Vec<String>, Vec<(String, Ve
 /// [`DefaultSizes`]); `None` when sets or maps are given at run time. A singular
 /// `J_Omega` is an error naming the dependent constraints.
 pub(crate) fn at_default_sizes(compiled: CompiledModel) -> Result<Option<DefaultSizes>, Reported> {
-    use dae_runtime::{LinearSolver, Solver, SolverChoice};
+    use dae_runtime::{solve::LinearSolver, solve::Solver, solve::SolverChoice};
     let name = compiled.name.clone();
     let Some(kernels) = Interpreter::new(compiled) else {
         return Ok(None);
@@ -580,7 +580,7 @@ pub(crate) fn at_default_sizes(compiled: CompiledModel) -> Result<Option<Default
     let mut values = vec![0.0; pattern.len()];
     model.jacobian(0.0, &x, &z, &mut values);
     let mut solver_name = String::new();
-    let mut outcome = Err(dae_runtime::SolveError::Pattern(String::new()));
+    let mut outcome = Err(dae_runtime::solve::SolveError::Pattern(String::new()));
     for choice in [SolverChoice::Auto, SolverChoice::Dense] {
         let mut solver = Solver::new(m, pattern, choice).map_err(|e| {
             eprintln!("error: J_Omega of `{name}`: {e}");
@@ -589,7 +589,11 @@ pub(crate) fn at_default_sizes(compiled: CompiledModel) -> Result<Option<Default
         outcome = solver.factor(&values, &vec![1.0; m]);
         solver_name = solver.name().to_string();
         // Only a breakdown of an elimination without pivoting is worth a dense retry.
-        if !matches!(outcome, Err(dae_runtime::SolveError::Breakdown { .. })) || m > 4096 {
+        if !matches!(
+            outcome,
+            Err(dae_runtime::solve::SolveError::Breakdown { .. })
+        ) || m > 4096
+        {
             break;
         }
     }
@@ -603,7 +607,7 @@ pub(crate) fn at_default_sizes(compiled: CompiledModel) -> Result<Option<Default
             nonsingular: true,
             solver: solver_name,
         })),
-        Err(dae_runtime::SolveError::Singular { constraints }) => {
+        Err(dae_runtime::solve::SolveError::Singular { constraints }) => {
             eprintln!(
                 "error: J_Omega of `{name}` is singular at t = 0 with the default sizes ({sizes}): the rows of {} are dependent\n  hint: the algebraic unknowns do not determine these constraints at the initial point (a link of length zero? two links along one line at a particle with no other support?)",
                 names(&constraints)

@@ -3,7 +3,9 @@
 //! names (`t_end`, `gains`, `k_c`) and positions ("constraint 0").
 
 use crate::Reported;
-use dae_runtime::{DesignError, Model, PilotError, PilotRunError, SimError};
+use dae_runtime::{
+    Model, SimError, design::DesignError, design::PilotError, design::PilotRunError,
+};
 
 /// A number as a person writes it: `1e300` rather than 301 digits, `0.5` as it is.
 pub(crate) fn number(v: f64) -> String {

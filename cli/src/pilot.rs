@@ -4,9 +4,11 @@
 //! design as JSON.
 
 use crate::Reported;
+use dae_runtime::settings::StepEnd;
 use dae_runtime::{
-    AutoDesign, AutoDesignOptions, Crossing, DesignPass, GainChoice, Integrator, LayerBound, Model,
-    MuChoice, Settings, auto_design,
+    Model, Settings, design::AutoDesign, design::AutoDesignOptions, design::DesignPass,
+    design::GainChoice, design::LayerBound, design::MuChoice, design::auto_design,
+    settings::Integrator,
 };
 use serde_json::json;
 
@@ -152,23 +154,24 @@ impl PilotArgs {
         // Error-controlled steps (the default) keep crossings located: a fixed step too
         // long for the layer would make the pilot leave it, and a long chain needs
         // intervals far shorter than any step chosen beforehand.
-        let mut pilot = if base.integrator.is_adaptive() {
+        let mut pilot = if base.integration.integrator.is_adaptive() {
             // At most the step of the thesis's procedure (1e-4 unless --step), so that
             // long intervals are sampled as densely as there.
-            let h = base.max_step.min(base.step);
+            let h = base.integration.max_step.min(base.integration.step);
             base.clone().max_step(h)
         } else {
             base.clone()
                 .integrator(Integrator::Rk4)
-                .crossing(Crossing::StepEnd)
+                .law(StepEnd::default())
         };
-        pilot.mu = vec![self.pilot_mu; m];
-        pilot.gains = match fixed_gain.or(self.pilot_gain) {
+        pilot.layers.mu = vec![self.pilot_mu; m];
+        pilot.layers.gains = match fixed_gain.or(self.pilot_gain) {
             Some(k) => vec![k; m],
             None => base
+                .layers
                 .eps
                 .iter()
-                .map(|&e| default_pilot_gain(e, base.step))
+                .map(|&e| default_pilot_gain(e, base.integration.step))
                 .collect(),
         };
         let opts = AutoDesignOptions {
@@ -179,7 +182,7 @@ impl PilotArgs {
             mu: mu.map_or_else(MuChoice::default, MuChoice::Given),
             pilot_retries: self.pilot_retries,
         };
-        let a = auto_design(model, &base.eps, &pilot, &opts).map_err(|e| {
+        let a = auto_design(model, &base.layers.eps, &pilot, &opts).map_err(|e| {
             eprintln!(
                 "error: automatic design of `{}`: {}",
                 model.name(),

@@ -9,13 +9,13 @@
 mod args;
 mod report;
 
-use self::args::{auto_or_list, check_args, check_number, flag, integration, parse_policy};
+use self::args::{auto_or_list, check_args, check_number, flag, integration, laws};
 use self::report::Report;
 use crate::Reported;
 use crate::pilot::{PilotArgs, design_json, per_constraint};
 use dae_runtime::{
-    AlphaChoice, Crossing, CsvSink, Decimate, Model, Policy, Quantity, Reaching, Settings,
-    SimError, Simulator, SolverChoice, Summary, Tee, Trace, plot_run,
+    Model, Settings, SimError, Simulator, Summary, Trace, charts::plot_run, error::Quantity,
+    settings::AlphaChoice, solve::SolverChoice, trace::CsvSink, trace::Decimate, trace::Tee,
 };
 use std::fs::File;
 use std::io::{self, BufWriter};
@@ -216,27 +216,18 @@ pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
     )?;
     let model: &dyn Model = &*boxed;
     let m = model.n_constraints();
-    let policy = parse_policy(&args.policy)?;
-    let integ = integration(args, policy);
+    let laws = laws(args)?;
+    let integ = integration(args, laws.run);
     check_args(args, &integ, m)?;
     let eps = per_constraint("--eps", &args.eps, m)?;
-    let crossing = match args.crossing {
-        CrossingArg::Located => Crossing::default(),
-        CrossingArg::StepEnd => Crossing::StepEnd,
-    };
     let mut settings = Settings::new(eps.clone(), vec![1.0; m], vec![1.0; m])
         .step(integ.step)
         .integrator(integ.integrator)
-        .crossing(crossing)
         .max_steps(MAX_STEPS as u64)
         .t_end(args.t_end)
         .settle(args.settle)
         .solver(args.solver)
-        .policy(policy)
-        .reaching(match args.reaching {
-            ReachingArg::Attract => Reaching::AttractingSurfaces,
-            ReachingArg::Contract => Reaching::ContractingLayers,
-        })
+        .law(laws.run)
         .alpha(match args.alpha {
             AlphaArg::Cheap => AlphaChoice::Cheap,
             AlphaArg::Exact => AlphaChoice::Exact,
@@ -262,13 +253,13 @@ pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
     let pilot_base = settings
         .clone()
         .t_end(args.pilot.unwrap_or(args.t_end))
-        .policy(Policy::Monitor)
+        .law(laws.pilot)
         .alpha(AlphaChoice::Cheap);
     let design = match (mu, gain) {
         _ if m == 0 => None,
         (Some(mu), Some(k)) => {
-            settings.mu = per_constraint("--mu", &mu, m)?;
-            settings.gains = per_constraint("--gain", &k, m)?;
+            settings.layers.mu = per_constraint("--mu", &mu, m)?;
+            settings.layers.gains = per_constraint("--gain", &k, m)?;
             None
         }
         // At least one of them `auto`: the pilots design it; given mu are kept, a given
@@ -287,8 +278,8 @@ pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
                 }
             };
             let a = args.pilot_args.auto_design(model, &pilot_base, mu, fixed)?;
-            settings.mu = a.design.constraints.iter().map(|c| c.mu).collect();
-            settings.gains = a.design.constraints.iter().map(|c| c.k).collect();
+            settings.layers.mu = a.design.constraints.iter().map(|c| c.mu).collect();
+            settings.layers.gains = a.design.constraints.iter().map(|c| c.k).collect();
             if fixed.is_some() && settings.alpha == AlphaChoice::Cheap {
                 warn_uncovered_beta(model, &settings, &a);
             }
@@ -298,19 +289,6 @@ pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
             })
         }
     };
-    // After the design: its pilots run with the gains they design.
-    if let Some(safety) = args.follow_drift {
-        settings = settings.follow_drift(safety);
-    }
-    if let Some(t) = args.graze {
-        settings = settings.graze(t);
-    }
-    if args.ramp {
-        settings = settings.ramp_against_drift();
-    }
-    if args.saturate {
-        settings = settings.saturate_in_layer();
-    }
     let summary = simulate(args, model, settings.clone(), design.as_ref())?;
     let outcome = if !summary.bound_held() && summary.reaching_time.is_none() {
         Outcome::NotReached
@@ -334,7 +312,11 @@ pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
 
 /// A fixed gain with the cheap alpha_hat must still cover the neglected `mu^(r-1) |beta|`
 /// (T 3.17); say so when the pilot bounds show that it does not.
-fn warn_uncovered_beta(model: &dyn Model, settings: &Settings, a: &dae_runtime::AutoDesign) {
+fn warn_uncovered_beta(
+    model: &dyn Model,
+    settings: &Settings,
+    a: &dae_runtime::design::AutoDesign,
+) {
     let mut uncovered = 0usize;
     for (i, &r) in model.indices().iter().enumerate() {
         let beta = a
@@ -342,14 +324,14 @@ fn warn_uncovered_beta(model: &dyn Model, settings: &Settings, a: &dae_runtime::
             .iter()
             .map(|p| p.pilot.estimate.beta_abs[i])
             .fold(0.0, f64::max);
-        let need = settings.mu[i].powi(r as i32 - 1) * beta;
-        if settings.gains[i] <= need {
+        let need = settings.layers.mu[i].powi(r as i32 - 1) * beta;
+        if settings.layers.gains[i] <= need {
             uncovered += 1;
             // A large model gets the first few by name and a count, not a line each.
             if uncovered <= crate::bounded::TEXT_LINES_MAX {
                 eprintln!(
                     "warning: gain {} of `{}` does not cover mu^(r-1) |beta| = {need:.4} neglected by the cheap alpha_hat; use --alpha exact or a larger gain",
-                    settings.gains[i],
+                    settings.layers.gains[i],
                     model.constraint_name(i)
                 );
             }
@@ -370,12 +352,12 @@ fn simulate(
 ) -> Result<Summary, Reported> {
     // Decimation from the number of fixed steps (error-controlled runs take about one
     // step per control interval, or at least t_end / max_step).
-    let h = if settings.integrator.is_adaptive() {
-        settings.max_step
+    let h = if settings.integration.integrator.is_adaptive() {
+        settings.integration.max_step
     } else {
-        settings.step
+        settings.integration.step
     };
-    let steps = ((settings.t_end - settings.t_start) / h).ceil();
+    let steps = ((settings.window.t_end - settings.window.t_start) / h).ceil();
     let every = if steps.is_finite() {
         crate::bounded::trace_every(model, steps as u64, MAX_ROWS)
     } else {
@@ -421,7 +403,14 @@ fn simulate(
     };
     if let (Some(dir), Some(trace)) = (&args.plot, &sink.1) {
         let t_min = design.map(|d| d.t_min);
-        plot_run(dir, model.name(), trace.inner(), &settings.eps, t_min).map_err(|e| {
+        plot_run(
+            dir,
+            model.name(),
+            trace.inner(),
+            &settings.layers.eps,
+            t_min,
+        )
+        .map_err(|e| {
             eprintln!("error: charts in `{}`: {e}", dir.display());
             Reported
         })?;
@@ -455,7 +444,7 @@ fn report_failure(model: &dyn Model, settings: &Settings, fixed_step: bool, e: &
             }
             tries.push("smaller gains");
             // A larger mu only helps while mu is moderate (mu^(r-1) scales J_s).
-            if settings.mu.iter().all(|&m| m < 1.0) {
+            if settings.layers.mu.iter().all(|&m| m < 1.0) {
                 tries.push("a larger --mu");
             }
             format!("the motion diverged: try {}", tries.join(", "))

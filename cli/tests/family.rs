@@ -269,8 +269,8 @@ fn run_cloth_w8(extra: &[&str]) -> (Option<i32>, String, String) {
 /// The step control of a frame-tied run.
 #[derive(Clone, Copy)]
 enum Steps {
-    /// The design's: the longest step `mu / 2` (`dae_bench::RELAXED_STEP_PER_MU`) and the
-    /// tolerance a tenth of the layer (`dae_bench::RELAXED_TOLERANCE_PER_EPS`).
+    /// The design's: the longest step `mu / 2` (`dae_bench::particle_bench::RELAXED_STEP_PER_MU`) and the
+    /// tolerance a tenth of the layer (`dae_bench::particle_bench::RELAXED_TOLERANCE_PER_EPS`).
     Design,
     /// The design's before 2026-11-27: `mu / 4` and the runtime's default tolerance.
     Before,

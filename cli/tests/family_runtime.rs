@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use dae_runtime::family::{FamilyInstance, Interpreted, Interpreter, Spec};
-use dae_runtime::{Model, NoTrace, Settings, Simulator, Summary, w_offsets};
+use dae_runtime::{Model, Settings, Simulator, Summary, model::w_offsets, trace::NoTrace};
 use daec::interpret_source;
 
 fn source(file: &str) -> String {

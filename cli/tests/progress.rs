@@ -5,7 +5,7 @@
 //! cut at, a crossing predicted at zero distance: time stopped at t = 5.504e-3 and the
 //! run never ended. The run must end, as "not reached", in a few hundred steps.
 
-use dae_runtime::{Integrator, Model, NoTrace, Settings, SimError, Simulator};
+use dae_runtime::{Model, Settings, SimError, Simulator, settings::Integrator, trace::NoTrace};
 
 const STALLING_RC: &str = "
 model NonlinearRC {

@@ -378,3 +378,38 @@ fn drift_following_gains_and_the_ramp_from_the_command_line() {
         "{err}"
     );
 }
+
+/// An extension of the DBSMC law that the chosen law cannot take is refused by its flag,
+/// before any work: under SPSM (which saturates at every stage) none of them, and with
+/// the thesis's step-end rule none that needs the rates at the step ends (`--saturate`
+/// still applies there).
+#[test]
+fn an_extension_the_law_cannot_take_is_refused_by_its_flag() {
+    for (extra, flag, hint) in [
+        (
+            &["--policy", "spsm", "--saturate"][..],
+            "--saturate",
+            "spsm",
+        ),
+        (&["--policy", "spsm", "--ramp"][..], "--ramp", "spsm"),
+        (
+            &["--crossing", "step-end", "--follow-drift", "1"][..],
+            "--follow-drift",
+            "--crossing step-end",
+        ),
+        (
+            &["--crossing", "step-end", "--ramp"][..],
+            "--ramp",
+            "--crossing step-end",
+        ),
+    ] {
+        let out = thesis_scene("0.1", extra);
+        assert_eq!(out.status.code(), Some(1), "{extra:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(flag) && err.contains(hint), "{extra:?}: {err}");
+    }
+    let saturated_step_end = thesis_scene("0.1", &["--crossing", "step-end", "--saturate"]);
+    let err = String::from_utf8_lossy(&saturated_step_end.stderr);
+    assert!(!err.contains("error: --saturate"), "{err}");
+    assert_ne!(saturated_step_end.status.code(), Some(1), "{err}");
+}

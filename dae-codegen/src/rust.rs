@@ -114,15 +114,20 @@ pub(crate) fn generate_scalar(model: &CompiledModel) -> TokenStream {
 
         #[allow(unused_variables, clippy::all)]
         impl ::dae_runtime::Model for #ty {
-            fn name(&self) -> &str { #name }
-            fn n_states(&self) -> usize { #n }
-            fn n_constraints(&self) -> usize { #m }
-            fn n_params(&self) -> usize { #np }
-            fn state_name(&self, i: usize) -> &str { Self::STATE_NAMES[i] }
-            fn alg_name(&self, i: usize) -> &str { Self::ALG_NAMES[i] }
-            fn constraint_name(&self, i: usize) -> &str { Self::CONSTRAINT_NAMES[i] }
-            fn param_name(&self, i: usize) -> &str { Self::PARAM_NAMES[i] }
-            fn indices(&self) -> &[usize] { &Self::INDICES }
+            fn info(&self) -> &::dae_runtime::ModelInfo {
+                static INFO: ::std::sync::OnceLock<::dae_runtime::ModelInfo> =
+                    ::std::sync::OnceLock::new();
+                INFO.get_or_init(|| {
+                    ::dae_runtime::ModelInfo::new(
+                        #name,
+                        &Self::STATE_NAMES,
+                        &Self::ALG_NAMES,
+                        &Self::CONSTRAINT_NAMES,
+                        &Self::PARAM_NAMES,
+                        &Self::INDICES,
+                    )
+                })
+            }
             fn param(&self, i: usize) -> f64 {
                 match i {
                     #( #param_idx => self.#fields, )*

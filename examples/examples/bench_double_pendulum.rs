@@ -7,11 +7,12 @@
 //! 10 s chapter-5 scene at h = 1e-4, and the interpreter's time for the same scene.
 //! Every figure is the best of several repetitions.
 
+use dae_runtime::settings::{Dbsmc, Update};
 use std::hint::black_box;
 use std::time::Instant;
 
 use dae_examples::chapter5::{self, DoublePendulum3D};
-use dae_runtime::{Model, NoTrace, Policy, Settings, Simulator, Summary};
+use dae_runtime::{Model, Settings, Simulator, Summary, trace::NoTrace};
 
 const REPS: usize = 7;
 
@@ -105,7 +106,10 @@ fn main() {
     // One update in 2 s: the cost of steps alone.
     let rare = best_of(
         &generated,
-        &scene.clone().policy(Policy::Fixed(1e9)).t_end(2.0),
+        &scene
+            .clone()
+            .law(Dbsmc::default().update(Update::Fixed { period: 1e9 }))
+            .t_end(2.0),
     );
     let step_ns = rare.wall_time / rare.steps as f64 * 1e9;
     println!(
@@ -117,7 +121,9 @@ fn main() {
             &generated,
             &scene
                 .clone()
-                .policy(Policy::Fixed(chapter5::STEP))
+                .law(Dbsmc::default().update(Update::Fixed {
+                    period: chapter5::STEP,
+                }))
                 .t_end(2.0)
                 .check_robustness(check),
         );

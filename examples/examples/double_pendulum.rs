@@ -24,8 +24,9 @@ use dae_examples::chapter5::{
     self, DoublePendulum3D, EPS, STEP, T_END, THESIS_BETA, THESIS_M, THESIS_MU,
 };
 use dae_runtime::{
-    AutoDesignOptions, CsvSink, Decimate, GainChoice, LayerBound, NoTrace, Settings, Simulator,
-    Summary, Tee, Trace, auto_design, plot_run,
+    Settings, Simulator, Summary, Trace, charts::plot_run, design::AutoDesignOptions,
+    design::GainChoice, design::LayerBound, design::auto_design, trace::CsvSink, trace::Decimate,
+    trace::NoTrace, trace::Tee,
 };
 
 type Failure = Box<dyn std::error::Error>;

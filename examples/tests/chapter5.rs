@@ -14,7 +14,7 @@ use dae_runtime::{Settings, Simulator, Summary, Trace};
 fn run(settings: Settings) -> Summary {
     Simulator::new(&DoublePendulum3D::default(), settings)
         .unwrap()
-        .run(&mut dae_runtime::NoTrace)
+        .run(&mut dae_runtime::trace::NoTrace)
         .unwrap()
 }
 
@@ -66,7 +66,7 @@ fn z_eq_matches_the_tension_from_the_physics() {
     let mut worst_far = Vec::new();
     for eps in [0.2, 0.02, 0.002] {
         let mut settings = chapter5::monitored(3.0, 0.0);
-        settings.eps = vec![eps; 2];
+        settings.layers.eps = vec![eps; 2];
         let mut trace = Trace::new();
         Simulator::new(&model, settings)
             .unwrap()

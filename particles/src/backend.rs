@@ -15,25 +15,63 @@ pub struct Counters {
     /// Iterations: XPBD constraint sweeps (one per iteration of each substep), or the
     /// iterations of an iterative `J_s` solver.
     pub iterations: u64,
-    /// DBSMC control updates (0 for the others).
+    /// What only a sliding-mode backend counts ([`Dbsmc`](crate::Dbsmc)); `None` for
+    /// the others.
+    pub sliding: Option<SlidingCounters>,
+}
+
+/// The counters of a sliding-mode backend: its control updates and its own bound.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SlidingCounters {
+    /// Control updates.
     pub updates: u64,
-    /// DBSMC: the links whose own `s_i` asked for at least one update (a few dozen of
-    /// thousands on the cloth; 0 for the others).
+    /// The links whose own `s_i` asked for at least one update.
     pub links_asking: u64,
-    /// DBSMC: when a sliding variable first left its layer `|s_i| <= eps_i` after
-    /// reaching (the method's own bound, on `s`, not on the strain), if it did.
+    /// When a sliding variable first left its layer `|s_i| <= eps_i` after reaching
+    /// (the method's own bound, on `s`, not on the strain), if it did.
     pub layer_lost_at: Option<f64>,
-    /// DBSMC, with [`layer_lost_at`](Self::layer_lost_at): the largest `|s_i| / eps_i`
-    /// after reaching so far (how far the layer was left, not only when).
+    /// With [`layer_lost_at`](Self::layer_lost_at): the largest `|s_i| / eps_i` after
+    /// reaching so far (how far the layer was left, not only when).
     pub layer_worst_ratio: Option<f64>,
-    /// DBSMC searching for `mu` ([`crate::Dbsmc::adapt_mu`]): `mu` now as a multiple of
-    /// the one the run started with (`None` without a search).
-    pub mu_scale: Option<f64>,
-    /// DBSMC searching for `mu`: the moves of `mu` made.
-    pub mu_moves: u64,
-    /// DBSMC searching for `mu`: the moves the simulator refused (a growth from which
-    /// the filter would leave its layer; `mu` stayed where it was).
-    pub mu_refused: u64,
+    /// The search for `mu` ([`crate::Dbsmc::adapt_mu`]), if one runs.
+    pub mu_search: Option<MuSearchCounters>,
+}
+
+/// What a search for `mu` did.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct MuSearchCounters {
+    /// `mu` now as a multiple of the one the run started with.
+    pub scale: f64,
+    /// The moves of `mu` made.
+    pub moves: u64,
+    /// The moves the simulator refused (a growth from which the filter would leave its
+    /// layer; `mu` stayed where it was).
+    pub refused: u64,
+}
+
+/// Reads of the sliding-mode counters that are zero or `None` for the other methods,
+/// for reports that list every method in one table.
+impl Counters {
+    /// Control updates (0 for a method without them).
+    pub fn updates(&self) -> u64 {
+        self.sliding.map_or(0, |d| d.updates)
+    }
+    /// The links that asked for an update (0 for a method without updates).
+    pub fn links_asking(&self) -> u64 {
+        self.sliding.map_or(0, |d| d.links_asking)
+    }
+    /// When the sliding-mode layer was first lost, if it was.
+    pub fn layer_lost_at(&self) -> Option<f64> {
+        self.sliding.and_then(|d| d.layer_lost_at)
+    }
+    /// How far the sliding-mode layer was left, if it was.
+    pub fn layer_worst_ratio(&self) -> Option<f64> {
+        self.sliding.and_then(|d| d.layer_worst_ratio)
+    }
+    /// What a search for `mu` did, if one ran.
+    pub fn mu_search(&self) -> Option<MuSearchCounters> {
+        self.sliding.and_then(|d| d.mu_search)
+    }
 }
 
 /// A failure inside a backend: when, and why.

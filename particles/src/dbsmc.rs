@@ -11,10 +11,12 @@
 use std::cell::{Cell, RefCell};
 use std::io;
 
-use dae_runtime::{Layout, Model, Sample, Settings, SimError, Simulator, Sink};
+use dae_runtime::{
+    Model, ModelInfo, Settings, SimError, Simulator, trace::Layout, trace::Sample, trace::Sink,
+};
 
 use crate::adaptive_mu::{AdaptiveMu, Searcher};
-use crate::backend::{Backend, BackendError, Counters};
+use crate::backend::{Backend, BackendError, Counters, MuSearchCounters, SlidingCounters};
 use crate::model::ParticleDae;
 use crate::motion::{Kinematics, Pin};
 use crate::scene::FRAME;
@@ -26,32 +28,8 @@ struct Counted<M> {
 }
 
 impl<M: ParticleDae> Model for Counted<M> {
-    fn name(&self) -> &str {
-        self.model.name()
-    }
-    fn n_states(&self) -> usize {
-        self.model.n_states()
-    }
-    fn n_constraints(&self) -> usize {
-        self.model.n_constraints()
-    }
-    fn n_params(&self) -> usize {
-        self.model.n_params()
-    }
-    fn state_name(&self, i: usize) -> &str {
-        self.model.state_name(i)
-    }
-    fn alg_name(&self, i: usize) -> &str {
-        self.model.alg_name(i)
-    }
-    fn constraint_name(&self, i: usize) -> &str {
-        self.model.constraint_name(i)
-    }
-    fn param_name(&self, i: usize) -> &str {
-        self.model.param_name(i)
-    }
-    fn indices(&self) -> &[usize] {
-        self.model.indices()
+    fn info(&self) -> &ModelInfo {
+        self.model.info()
     }
     fn param(&self, i: usize) -> f64 {
         self.model.param(i)
@@ -164,7 +142,7 @@ impl<M: ParticleDae> Dbsmc<M> {
             reason,
             deadline: false,
         };
-        let per_frame = FRAME / settings.step;
+        let per_frame = FRAME / settings.integration.step;
         if !(per_frame.is_finite()
             && per_frame >= 1.0
             && (per_frame - per_frame.round()).abs() < 1e-6)
@@ -173,14 +151,14 @@ impl<M: ParticleDae> Dbsmc<M> {
                 0.0,
                 format!(
                     "step {} does not divide the frame of 1/60 s (choose 1/(60 k))",
-                    settings.step
+                    settings.integration.step
                 ),
             ));
         }
-        if settings.t_start != 0.0 {
+        if settings.window.t_start != 0.0 {
             return Err(fail(
                 0.0,
-                format!("t_start is {}, must be 0", settings.t_start),
+                format!("t_start is {}, must be 0", settings.window.t_start),
             ));
         }
         let slots: Vec<(usize, usize)> = (0..model.n_particles())
@@ -188,7 +166,7 @@ impl<M: ParticleDae> Dbsmc<M> {
             .collect();
         let n = model.n_states();
         let mut settings = settings;
-        settings.t_end = f64::MAX;
+        settings.window.t_end = f64::MAX;
         let counted = Counted {
             model,
             rhs_calls: Cell::new(0),
@@ -267,7 +245,7 @@ impl<M: ParticleDae> Dbsmc<M> {
     }
 
     /// Do not stop when a layer is left after reaching: record the first time in
-    /// [`Counters::layer_lost_at`] and go on (for benchmarks that measure what follows,
+    /// [`SlidingCounters::layer_lost_at`] and go on (for benchmarks that measure what follows,
     /// e.g. the strain, which a lost `s`-layer does not necessarily break).
     pub fn keep_going_after_bound_loss(mut self) -> Self {
         self.keep_going = true;
@@ -301,7 +279,7 @@ impl<M: ParticleDae> Dbsmc<M> {
 
     /// Per constraint (in the model's order of constraint links), the monitored
     /// updates its own `s_i` asked for so far ([`Simulator::triggered_updates`]): which
-    /// links set the update rate, and so the cost. [`Counters::links_asking`] counts
+    /// links set the update rate, and so the cost. [`SlidingCounters::links_asking`] counts
     /// the links with at least one.
     pub fn triggered_updates(&self) -> &[u64] {
         self.sim.triggered_updates()
@@ -408,21 +386,25 @@ impl<M: ParticleDae> Backend for Dbsmc<M> {
             f_evals: model.rhs_calls.get(),
             factorisations: self.sim.solver_stats().factorisations,
             iterations: 0,
-            updates: self.sink.updates,
-            links_asking: self
-                .sim
-                .triggered_updates()
-                .iter()
-                .filter(|&&c| c > 0)
-                .count() as u64,
-            layer_lost_at: self.layer_lost_at,
-            // How far, read once from the simulator's record of the whole run.
-            layer_worst_ratio: self
-                .layer_lost_at
-                .and(self.sim.bound_loss().map(|loss| loss.worst_ratio)),
-            mu_scale: self.search.as_ref().map(Searcher::scale),
-            mu_moves,
-            mu_refused,
+            sliding: Some(SlidingCounters {
+                updates: self.sink.updates,
+                links_asking: self
+                    .sim
+                    .triggered_updates()
+                    .iter()
+                    .filter(|&&c| c > 0)
+                    .count() as u64,
+                layer_lost_at: self.layer_lost_at,
+                // How far, read once from the simulator's record of the whole run.
+                layer_worst_ratio: self
+                    .layer_lost_at
+                    .and(self.sim.bound_loss().map(|loss| loss.worst_ratio)),
+                mu_search: self.search.as_ref().map(|search| MuSearchCounters {
+                    scale: search.scale(),
+                    moves: mu_moves,
+                    refused: mu_refused,
+                }),
+            }),
         }
     }
 }

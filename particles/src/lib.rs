@@ -35,7 +35,7 @@
 //!
 //! ```
 //! use dae_particles::{Backend, Dbsmc, FRAME, ParticleDae, ParticleModel, Scene, chain};
-//! use dae_runtime::{AlphaChoice, Model, Settings};
+//! use dae_runtime::{settings::AlphaChoice, Model, Settings};
 //!
 //! let system = chain(10, 1.0)?;
 //! let model = ParticleModel::new(&system)?;
@@ -63,7 +63,7 @@
 //! }
 //! let worst = scene.worst_strain();
 //! assert!(worst.strain <= 1.05e-3, "{worst:?}");
-//! println!("end at {:?}, {} control updates", scene.positions()[end], scene.backend().counters().updates);
+//! println!("end at {:?}, {} control updates", scene.positions()[end], scene.backend().counters().updates());
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
@@ -71,7 +71,7 @@
 //!
 //! [`Dbsmc::new`] takes any `M: ParticleDae`. A model generated from a `.dae` family
 //! (chain, hair, cloth) implements [`dae_runtime::Model`] already; it needs the methods
-//! of [`ParticleDae`] besides (`dae_bench::FamilyParticles` does it for any family model
+//! of [`ParticleDae`] besides (`dae_bench::particle_methods::FamilyParticles` does it for any family model
 //! with a parameter `free[p]` and an input `pin[p]`, and runs the scenes C1-C4 on
 //! generated models): the particle count, where each particle's position and velocity
 //! live in the state, which constraint belongs to which link of the [`System`], the rest
@@ -91,7 +91,7 @@ mod scene;
 mod system;
 
 pub use adaptive_mu::AdaptiveMu;
-pub use backend::{Backend, BackendError, Counters};
+pub use backend::{Backend, BackendError, Counters, MuSearchCounters, SlidingCounters};
 pub use builders::{
     FAR_EDGE_SLACK, GridPins, HEAD_RADIUS, STRAND_LENGTH, STRAND_PARTICLE_MASS, chain, grid,
     grid_index, grid_with_slack, strands,

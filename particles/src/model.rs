@@ -27,7 +27,7 @@
 
 use std::cell::RefCell;
 
-use dae_runtime::{LinearSolver, Model, Solver, SolverChoice};
+use dae_runtime::{Model, ModelInfo, solve::LinearSolver, solve::Solver, solve::SolverChoice};
 
 use crate::motion::Pin;
 use crate::system::System;
@@ -159,7 +159,8 @@ impl Scratch {
 /// [`System`]: links with both ends pinned are dropped (their length is prescribed).
 #[derive(Debug)]
 pub struct ParticleModel {
-    name: String,
+    /// Name, sizes and the names of the particles' coordinates, tensions and links.
+    info: ModelInfo,
     mass: Vec<f64>,
     inv_mass: Vec<f64>,
     pins: Vec<Option<Pin>>,
@@ -177,10 +178,6 @@ pub struct ParticleModel {
     /// For each pattern entry: the shared particle and the sign of
     /// `rhat_cl . rhat_ck = sign * u_l . u_k` (`usize::MAX` on the diagonal).
     entry: Vec<(usize, f64)>,
-    indices: Vec<usize>,
-    state_names: Vec<String>,
-    alg_names: Vec<String>,
-    constraint_names: Vec<String>,
     x0: Vec<f64>,
     z0: Vec<f64>,
     scratch: RefCell<Scratch>,
@@ -271,7 +268,14 @@ impl ParticleModel {
             })
             .collect();
         let mut model = Self {
-            name: format!("particles_{n}p_{m}l"),
+            info: ModelInfo {
+                name: format!("particles_{n}p_{m}l"),
+                states: state_names,
+                algs: (0..m).map(|l| format!("tension[{l}]")).collect(),
+                constraints: (0..m).map(|l| format!("link[{l}]")).collect(),
+                params: Vec::new(),
+                indices: vec![3; m],
+            },
             mass: system.masses().to_vec(),
             inv_mass,
             pinned: (0..n).filter(|&k| pins[k].is_some()).collect(),
@@ -283,10 +287,6 @@ impl ParticleModel {
             rest,
             pattern: entries.iter().map(|e| e.0).collect(),
             entry: entries.iter().map(|e| e.1).collect(),
-            indices: vec![3; m],
-            state_names,
-            alg_names: (0..m).map(|l| format!("tension[{l}]")).collect(),
-            constraint_names: (0..m).map(|l| format!("link[{l}]")).collect(),
             x0,
             z0: vec![0.0; m],
             scratch: RefCell::new(Scratch {
@@ -470,32 +470,8 @@ impl ParticleModel {
 }
 
 impl Model for ParticleModel {
-    fn name(&self) -> &str {
-        &self.name
-    }
-    fn n_states(&self) -> usize {
-        6 * self.mass.len()
-    }
-    fn n_constraints(&self) -> usize {
-        self.ends.len()
-    }
-    fn n_params(&self) -> usize {
-        0
-    }
-    fn state_name(&self, i: usize) -> &str {
-        &self.state_names[i]
-    }
-    fn alg_name(&self, i: usize) -> &str {
-        &self.alg_names[i]
-    }
-    fn constraint_name(&self, i: usize) -> &str {
-        &self.constraint_names[i]
-    }
-    fn param_name(&self, _: usize) -> &str {
-        ""
-    }
-    fn indices(&self) -> &[usize] {
-        &self.indices
+    fn info(&self) -> &ModelInfo {
+        &self.info
     }
     fn param(&self, _: usize) -> f64 {
         f64::NAN

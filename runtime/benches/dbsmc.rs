@@ -9,9 +9,10 @@
 #[path = "../tests/common/pendulum.rs"]
 mod pendulum;
 
+use dae_runtime::settings::{Dbsmc, Law, Update};
 use std::hint::black_box;
 
-use dae_runtime::{NoTrace, Policy, Settings, Simulator, Summary};
+use dae_runtime::{Settings, Simulator, Summary, trace::NoTrace};
 use pendulum::Pendulum;
 
 const H: f64 = 1e-4;
@@ -41,14 +42,19 @@ fn best_of(reps: usize, settings: &Settings) -> Summary {
 fn main() {
     let reps = 7;
     // One update in 2 s: the cost of steps alone.
-    let rare = best_of(reps, &scene().policy(Policy::Fixed(1e9)).t_end(2.0));
+    let rare = best_of(
+        reps,
+        &scene()
+            .law(Dbsmc::default().update(Update::Fixed { period: 1e9 }))
+            .t_end(2.0),
+    );
     let step_ns = rare.wall_time / rare.steps as f64 * 1e9;
     // An update after every step.
     for check in [false, true] {
         let every = best_of(
             reps,
             &scene()
-                .policy(Policy::Fixed(H))
+                .law(Dbsmc::default().update(Update::Fixed { period: H }))
                 .t_end(2.0)
                 .check_robustness(check),
         );
@@ -75,9 +81,11 @@ fn main() {
         ),
         (
             "fixed T = 0.005 s",
-            scene().t_end(10.0).policy(Policy::Fixed(0.005)),
+            scene()
+                .t_end(10.0)
+                .law(Dbsmc::default().update(Update::Fixed { period: 0.005 })),
         ),
-        ("SPSM baseline", scene().t_end(10.0).policy(Policy::Spsm)),
+        ("SPSM baseline", scene().t_end(10.0).law(Law::Spsm)),
     ] {
         let s = best_of(reps, &settings);
         println!(

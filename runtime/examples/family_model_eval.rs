@@ -13,7 +13,7 @@
 use std::time::Instant;
 
 use dae_runtime::family::{FamilyInstance, Interpreter, Spec};
-use dae_runtime::{Model, w_offsets};
+use dae_runtime::{Model, model::w_offsets};
 
 fn model(file: &str, size: (&str, i64)) -> FamilyInstance<Interpreter> {
     let path = format!("{}/../examples/models/{file}", env!("CARGO_MANIFEST_DIR"));

@@ -113,7 +113,7 @@ pub enum SimError {
     },
     /// The error control of an embedded pair drove the step below what the time can
     /// resolve. When `J_s` had come near singular before (its smallest pivot below
-    /// [`NEAR_SINGULAR`](crate::NEAR_SINGULAR) of its earlier largest), or is at the
+    /// [`NEAR_SINGULAR`](crate::summary::NEAR_SINGULAR) of its earlier largest), or is at the
     /// failing point (factored there once more and read from its pivots and from one
     /// solve, `|b| / |J_s^{-1} b|` against its largest earlier value, which partial
     /// pivoting cannot hide), that is the likely cause and is said: the control
@@ -129,7 +129,7 @@ pub enum SimError {
         /// The step that was too small.
         h: f64,
         /// Where `J_s` was nearest singular, if it came near singular in the run.
-        near_singular: Option<crate::NearSingular>,
+        near_singular: Option<crate::summary::NearSingular>,
     },
     /// The wall-clock deadline of [`Simulator::set_deadline`](crate::Simulator::set_deadline)
     /// passed; the run stopped at `t`, a consistent point.
@@ -164,7 +164,7 @@ fn quoted(names: &[String]) -> String {
 }
 
 /// What a step-size underflow says about its cause.
-fn underflow_cause(near_singular: &Option<crate::NearSingular>) -> String {
+fn underflow_cause(near_singular: &Option<crate::summary::NearSingular>) -> String {
     match near_singular {
         Some(ns) => format!(
             "J_s came near singular at t = {} (its conditioning fell to {:.1e} of what it was earlier in the run), and the control grows without bound there (the constraints nearly lose rank: for example a taut line of rigid links between fixed points)",

@@ -84,7 +84,7 @@
 //!
 //! ```
 //! use dae_runtime::family::{FamilyInstance, Interpreter, Spec};
-//! use dae_runtime::{Model, NoTrace, Settings, Simulator};
+//! use dae_runtime::{Model, trace::NoTrace, Settings, Simulator};
 //!
 //! let src = std::fs::read_to_string(concat!(
 //!     env!("CARGO_MANIFEST_DIR"),

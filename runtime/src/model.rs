@@ -10,26 +10,111 @@
 //! with `o_i = r_0 + ... + r_{i-1}`, holding `w_i, w_i', ..., w_i^(r_i - 1)` in that
 //! order (see [`w_offsets`]).
 
-/// A DAE model `x' = f(t, x, z), 0 = g(t, x, z)` prepared for a sliding-mode realization.
-pub trait Model {
+/// What a model is called and what it has: its name, the names of its states,
+/// algebraic unknowns, constraints and parameters, and each constraint's index. One
+/// value, built once, that [`Model::info`] lends; the simulator, the traces and the
+/// reports read every name from it.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct ModelInfo {
     /// The model's name.
-    fn name(&self) -> &str;
-    /// Number of differential states `n`.
-    fn n_states(&self) -> usize;
-    /// Number of algebraic unknowns, equal to the number of constraints `m`.
-    fn n_constraints(&self) -> usize;
-    /// Number of parameters.
-    fn n_params(&self) -> usize;
-    /// Name of state `i`.
-    fn state_name(&self, i: usize) -> &str;
-    /// Name of algebraic unknown `i`.
-    fn alg_name(&self, i: usize) -> &str;
-    /// Name of constraint `i`.
-    fn constraint_name(&self, i: usize) -> &str;
-    /// Name of parameter `i`.
-    fn param_name(&self, i: usize) -> &str;
+    pub name: String,
+    /// The names of the `n` differential states.
+    pub states: Vec<String>,
+    /// The names of the `m` algebraic unknowns.
+    pub algs: Vec<String>,
+    /// The names of the `m` constraints.
+    pub constraints: Vec<String>,
+    /// The names of the parameters.
+    pub params: Vec<String>,
     /// The index `r_i` of each constraint (its relative degree), all at least 1.
-    fn indices(&self) -> &[usize];
+    pub indices: Vec<usize>,
+}
+
+impl ModelInfo {
+    /// The metadata from borrowed names (the constants of generated code, say).
+    pub fn new(
+        name: &str,
+        states: &[&str],
+        algs: &[&str],
+        constraints: &[&str],
+        params: &[&str],
+        indices: &[usize],
+    ) -> Self {
+        let owned = |names: &[&str]| names.iter().map(|n| n.to_string()).collect();
+        Self {
+            name: name.to_string(),
+            states: owned(states),
+            algs: owned(algs),
+            constraints: owned(constraints),
+            params: owned(params),
+            indices: indices.to_vec(),
+        }
+    }
+
+    /// Whether the lists agree: one algebraic unknown and one index `>= 1` per
+    /// constraint. The reason if not.
+    pub fn check(&self) -> Result<(), String> {
+        let m = self.constraints.len();
+        if self.algs.len() != m || self.indices.len() != m {
+            return Err(format!(
+                "{} algebraic unknowns and {} indices for {m} constraints",
+                self.algs.len(),
+                self.indices.len()
+            ));
+        }
+        if let Some(i) = self.indices.iter().position(|&r| r == 0) {
+            return Err(format!(
+                "constraint {i} (`{}`) has index 0; every index is at least 1",
+                self.constraints[i]
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// A DAE model `x' = f(t, x, z), 0 = g(t, x, z)` prepared for a sliding-mode realization.
+///
+/// An implementation gives its metadata once ([`Model::info`]) and the evaluations;
+/// the sizes and names below are read from the metadata.
+pub trait Model {
+    /// The model's name, sizes, names and indices.
+    fn info(&self) -> &ModelInfo;
+    /// The model's name.
+    fn name(&self) -> &str {
+        &self.info().name
+    }
+    /// Number of differential states `n`.
+    fn n_states(&self) -> usize {
+        self.info().states.len()
+    }
+    /// Number of algebraic unknowns, equal to the number of constraints `m`.
+    fn n_constraints(&self) -> usize {
+        self.info().constraints.len()
+    }
+    /// Number of parameters.
+    fn n_params(&self) -> usize {
+        self.info().params.len()
+    }
+    /// Name of state `i`.
+    fn state_name(&self, i: usize) -> &str {
+        &self.info().states[i]
+    }
+    /// Name of algebraic unknown `i`.
+    fn alg_name(&self, i: usize) -> &str {
+        &self.info().algs[i]
+    }
+    /// Name of constraint `i`.
+    fn constraint_name(&self, i: usize) -> &str {
+        &self.info().constraints[i]
+    }
+    /// Name of parameter `i`.
+    fn param_name(&self, i: usize) -> &str {
+        &self.info().params[i]
+    }
+    /// The index `r_i` of each constraint (its relative degree), all at least 1.
+    fn indices(&self) -> &[usize] {
+        &self.info().indices
+    }
     /// Current value of parameter `i`.
     fn param(&self, i: usize) -> f64;
     /// Change parameter `i`.
@@ -71,7 +156,7 @@ pub trait Model {
     /// one pass over its links, where `J_Omega` has an entry per pair of links sharing
     /// a particle) spares `J_Omega` at every step that ends without an update. Family
     /// models give it (their compiled rate program, in
-    /// [`FamilyInstance`](crate::family::FamilyInstance)); version-1 models do not.
+    /// `family::FamilyInstance`, feature `families`); version-1 models do not.
     fn omega_rate(&self, t: f64, x: &[f64], z: &[f64], zdot: &[f64], rate: &mut [f64]) -> bool {
         let _ = (t, x, z, zdot, rate);
         false
@@ -83,32 +168,8 @@ pub trait Model {
 /// reference: [`Model::set_param`] panics here; give the simulator the model by value
 /// (or as `&mut`) to change parameters between pieces of a run.
 impl<T: Model + ?Sized> Model for &T {
-    fn name(&self) -> &str {
-        (**self).name()
-    }
-    fn n_states(&self) -> usize {
-        (**self).n_states()
-    }
-    fn n_constraints(&self) -> usize {
-        (**self).n_constraints()
-    }
-    fn n_params(&self) -> usize {
-        (**self).n_params()
-    }
-    fn state_name(&self, i: usize) -> &str {
-        (**self).state_name(i)
-    }
-    fn alg_name(&self, i: usize) -> &str {
-        (**self).alg_name(i)
-    }
-    fn constraint_name(&self, i: usize) -> &str {
-        (**self).constraint_name(i)
-    }
-    fn param_name(&self, i: usize) -> &str {
-        (**self).param_name(i)
-    }
-    fn indices(&self) -> &[usize] {
-        (**self).indices()
+    fn info(&self) -> &ModelInfo {
+        (**self).info()
     }
     fn param(&self, i: usize) -> f64 {
         (**self).param(i)
@@ -157,15 +218,7 @@ macro_rules! forward_owned {
     ($($ty:ty),*) => {$(
         /// Forwards every method (parameters can change).
         impl<T: Model + ?Sized> Model for $ty {
-            fn name(&self) -> &str { (**self).name() }
-            fn n_states(&self) -> usize { (**self).n_states() }
-            fn n_constraints(&self) -> usize { (**self).n_constraints() }
-            fn n_params(&self) -> usize { (**self).n_params() }
-            fn state_name(&self, i: usize) -> &str { (**self).state_name(i) }
-            fn alg_name(&self, i: usize) -> &str { (**self).alg_name(i) }
-            fn constraint_name(&self, i: usize) -> &str { (**self).constraint_name(i) }
-            fn param_name(&self, i: usize) -> &str { (**self).param_name(i) }
-            fn indices(&self) -> &[usize] { (**self).indices() }
+            fn info(&self) -> &ModelInfo { (**self).info() }
             fn param(&self, i: usize) -> f64 { (**self).param(i) }
             fn set_param(&mut self, i: usize, value: f64) { (**self).set_param(i, value) }
             fn initial_state(&self, x: &mut [f64]) { (**self).initial_state(x) }

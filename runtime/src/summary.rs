@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::SolverChoice;
+use crate::solve::SolverChoice;
 
 /// What the solver of `J_s` did during a run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -22,7 +22,7 @@ pub struct SolverSummary {
     /// condition (T 3.22) for this solver (0 when not checked; the same count as
     /// [`Summary::robustness_violations`]).
     pub robustness_failures: u64,
-    /// Gains raised by [`Settings::raise_gains`](crate::Settings::raise_gains).
+    /// Gains raised by [`GainRule::Raise`](crate::settings::GainRule::Raise).
     pub gain_raises: u64,
 }
 
@@ -73,9 +73,8 @@ pub struct NearSingular {
 /// that the control `v = J_s^{-1}(...)` is about `1/r` times larger than it was for the
 /// same right-hand side earlier in the run, and with it the drift of `w^(r)` within an
 /// interval (`M`, which contains `J_Omega' v`) that the gains were designed for: a
-/// thousandfold increase is beyond any design margin. Measured on the model with
-/// `J_Omega = cos t` (README, issue 14): the layer is lost within updates of the ratio
-/// falling below it.
+/// thousandfold increase is beyond any design margin (on a model whose `J_Omega = cos t`
+/// passes through zero, the layer is lost within updates of the ratio falling below it).
 pub const NEAR_SINGULAR: f64 = 1e-3;
 
 /// What a run did and how well the constraints were kept.
@@ -151,7 +150,7 @@ pub struct Summary {
     /// The solver, its counters and its robustness failures.
     pub solver: SolverSummary,
     /// The gains at the end of the run: the configured ones, unless
-    /// [`Settings::raise_gains`](crate::Settings::raise_gains) raised some.
+    /// [`GainRule::Raise`](crate::settings::GainRule::Raise) raised some.
     pub gains: Vec<f64>,
     /// Evaluations of `f` ([`Model::rhs`](crate::Model::rhs)), every stage, rejected
     /// step and re-integration included.

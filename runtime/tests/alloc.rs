@@ -8,9 +8,10 @@ use std::cell::Cell;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use common::pendulum::Pendulum;
-use dae_runtime::{
-    AlphaChoice, Crossing, Integrator, NoTrace, Policy, Settings, Simulator, SolverChoice,
-};
+use dae_runtime::settings::{AlphaChoice, Dbsmc, GainRule, Hold, Integrator, Law, StepEnd, Update};
+use dae_runtime::solve::SolverChoice;
+use dae_runtime::trace::NoTrace;
+use dae_runtime::{Settings, Simulator};
 
 struct Counting;
 
@@ -38,31 +39,43 @@ unsafe impl GlobalAlloc for Counting {
 static GLOBAL: Counting = Counting;
 
 fn allocations_of_run(
-    (policy, alpha, solver, integrator, crossing): (
-        Policy,
+    (update, alpha, solver, integrator, located): (
+        Option<Update>,
         AlphaChoice,
         SolverChoice,
         Integrator,
-        Crossing,
+        bool,
     ),
     t_end: f64,
 ) -> (u64, u64) {
     let p = Pendulum::default();
-    let mut settings = Settings::new(vec![0.2; 2], vec![0.076, 0.066], vec![7.5, 10.0])
-        .policy(policy)
+    let raise = (!solver.is_exact()).then_some(0.1);
+    let law: Law = match (update, located) {
+        (None, _) => Law::Spsm,
+        (Some(update), false) => StepEnd {
+            update,
+            raise,
+            ..StepEnd::default()
+        }
+        .into(),
+        // Every run that can follow the drift, graze and ramp does (their buffers are
+        // the simulator's).
+        (Some(update), true) => Dbsmc::default()
+            .update(update)
+            .gains(GainRule::FollowDrift {
+                safety: 1.0,
+                graze: Some(0.01),
+                raise,
+            })
+            .hold(Hold::RampAgainstDrift)
+            .into(),
+    };
+    let settings = Settings::new(vec![0.2; 2], vec![0.076, 0.066], vec![7.5, 10.0])
+        .law(law)
         .alpha(alpha)
         .solver(solver)
         .integrator(integrator)
-        .crossing(crossing)
         .t_end(t_end);
-    if !solver.is_exact() {
-        settings = settings.raise_gains(0.1);
-    }
-    if matches!(crossing, Crossing::Located { .. }) && policy != Policy::Spsm {
-        // Every run that can follow the drift, graze and ramp does (their buffers are
-        // the simulator's).
-        settings = settings.follow_drift(1.0).graze(0.01).ramp_against_drift();
-    }
     let mut sim = Simulator::new(&p, settings).unwrap();
     let before = ALLOCATIONS.load(Ordering::Relaxed);
     COUNTING.with(|c| c.set(true));
@@ -84,27 +97,22 @@ fn allocations_of_run(
 // A single test: the counter is global, and tests in one binary run in parallel.
 #[test]
 fn run_allocations_do_not_grow_with_steps_or_updates() {
-    let (rk4, located) = (Integrator::Rk4, Crossing::default());
-    let fixed = Policy::Fixed(0.005);
+    let (rk4, located) = (Integrator::Rk4, true);
+    let fixed = Some(Update::Fixed { period: 0.005 });
+    let monitor = Some(Update::default());
     let cheap = AlphaChoice::Cheap;
     for case in [
-        (Policy::Monitor, cheap, SolverChoice::Auto, rk4, located),
+        (monitor, cheap, SolverChoice::Auto, rk4, located),
+        (monitor, cheap, SolverChoice::Auto, rk4, false),
         (
-            Policy::Monitor,
-            cheap,
-            SolverChoice::Auto,
-            rk4,
-            Crossing::StepEnd,
-        ),
-        (
-            Policy::Monitor,
+            monitor,
             cheap,
             SolverChoice::Auto,
             Integrator::DormandPrince,
             located,
         ),
         (
-            Policy::Monitor,
+            monitor,
             AlphaChoice::Exact,
             SolverChoice::Auto,
             Integrator::BogackiShampine,
@@ -118,7 +126,7 @@ fn run_allocations_do_not_grow_with_steps_or_updates() {
             located,
         ),
         (fixed, AlphaChoice::Exact, SolverChoice::Auto, rk4, located),
-        (Policy::Spsm, cheap, SolverChoice::Auto, rk4, located),
+        (None, cheap, SolverChoice::Auto, rk4, located),
         (fixed, cheap, SolverChoice::Sparse, rk4, located),
         (fixed, cheap, SolverChoice::Tree, rk4, located),
         (fixed, cheap, SolverChoice::Jacobi, rk4, located),
@@ -126,16 +134,16 @@ fn run_allocations_do_not_grow_with_steps_or_updates() {
         (fixed, cheap, SolverChoice::Cg(2), rk4, located),
         (fixed, cheap, SolverChoice::Ilu0, rk4, located),
     ] {
-        let (policy, _, solver, integrator, _) = case;
+        let (update, _, solver, integrator, _) = case;
         let (short, short_updates) = allocations_of_run(case, 0.5);
         let (long, long_updates) = allocations_of_run(case, 2.0);
         assert!(
             long_updates > 2 * short_updates,
-            "{policy:?}, {solver}, {integrator:?}: {short_updates} vs {long_updates} updates"
+            "{update:?}, {solver}, {integrator:?}: {short_updates} vs {long_updates} updates"
         );
         assert_eq!(
             short, long,
-            "{policy:?}, {solver}, {integrator:?}: allocations {short} (0.5 s) vs {long} (2 s)"
+            "{update:?}, {solver}, {integrator:?}: allocations {short} (0.5 s) vs {long} (2 s)"
         );
     }
 }

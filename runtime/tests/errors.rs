@@ -3,13 +3,14 @@
 mod common;
 
 use common::Tracking;
-use dae_runtime::{Crossing, Quantity, Settings, SimError, Simulator, Trace};
+use dae_runtime::settings::StepEnd;
+use dae_runtime::{Settings, SimError, Simulator, Trace, error::Quantity};
 
 /// A fixed grid (the step-end rule), so that the failure's time is a grid point.
 fn settings() -> Settings {
     Settings::new(vec![1e-3], vec![0.05], vec![0.2])
         .step(1e-3)
-        .crossing(Crossing::StepEnd)
+        .law(StepEnd::default())
         .t_end(2.0)
 }
 

@@ -3,7 +3,8 @@
 mod common;
 
 use common::{Chain, Tracking};
-use dae_runtime::{AlphaChoice, Integrator, Model, Policy, Settings, Simulator, Trace};
+use dae_runtime::settings::Law;
+use dae_runtime::{Model, Settings, Simulator, Trace, settings::AlphaChoice, settings::Integrator};
 
 /// Max errors of `x[0]` and `z_eq[0]` against the exact solution over `t >= 0.5`.
 fn errors<M: Model>(
@@ -107,7 +108,7 @@ fn spsm_baseline_converges_linearly_in_eps() {
     for eps in [1e-2, 1e-3, 1e-4] {
         let settings = Settings::new(vec![eps], vec![0.05], vec![0.2])
             .step(1e-4)
-            .policy(Policy::Spsm)
+            .law(Law::Spsm)
             .t_end(3.0);
         let (x, z) = errors(&Tracking::default(), settings, f64::sin, |t| {
             t.sin() + t.cos()

@@ -3,7 +3,7 @@
 //! differences, and a long chain simulated with the automatically chosen solver.
 
 use dae_runtime::family::{FamilyInstance, InputError, Interpreter, Spec};
-use dae_runtime::{Model, Settings, Simulator, SolverChoice, w_offsets};
+use dae_runtime::{Model, Settings, Simulator, model::w_offsets, solve::SolverChoice};
 
 fn example(name: &str) -> Interpreter {
     let path = format!("{}/../examples/models/{name}", env!("CARGO_MANIFEST_DIR"));
@@ -337,7 +337,7 @@ fn a_chain_of_a_thousand_links_holds_its_layers() {
         .step(1e-4)
         .t_end(0.002);
     let mut sim = Simulator::new(&chain, settings).unwrap();
-    let s = sim.run(&mut dae_runtime::NoTrace).unwrap();
+    let s = sim.run(&mut dae_runtime::trace::NoTrace).unwrap();
     assert_eq!(s.solver.choice, SolverChoice::Auto);
     // The links of a chain form a path: the forest elimination, in O(m).
     assert_eq!(s.solver.name, "tree");
@@ -346,7 +346,7 @@ fn a_chain_of_a_thousand_links_holds_its_layers() {
     let worst = s.seen_max_abs_s.iter().fold(0.0f64, |a, b| a.max(*b));
     // Located crossings: at most the crossing tolerance beyond the layer.
     assert!(
-        worst <= eps * (1.0 + dae_runtime::CROSSING_TOL),
+        worst <= eps * (1.0 + dae_runtime::settings::CROSSING_TOL),
         "max |s| = {worst}"
     );
 }
@@ -363,11 +363,11 @@ fn an_underflow_with_a_healthy_j_s_is_not_laid_to_j_s() {
         let chain = sized("chain.dae", &[("N", n)]);
         let m = chain.n_constraints();
         let settings = Settings::new(vec![1e-3; m], vec![0.1; m], vec![1000.0; m])
-            .integrator(dae_runtime::Integrator::DormandPrince)
+            .integrator(dae_runtime::settings::Integrator::DormandPrince)
             .tolerance(1e-300, 1e-300)
             .t_end(0.002);
         let mut sim = Simulator::new(&chain, settings).unwrap();
-        match sim.run(&mut dae_runtime::NoTrace) {
+        match sim.run(&mut dae_runtime::trace::NoTrace) {
             Err(dae_runtime::SimError::StepUnderflow {
                 near_singular, t, ..
             }) => {
@@ -386,7 +386,9 @@ fn an_underflow_with_a_healthy_j_s_is_not_laid_to_j_s() {
 /// the error.
 #[test]
 fn the_first_pilot_on_a_chain_runs_again_with_ten_times_its_gains() {
-    use dae_runtime::{AutoDesignOptions, Integrator, PilotRunError, auto_design};
+    use dae_runtime::{
+        design::AutoDesignOptions, design::PilotRunError, design::auto_design, settings::Integrator,
+    };
     let spec = Spec {
         sizes: vec![("N".into(), 20)],
         params: vec![("m_end".into(), 10.0)],

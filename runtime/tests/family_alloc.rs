@@ -6,7 +6,7 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
 use dae_runtime::family::{FamilyInstance, Interpreter, Spec};
-use dae_runtime::{Model, NoTrace, Settings, Simulator, w_offsets};
+use dae_runtime::{Model, Settings, Simulator, model::w_offsets, trace::NoTrace};
 
 struct Counting;
 

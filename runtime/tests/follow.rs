@@ -1,5 +1,5 @@
-//! Gains that follow the drift of `s'` ([`Settings::follow_drift`], with and without
-//! [`Settings::graze`]): the gain the
+//! Gains that follow the drift of `s'` ([`GainRule::FollowDrift`], with and without
+//! its `graze`): the gain the
 //! simulator ends with against the rule evaluated on the recorded run with the model's
 //! closed-form `s'`, and the bound with the followed gains by an independent fine
 //! integration. (That a fixed gain too small for the drift loses a layer the followed
@@ -11,7 +11,8 @@ use common::{
     TRACKING_EPS as EPS, TRACKING_MU as MU, Tracking, assert_refused, independent_max_s,
     tracking_settings as settings,
 };
-use dae_runtime::{Crossing, Policy, Simulator, Trace};
+use dae_runtime::settings::{Dbsmc, GainRule};
+use dae_runtime::{Settings, Simulator, Trace};
 
 /// `s' = mu (v - (z - x) + sin t) + (z - x - cos t)` of the tracking model, from its
 /// equations (not from the simulator).
@@ -30,14 +31,11 @@ fn the_grazing_gain_is_the_rule_applied_to_the_drift_of_the_recorded_run() {
 }
 
 /// The gains in use, read piece by piece, against `max(k, safety * min(2 sqrt(eps D),
-/// D T / 2))` (`T = min_return`, infinite without [`Settings::graze`]) with `D` the
+/// D T / 2))` (`T = min_return`, infinite without its `graze`) with `D` the
 /// rule's memory of the drifts measured on the recorded run.
 fn followed_gain_against_the_rule(min_return: Option<f64>) {
     let (gain, safety) = (0.01, 1.5);
-    let mut settings = settings(gain).follow_drift(safety);
-    if let Some(t) = min_return {
-        settings = settings.graze(t);
-    }
+    let settings = follow(settings(gain), safety, min_return);
     let ret = min_return.unwrap_or(f64::INFINITY);
     let mut trace = Trace::new();
     let mut sim = Simulator::new(Tracking::default(), settings).unwrap();
@@ -111,8 +109,7 @@ fn the_followed_gain_keeps_the_bound_by_an_independent_fine_integration() {
     // integrated independently, stays in the layer.
     let gain = 0.001;
     for graze in [None, Some(0.05)] {
-        let mut settings = settings(gain).follow_drift(1.0);
-        settings.graze = graze;
+        let settings = follow(settings(gain), 1.0, graze);
         let mut trace = Trace::new();
         let summary = Simulator::new(Tracking::default(), settings)
             .unwrap()
@@ -139,30 +136,34 @@ fn the_followed_gain_keeps_the_bound_by_an_independent_fine_integration() {
 }
 
 #[test]
-fn a_safety_factor_that_is_not_positive_and_finite_or_a_run_without_rates_is_refused() {
+fn a_safety_factor_that_is_not_positive_and_finite_is_refused() {
     let refused = |label: &str, s, what: &str| assert_refused(label, s, "follow_drift", what);
     for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
         refused(
             &bad.to_string(),
-            settings(0.2).follow_drift(bad),
+            follow(settings(0.2), bad, None),
             "finite and > 0",
         );
     }
-    let spsm = settings(0.2).policy(Policy::Spsm).follow_drift(1.0);
-    refused("spsm", spsm, "located crossings");
-    let step_end = settings(0.2).crossing(Crossing::StepEnd).follow_drift(1.0);
-    refused("step end", step_end, "located crossings");
 }
 
 #[test]
-fn a_grazing_return_that_is_not_positive_and_finite_or_without_followed_gains_is_refused() {
+fn a_grazing_return_that_is_not_positive_and_finite_is_refused() {
     let refused = |label: &str, s, what: &str| assert_refused(label, s, "graze", what);
     for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
         refused(
             &bad.to_string(),
-            settings(0.2).follow_drift(1.0).graze(bad),
+            follow(settings(0.2), 1.0, Some(bad)),
             "finite and > 0",
         );
     }
-    refused("alone", settings(0.2).graze(0.01), "follow_drift");
+}
+
+/// The settings with gains that follow the drift (and graze with `min_return`).
+fn follow(settings: Settings, safety: f64, graze: Option<f64>) -> Settings {
+    settings.law(Dbsmc::default().gains(GainRule::FollowDrift {
+        safety,
+        graze,
+        raise: None,
+    }))
 }

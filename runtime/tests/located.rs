@@ -6,7 +6,10 @@ mod common;
 
 use common::pendulum::Pendulum;
 use common::{Chain, Tracking, independent_max_s, pendulum_settings as pendulum};
-use dae_runtime::{AlphaChoice, Integrator, Model, Settings, Simulator, Summary, Trace};
+use dae_runtime::settings::StepEnd;
+use dae_runtime::{
+    Model, Settings, Simulator, Summary, Trace, settings::AlphaChoice, settings::Integrator,
+};
 use proptest::prelude::*;
 
 /// A run with every step recorded; panics on failure.
@@ -21,7 +24,7 @@ fn traced<M: Model>(model: &M, settings: Settings) -> (Summary, Trace) {
 
 /// The bound after reaching, by the summary and by the independent fine integration.
 fn assert_bound<M: Model>(label: &str, model: &M, settings: Settings, sub: usize) -> Summary {
-    let (eps, mu) = (settings.eps.clone(), settings.mu.clone());
+    let (eps, mu) = (settings.layers.eps.clone(), settings.layers.mu.clone());
     let (s, trace) = traced(model, settings);
     let from = s.reaching_time.expect("reached");
     let max = s.max_abs_s.clone().expect("window entered");
@@ -63,8 +66,8 @@ fn chain(h: f64) -> Settings {
 /// The pendulum for 5 s with its gains divided by `divisor` and the exact `alpha`.
 fn weak_pendulum(integrator: Integrator, h: f64, divisor: f64) -> Settings {
     let s = pendulum(h);
-    let gains = s.gains.iter().map(|k| k / divisor).collect();
-    Settings::new(s.eps, s.mu, gains)
+    let gains = s.layers.gains.iter().map(|k| k / divisor).collect();
+    Settings::new(s.layers.eps, s.layers.mu, gains)
         .alpha(AlphaChoice::Exact)
         .integrator(integrator)
         .step(h)
@@ -89,7 +92,7 @@ proptest! {
             }
             _ => {
                 let s = pendulum(1e-4);
-                let h = factor * rule(0.2, &s.gains);
+                let h = factor * rule(0.2, &s.layers.gains);
                 assert_bound(&format!("pendulum h = {h}"), &Pendulum::default(), pendulum(h), 20);
             }
         }
@@ -128,7 +131,11 @@ fn the_bound_holds_with_the_error_controlled_steps() {
 /// root-finding tolerance: `|s|` is within `tol eps` of `eps` at the located crossing,
 /// that is within `tol eps / |s'|` in time.
 fn assert_crossing_times<M: Model>(label: &str, model: &M, settings: Settings) {
-    let (eps, mu, tol) = (settings.eps[0], settings.mu[0], dae_runtime::CROSSING_TOL);
+    let (eps, mu, tol) = (
+        settings.layers.eps[0],
+        settings.layers.mu[0],
+        dae_runtime::settings::CROSSING_TOL,
+    );
     let (s, trace) = traced(model, settings);
     let from = s.reaching_time.unwrap();
     let ups: Vec<f64> = trace
@@ -216,10 +223,7 @@ fn the_step_end_rule_overshoots_where_located_crossings_do_not() {
     // The same large step with the thesis's rule: the layer is left by most of a step's
     // motion, and the summary says so.
     let h = 30.0 * rule(1e-3, &[0.2]);
-    let (s, _) = traced(
-        &Tracking::default(),
-        tracking(h).crossing(dae_runtime::Crossing::StepEnd),
-    );
+    let (s, _) = traced(&Tracking::default(), tracking(h).law(StepEnd::default()));
     let loss = s.bound_loss.clone().expect("the bound is lost");
     assert!(loss.worst_ratio > 1.5, "{loss:?}");
     assert_eq!(loss.first_constraint, "track");

@@ -9,7 +9,10 @@ mod common;
 
 use common::pendulum::Pendulum;
 use common::pendulum_settings as pendulum;
-use dae_runtime::{AlphaChoice, Integrator, Model, Settings, Simulator, Summary, Trace};
+use dae_runtime::settings::{Dbsmc, GainRule, Hold};
+use dae_runtime::{
+    Model, Settings, Simulator, Summary, Trace, settings::AlphaChoice, settings::Integrator,
+};
 
 fn run<M: Model>(model: M, settings: Settings) -> (Summary, Trace) {
     let mut trace = Trace::new();
@@ -27,7 +30,7 @@ fn a_model_that_gives_omegas_rate_runs_to_the_bit_with_fewer_jacobians() {
         (
             "RK4 ramped, exact alpha",
             pendulum(0.02)
-                .ramp_against_drift()
+                .law(Dbsmc::default().hold(Hold::RampAgainstDrift))
                 .alpha(AlphaChoice::Exact),
         ),
         (
@@ -35,14 +38,18 @@ fn a_model_that_gives_omegas_rate_runs_to_the_bit_with_fewer_jacobians() {
             pendulum(0.02)
                 .integrator(Integrator::DormandPrince)
                 .max_step(0.02)
-                .ramp_against_drift(),
+                .law(Dbsmc::default().hold(Hold::RampAgainstDrift)),
         ),
         (
             "Dormand-Prince, gains following the drift",
             pendulum(0.02)
                 .integrator(Integrator::DormandPrince)
                 .max_step(0.02)
-                .follow_drift(1.0),
+                .law(Dbsmc::default().gains(GainRule::FollowDrift {
+                    safety: 1.0,
+                    graze: None,
+                    raise: None,
+                })),
         ),
     ];
     let rated = Pendulum {

@@ -3,21 +3,22 @@
 mod common;
 
 use common::pendulum::Pendulum;
+use dae_runtime::settings::{Dbsmc, Update};
 use dae_runtime::{
-    AlphaChoice, Model, NoTrace, Policy, Reaching, Settings, Simulator, Summary, Trace,
+    Model, Settings, Simulator, Summary, Trace, settings::AlphaChoice, settings::Reaching,
+    trace::NoTrace,
 };
 
 const MU: [f64; 2] = [0.076, 0.066];
 const BETA: [f64; 2] = [1.3e3, 2.3e3];
 const EPS: f64 = 0.2;
 
-fn scene(policy: Policy, reaching: Reaching, t_end: f64) -> Settings {
+fn scene(update: Update, t_end: f64) -> Settings {
     // Relaxed gains k_i = mu_i^2 |beta_i| (docs/method.md section 5).
     let gains = (0..2).map(|i| MU[i] * MU[i] * BETA[i]).collect();
     Settings::new(vec![EPS; 2], MU.to_vec(), gains)
         .step(1e-4)
-        .policy(policy)
-        .reaching(reaching)
+        .law(Dbsmc::default().update(update))
         .t_end(t_end)
         .settle(1.0)
         .reaching_limit(1.0)
@@ -106,7 +107,7 @@ fn w_derivatives_match_finite_differences_along_the_flow() {
 
 #[test]
 fn monitored_scene_keeps_s_within_the_layer_after_reaching() {
-    let s = run(scene(Policy::Monitor, Reaching::AttractingSurfaces, 4.0));
+    let s = run(scene(Update::default(), 4.0));
     let reach = s.reaching_time.expect("reaching phase finished");
     assert!(reach < 1.0, "reaching took {reach}");
     for i in 0..2 {
@@ -135,7 +136,7 @@ fn monitored_scene_keeps_s_within_the_layer_after_reaching() {
 
 #[test]
 fn monitored_scene_keeps_s_within_the_layer_from_the_reaching_time_on() {
-    let s = run(scene(Policy::Monitor, Reaching::AttractingSurfaces, 4.0).settle(0.0));
+    let s = run(scene(Update::default(), 4.0).settle(0.0));
     assert_eq!(s.stats_from, s.reaching_time);
     for i in 0..2 {
         assert!(
@@ -149,8 +150,7 @@ fn monitored_scene_keeps_s_within_the_layer_from_the_reaching_time_on() {
 
 #[test]
 fn exact_alpha_keeps_the_layer_without_robustness_violations() {
-    let s =
-        run(scene(Policy::Monitor, Reaching::AttractingSurfaces, 4.0).alpha(AlphaChoice::Exact));
+    let s = run(scene(Update::default(), 4.0).alpha(AlphaChoice::Exact));
     assert_eq!(s.robustness_violations, Some(0));
     for i in 0..2 {
         assert!(
@@ -166,17 +166,14 @@ fn exact_alpha_keeps_the_layer_without_robustness_violations() {
 fn robustness_violations_are_counted_per_update_and_constraint() {
     // A crossing margin above both gains makes every (update, constraint) pair in the
     // window a violation, whatever beta is.
-    let all = run(
-        scene(Policy::Fixed(0.005), Reaching::AttractingSurfaces, 2.0)
-            .crossing_margin(vec![100.0; 2]),
-    );
+    let all = run(scene(Update::Fixed { period: 0.005 }, 2.0).crossing_margin(vec![100.0; 2]));
     // Window [1, 2]: updates at 1.000, 1.005, ..., 2.000.
     assert_eq!(all.robustness_violations, Some(2 * 201));
     // Independent count: the margin does not change the trajectory, so record it once,
     // evaluate gamma_i = mu_i^2 |beta_i| at every update in the window from the recorded
     // states, and choose margins that put the threshold k_i - k_i^c between the gammas.
     let p = Pendulum::default();
-    let settings = scene(Policy::Fixed(0.005), Reaching::AttractingSurfaces, 2.0);
+    let settings = scene(Update::Fixed { period: 0.005 }, 2.0);
     let mut trace = Trace::new();
     let base = Simulator::new(&p, settings.clone())
         .unwrap()
@@ -199,7 +196,7 @@ fn robustness_violations_are_counted_per_update_and_constraint() {
         sorted.sort_by(f64::total_cmp);
         let q = sorted.len() / 3;
         let threshold = 0.5 * (sorted[q] + sorted[q + 1]);
-        margins[i] = settings.gains[i] - threshold;
+        margins[i] = settings.layers.gains[i] - threshold;
         expected += gammas[i].iter().filter(|&&g| g >= threshold).count() as u64;
     }
     let counted = run(settings.crossing_margin(margins));
@@ -209,11 +206,7 @@ fn robustness_violations_are_counted_per_update_and_constraint() {
 
 #[test]
 fn fixed_period_scene_stays_close_to_the_surfaces() {
-    let s = run(scene(
-        Policy::Fixed(0.005),
-        Reaching::AttractingSurfaces,
-        4.0,
-    ));
+    let s = run(scene(Update::Fixed { period: 0.005 }, 4.0));
     assert!(
         s.max_abs_s.as_ref().unwrap()[0] <= 0.06,
         "|s1| = {}",
@@ -230,7 +223,12 @@ fn fixed_period_scene_stays_close_to_the_surfaces() {
 
 #[test]
 fn contracting_layers_reach_and_then_keep_the_layer() {
-    let s = run(scene(Policy::Monitor, Reaching::ContractingLayers, 4.0));
+    let s = run(scene(
+        Update::Monitor {
+            reaching: Reaching::ContractingLayers,
+        },
+        4.0,
+    ));
     assert!(s.reaching_time.unwrap() < 1.0);
     assert!(
         s.reaching_updates >= 2,

@@ -4,7 +4,7 @@
 mod common;
 
 use common::{Offset, Oscillator, Tracking};
-use dae_runtime::{Integrator, NoTrace, Settings, SimError, Simulator, Trace};
+use dae_runtime::{Settings, SimError, Simulator, Trace, settings::Integrator, trace::NoTrace};
 
 fn settings() -> Settings {
     Settings::new(vec![1e-3], vec![0.05], vec![0.2])

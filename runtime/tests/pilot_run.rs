@@ -5,9 +5,11 @@ mod common;
 
 use common::Tracking;
 use common::pendulum::Pendulum;
+use dae_runtime::settings::{Law, StepEnd};
 use dae_runtime::{
-    AutoDesignOptions, ConstraintSpec, Crossing, GainChoice, LayerBound, MuChoice, PilotRunError,
-    Policy, Settings, Simulator, Trace, auto_design, pilot_run, t_min,
+    Settings, Simulator, Trace, design::AutoDesignOptions, design::ConstraintSpec,
+    design::GainChoice, design::LayerBound, design::MuChoice, design::PilotRunError,
+    design::auto_design, design::pilot_run, design::t_min,
 };
 
 /// Tracking (`x' = z - x`, `0 = x - sin t`): `beta = -(z - x) + sin t` and, with `v`
@@ -64,7 +66,7 @@ fn tracking_pilot_matches_closed_form_beta_and_drift() {
 
 #[test]
 fn spsm_cannot_be_a_pilot() {
-    let settings = Settings::new(vec![1e-3], vec![0.05], vec![0.1]).policy(Policy::Spsm);
+    let settings = Settings::new(vec![1e-3], vec![0.05], vec![0.1]).law(Law::Spsm);
     assert!(matches!(
         pilot_run(&Tracking::default(), &settings),
         Err(PilotRunError::Mismatch(_))
@@ -81,7 +83,7 @@ fn auto_design_of_the_pendulum_is_of_the_thesis_order() {
     // The thesis's rule: crossings noticed at the ends of RK4 steps of 1e-4 s.
     let pilot = Settings::new(vec![0.2; 2], vec![0.1; 2], vec![40.0; 2])
         .step(1e-4)
-        .crossing(Crossing::StepEnd)
+        .law(StepEnd::default())
         .t_end(10.0)
         .settle(1.0);
     let opts = AutoDesignOptions {
@@ -150,8 +152,9 @@ fn auto_design_at_given_mu_designs_only_the_gains() {
     assert_eq!(a.passes[0].gains, [0.1]);
     assert_eq!(a.passes[1].mu, [0.07]);
     assert_eq!(a.passes[1].gains, [a.passes[0].design.constraints[0].k]);
-    let largest =
-        |f: &dyn Fn(&dae_runtime::DesignPass) -> f64| a.passes.iter().map(f).fold(0.0, f64::max);
+    let largest = |f: &dyn Fn(&dae_runtime::design::DesignPass) -> f64| {
+        a.passes.iter().map(f).fold(0.0, f64::max)
+    };
     let spec = ConstraintSpec {
         r: 2,
         eps: 2e-3,
@@ -179,7 +182,7 @@ fn auto_design_at_given_mu_designs_only_the_gains() {
 /// the loss with the error naming where, instead of crawling on outside its layer.
 #[test]
 fn a_pilot_that_leaves_its_layer_stops_there_with_the_loss() {
-    use dae_runtime::Integrator;
+    use dae_runtime::settings::Integrator;
     let model = Tracking::default();
     let weak = 1e-4;
     let pilot = Settings::new(vec![1e-3], vec![0.05], vec![weak])

@@ -13,7 +13,7 @@
 mod common;
 
 use common::pendulum::Pendulum;
-use dae_runtime::{Integrator, Model, Settings, Simulator, Trace, w_offsets};
+use dae_runtime::{Model, Settings, Simulator, Trace, model::w_offsets, settings::Integrator};
 
 fn check(integrator: Integrator) {
     let (mu, beta) = ([0.076, 0.066], [1.3e3, 2.3e3]);

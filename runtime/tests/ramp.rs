@@ -6,10 +6,10 @@
 mod common;
 
 use common::{
-    TRACKING_EPS as EPS, TRACKING_MU as MU, Tracking, assert_refused, tracking_max_s,
-    tracking_settings as settings,
+    TRACKING_EPS as EPS, TRACKING_MU as MU, Tracking, tracking_max_s, tracking_settings as settings,
 };
-use dae_runtime::{Crossing, Integrator, Policy, Settings, Simulator, Trace};
+use dae_runtime::settings::{Dbsmc, Hold};
+use dae_runtime::{Settings, Simulator, Trace, settings::Integrator};
 
 /// `s''` of the tracking model with `v` held, from its equations: `s' = mu (v - (z - x)
 /// + sin t) + (z - x - cos t)` along `x' = z - x`, `z' = v`.
@@ -53,7 +53,9 @@ fn ramps(trace: &Trace) -> Vec<(usize, f64, f64)> {
 #[test]
 fn the_ramp_cancels_the_drift_that_the_closed_form_gives_at_each_update() {
     for integrator in [Integrator::Rk4, Integrator::DormandPrince] {
-        let (trace, summary) = run(settings(0.05).integrator(integrator).ramp_against_drift());
+        let (trace, summary) = run(settings(0.05)
+            .integrator(integrator)
+            .law(Dbsmc::default().hold(Hold::RampAgainstDrift)));
         assert!(summary.bound_loss.is_none(), "{integrator:?}");
         let t = trace.times();
         let found = ramps(&trace);
@@ -80,7 +82,7 @@ fn the_ramp_cancels_the_drift_that_the_closed_form_gives_at_each_update() {
 
 #[test]
 fn the_ramped_run_keeps_the_bound_by_an_independent_fine_integration() {
-    let (trace, summary) = run(settings(0.05).ramp_against_drift());
+    let (trace, summary) = run(settings(0.05).law(Dbsmc::default().hold(Hold::RampAgainstDrift)));
     assert!(summary.bound_loss.is_none(), "{:?}", summary.bound_loss);
     let from = summary.reaching_time.expect("reached");
     let t = trace.times();
@@ -106,7 +108,7 @@ fn the_ramped_run_keeps_the_bound_by_an_independent_fine_integration() {
 #[test]
 fn the_ramp_lengthens_the_control_intervals_where_the_drift_changes_slowly() {
     let held = run(settings(0.05)).1;
-    let ramped = run(settings(0.05).ramp_against_drift()).1;
+    let ramped = run(settings(0.05).law(Dbsmc::default().hold(Hold::RampAgainstDrift))).1;
     assert!(held.bound_loss.is_none() && ramped.bound_loss.is_none());
     // Measured: 53 against 100.
     assert!(
@@ -115,22 +117,4 @@ fn the_ramp_lengthens_the_control_intervals_where_the_drift_changes_slowly() {
         ramped.updates,
         held.updates
     );
-}
-
-#[test]
-fn a_ramp_without_rates_at_the_step_ends_is_refused() {
-    for (label, s) in [
-        (
-            "spsm",
-            settings(0.2).policy(Policy::Spsm).ramp_against_drift(),
-        ),
-        (
-            "step end",
-            settings(0.2)
-                .crossing(Crossing::StepEnd)
-                .ramp_against_drift(),
-        ),
-    ] {
-        assert_refused(label, s, "ramp", "located crossings");
-    }
 }

@@ -5,7 +5,13 @@
 mod common;
 
 use common::pendulum::Pendulum;
-use dae_runtime::{AlphaChoice, Integrator, Model, NoTrace, Settings, SimError, Simulator};
+use dae_runtime::settings::{Dbsmc, GainRule};
+use std::sync::LazyLock;
+
+use dae_runtime::{
+    Model, ModelInfo, Settings, SimError, Simulator, settings::AlphaChoice, settings::Integrator,
+    trace::NoTrace,
+};
 
 /// `s` of `model` at the simulator's present point, evaluated apart from it.
 fn s_now<M: Model>(sim: &Simulator<M>) -> Vec<f64> {
@@ -16,7 +22,7 @@ fn s_now<M: Model>(sim: &Simulator<M>) -> Vec<f64> {
         sim.time(),
         sim.state(),
         sim.alg(),
-        &sim.settings().mu,
+        &sim.settings().layers.mu,
         &mut w,
         &mut s,
         &mut ah,
@@ -31,8 +37,11 @@ fn pendulum() -> Settings {
         .integrator(Integrator::DormandPrince)
         .alpha(AlphaChoice::Exact)
         .max_step(0.01)
-        .graze(0.02)
-        .follow_drift(1.0)
+        .law(Dbsmc::default().gains(GainRule::FollowDrift {
+            safety: 1.0,
+            graze: Some(0.02),
+            raise: None,
+        }))
         .t_end(4.0)
 }
 
@@ -51,7 +60,7 @@ fn a_rescaled_mu_keeps_s_where_it_was_scales_the_design_and_keeps_the_layers() {
                 "a shrinking mu was refused at t = {}",
                 sim.time()
             );
-            assert_eq!(sim.settings().mu, before.mu);
+            assert_eq!(sim.settings().layers.mu, before.layers.mu);
             continue;
         }
         changes += 1;
@@ -59,18 +68,22 @@ fn a_rescaled_mu_keeps_s_where_it_was_scales_the_design_and_keeps_the_layers() {
         assert_eq!(sim.state(), &x[..]);
         for (i, (a, b)) in s_now(&sim).iter().zip(&s).enumerate() {
             assert!(
-                (a - b).abs() <= 1e-9 * before.eps[i],
+                (a - b).abs() <= 1e-9 * before.layers.eps[i],
                 "s[{i}] {b} -> {a} at t = {} (factor {factor})",
                 sim.time()
             );
         }
         let set = sim.settings();
         for i in 0..2 {
-            assert_eq!(set.mu[i], before.mu[i] * factor);
-            assert_eq!(set.gains[i], before.gains[i] / factor);
+            assert_eq!(set.layers.mu[i], before.layers.mu[i] * factor);
+            assert_eq!(set.layers.gains[i], before.layers.gains[i] / factor);
         }
-        assert_eq!(set.max_step, before.max_step * factor);
-        assert_eq!(set.graze, before.graze.map(|g| g * factor));
+        assert_eq!(
+            set.integration.max_step,
+            before.integration.max_step * factor
+        );
+        let graze = |s: &Settings| s.law.follows_drift().and_then(|(_, g)| g);
+        assert_eq!(graze(set), graze(&before).map(|g| g * factor));
     }
     assert!(changes >= 3, "only {changes} changes made");
     sim.advance_to(4.0, &mut NoTrace).unwrap();
@@ -90,32 +103,10 @@ fn a_rescaled_mu_keeps_s_where_it_was_scales_the_design_and_keeps_the_layers() {
 struct Slider;
 
 impl Model for Slider {
-    fn name(&self) -> &str {
-        "slider"
-    }
-    fn n_states(&self) -> usize {
-        2
-    }
-    fn n_constraints(&self) -> usize {
-        1
-    }
-    fn n_params(&self) -> usize {
-        0
-    }
-    fn state_name(&self, i: usize) -> &str {
-        ["x", "v"][i]
-    }
-    fn alg_name(&self, _: usize) -> &str {
-        "z"
-    }
-    fn constraint_name(&self, _: usize) -> &str {
-        "rail"
-    }
-    fn param_name(&self, _: usize) -> &str {
-        ""
-    }
-    fn indices(&self) -> &[usize] {
-        &[3]
+    fn info(&self) -> &ModelInfo {
+        static INFO: LazyLock<ModelInfo> =
+            LazyLock::new(|| ModelInfo::new("slider", &["x", "v"], &["z"], &["rail"], &[], &[3]));
+        &INFO
     }
     fn param(&self, _: usize) -> f64 {
         f64::NAN
@@ -173,10 +164,10 @@ fn a_growing_mu_is_refused_where_the_new_filter_would_leave_the_layer() {
     assert_eq!(sim.state(), &[0.0, 0.05]);
     let s = s_now(&sim)[0];
     assert!(!sim.rescale_mu(4.0).unwrap());
-    assert_eq!(sim.settings().mu, vec![0.1]);
+    assert_eq!(sim.settings().layers.mu, vec![0.1]);
     assert_eq!(s_now(&sim)[0], s, "a refused change moved nothing");
     assert!(sim.rescale_mu(1.5).unwrap());
-    assert!((sim.settings().mu[0] - 0.15).abs() < 1e-15);
+    assert!((sim.settings().layers.mu[0] - 0.15).abs() < 1e-15);
     assert!((s_now(&sim)[0] - s).abs() < 1e-15);
     assert!(sim.rescale_mu(0.1).unwrap());
 }
@@ -204,8 +195,12 @@ fn a_factor_that_is_not_a_positive_number_or_a_mu_that_underflows_is_an_error() 
         }
         other => panic!("{other:?}"),
     }
-    assert_eq!(sim.settings().mu, vec![0.076, 0.066], "nothing changed");
+    assert_eq!(
+        sim.settings().layers.mu,
+        vec![0.076, 0.066],
+        "nothing changed"
+    );
     // Before the start it changes the settings the run starts with.
     assert!(sim.rescale_mu(0.5).unwrap());
-    assert_eq!(sim.settings().mu, vec![0.038, 0.033]);
+    assert_eq!(sim.settings().layers.mu, vec![0.038, 0.033]);
 }

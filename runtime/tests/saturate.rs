@@ -8,6 +8,7 @@ mod common;
 use common::{
     TRACKING_EPS as EPS, TRACKING_MU as MU, Tracking, tracking_max_s, tracking_settings as settings,
 };
+use dae_runtime::settings::{Dbsmc, InLayer};
 use dae_runtime::{Settings, Simulator, Trace};
 
 const GAIN: f64 = 0.05;
@@ -50,7 +51,8 @@ fn rates_at_forced_updates(settings: Settings) -> Vec<(f64, f64)> {
 
 #[test]
 fn saturated_inside_the_layer_the_rate_is_the_gain_times_s_over_eps() {
-    let sat = rates_at_forced_updates(settings(GAIN).saturate_in_layer());
+    let sat =
+        rates_at_forced_updates(settings(GAIN).law(Dbsmc::default().in_layer(InLayer::Saturate)));
     let sgn = rates_at_forced_updates(settings(GAIN));
     let inside = |r: &[(f64, f64)]| r.iter().filter(|(s, _)| s.abs() < 0.9 * EPS).count();
     assert!(inside(&sat) >= 5, "{sat:?}");
@@ -75,10 +77,13 @@ fn saturated_inside_the_layer_the_rate_is_the_gain_times_s_over_eps() {
 #[test]
 fn the_saturated_run_keeps_the_layer_by_an_independent_fine_integration() {
     let mut trace = Trace::new();
-    let summary = Simulator::new(Tracking::default(), settings(GAIN).saturate_in_layer())
-        .unwrap()
-        .run(&mut trace)
-        .unwrap();
+    let summary = Simulator::new(
+        Tracking::default(),
+        settings(GAIN).law(Dbsmc::default().in_layer(InLayer::Saturate)),
+    )
+    .unwrap()
+    .run(&mut trace)
+    .unwrap();
     assert!(summary.bound_loss.is_none(), "{:?}", summary.bound_loss);
     let from = summary.reaching_time.expect("reached");
     let (t, updates) = (trace.times(), trace.update_times());

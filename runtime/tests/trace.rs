@@ -4,8 +4,10 @@
 mod common;
 
 use common::{Chain, Tracking};
+use dae_runtime::settings::StepEnd;
 use dae_runtime::{
-    Crossing, CsvSink, Decimate, Integrator, Settings, Simulator, Summary, Tee, Trace,
+    Settings, Simulator, Summary, Trace, settings::Integrator, trace::CsvSink, trace::Decimate,
+    trace::Tee,
 };
 
 /// Fixed steps on a grid with the step-end rule: these tests are about the sinks and the
@@ -13,7 +15,7 @@ use dae_runtime::{
 fn settings() -> Settings {
     Settings::new(vec![1e-3], vec![0.05], vec![0.2])
         .step(1e-3)
-        .crossing(Crossing::StepEnd)
+        .law(StepEnd::default())
         .t_end(1.0)
 }
 
@@ -40,7 +42,7 @@ fn decimation_by_steps_keeps_every_kth_sample_and_all_updates() {
 /// as two separate runs with one sink each. An absent (`None`) side records nothing.
 #[test]
 fn tee_feeds_each_sink_its_own_decimation() {
-    let run = |sink: &mut dyn dae_runtime::Sink| {
+    let run = |sink: &mut dyn dae_runtime::trace::Sink| {
         Simulator::new(&Tracking::default(), settings().t_end(0.995))
             .unwrap()
             .run(sink)
@@ -92,7 +94,7 @@ fn csv_stream_matches_the_in_memory_trace() {
         &Chain,
         Settings::new(vec![1e-4], vec![0.2], vec![0.01])
             .step(1e-3)
-            .crossing(Crossing::StepEnd)
+            .law(StepEnd::default())
             .t_end(0.2),
     )
     .unwrap()
@@ -103,7 +105,7 @@ fn csv_stream_matches_the_in_memory_trace() {
         &Chain,
         Settings::new(vec![1e-4], vec![0.2], vec![0.01])
             .step(1e-3)
-            .crossing(Crossing::StepEnd)
+            .law(StepEnd::default())
             .t_end(0.2),
     )
     .unwrap()

@@ -5,16 +5,17 @@
 mod common;
 
 use common::pendulum::Pendulum;
-use dae_runtime::{CROSSING_TOL, Policy, Settings, Simulator, Summary, Trace};
+use dae_runtime::settings::{Dbsmc, Law, Update};
+use dae_runtime::{Settings, Simulator, Summary, Trace, settings::CROSSING_TOL};
 
 /// The double pendulum with the gains of `located.rs` (`mu^2 |beta|`), error-controlled
 /// steps, every step recorded.
-fn run(policy: Policy) -> (Summary, Trace, Vec<f64>) {
+fn run(policy: Law) -> (Summary, Trace, Vec<f64>) {
     let (mu, beta) = ([0.076, 0.066], [1.3e3, 2.3e3]);
     let gains = (0..2).map(|i| mu[i] * mu[i] * beta[i]).collect();
     let eps = vec![0.2; 2];
     let settings = Settings::new(eps.clone(), mu.to_vec(), gains)
-        .policy(policy)
+        .law(policy)
         .t_end(3.0);
     let mut trace = Trace::new();
     let summary = Simulator::new(Pendulum::default(), settings)
@@ -26,7 +27,7 @@ fn run(policy: Policy) -> (Summary, Trace, Vec<f64>) {
 
 #[test]
 fn each_update_is_counted_for_the_rows_on_their_boundary() {
-    let (summary, trace, eps) = run(Policy::Monitor);
+    let (summary, trace, eps) = run(Law::default());
     let reached = summary.reaching_time.expect("reached");
     let counted = &summary.triggered_updates;
     assert_eq!(counted.len(), 2);
@@ -71,7 +72,9 @@ fn each_update_is_counted_for_the_rows_on_their_boundary() {
 
 #[test]
 fn updates_of_a_fixed_period_are_asked_for_by_none() {
-    let (summary, _, _) = run(Policy::Fixed(0.005));
+    let (summary, _, _) = run(Law::from(
+        Dbsmc::default().update(Update::Fixed { period: 0.005 }),
+    ));
     assert!(summary.updates > 100, "{} updates", summary.updates);
     assert_eq!(summary.triggered_updates, vec![0, 0]);
 }

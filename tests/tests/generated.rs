@@ -7,7 +7,7 @@
 //!   derivative of `Omega` (the last w-derivative of each constraint) in `z`, and `beta`
 //!   the derivative of `Omega` along `(t + d, x + d f)` with `z` fixed.
 
-use dae_runtime::{Model, w_offsets};
+use dae_runtime::{Model, model::w_offsets};
 use dae_tests::{Rng, close, scalar_example_sources};
 
 mod generated {

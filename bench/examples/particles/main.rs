@@ -47,15 +47,22 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use dae_bench::{
-    Capture, FrameTied, MethodSpec, ParticleRecord, ParticleScene, PilotBounds,
-    RELAXED_STEP_PER_MU, STRAIN_LEVELS, SceneDraws, bisect_least_holding, c1, c2, c3_with_slack,
-    c4_with_slack, capture_frame, cheapest, cheapest_table, drive_scene, frame_tied_draws,
-    heavy_chain_choices, holding_brackets, index_one, kept_both, parallel_map, particle_pilot,
-    ratio_chart, run_particle_method, run_series, scene_groups, scene_title, stability_table,
-    strain_chart, timed_repeatedly, write_particles_csv, write_pictures,
+    particle_bench::Capture, particle_bench::FrameTied, particle_bench::MethodSpec,
+    particle_bench::ParticleRecord, particle_bench::ParticleScene,
+    particle_bench::RELAXED_STEP_PER_MU, particle_bench::STRAIN_LEVELS, particle_bench::SceneDraws,
+    particle_bench::bisect_least_holding, particle_bench::c1, particle_bench::c2,
+    particle_bench::c3_with_slack, particle_bench::c4_with_slack, particle_bench::capture_frame,
+    particle_bench::cheapest, particle_bench::cheapest_table, particle_bench::drive_scene,
+    particle_bench::frame_tied_draws, particle_bench::heavy_chain_choices,
+    particle_bench::holding_brackets, particle_bench::index_one, particle_bench::kept_both,
+    particle_bench::parallel_map, particle_bench::particle_pilot, particle_bench::ratio_chart,
+    particle_bench::run_particle_method, particle_bench::run_series, particle_bench::scene_groups,
+    particle_bench::scene_title, particle_bench::stability_table, particle_bench::strain_chart,
+    particle_bench::timed_repeatedly, particle_bench::write_particles_csv,
+    particle_bench::write_pictures, particle_methods::PilotBounds,
 };
 use dae_particles::{FAR_EDGE_SLACK, GridPins};
-use dae_runtime::{Integrator, SolverChoice};
+use dae_runtime::{settings::Integrator, solve::SolverChoice};
 
 /// The least budget of a run on the small C4 (W = 8), whose point is the grab at 1 s
 /// and the release at 2.5 s.
@@ -92,7 +99,7 @@ fn options() -> Result<Options, String> {
     let mut o = Options {
         large: false,
         studies: false,
-        jobs: dae_bench::default_workers(),
+        jobs: dae_bench::particle_bench::default_workers(),
         budget: Duration::from_secs(6),
         only: None,
         method: None,
@@ -112,7 +119,7 @@ fn options() -> Result<Options, String> {
                     .map_err(|_| format!("--budget {v}: not a number"))?;
                 o.budget = Duration::from_secs_f64(s);
             }
-            "--jobs" => o.jobs = dae_bench::parse_workers(args.next().as_deref())?,
+            "--jobs" => o.jobs = dae_bench::particle_bench::parse_workers(args.next().as_deref())?,
             "--only" => o.only = Some(args.next().ok_or("--only needs a text")?),
             "--method" => o.method = Some(args.next().ok_or("--method needs a text")?),
             "--slack" => {
@@ -356,7 +363,7 @@ fn needs_pilot(spec: &MethodSpec) -> bool {
 /// with them on the chains; the cheapest-setting table on every scene): the grid of k by
 /// 2x (4x on the cloths, the hair and the grabs) can put the least holding k up to 2x (4x)
 /// too high, so between the grid's last failing and first holding k of each level
-/// bisection runs more settings (`dae_bench::bisect_least_holding`, to within a
+/// bisection runs more settings (`dae_bench::particle_bench::bisect_least_holding`, to within a
 /// sixteenth). `first` is the series' first setting (its method); `runs` its records;
 /// `levels` the worst strains to bisect for (the size sweep asks for 1e-2 only).
 fn bisect_small_steps(
@@ -590,7 +597,7 @@ fn main() {
     );
     md += &cheapest_table(&records, &methods);
     md += "\n## DBSMC runs\n\n";
-    md += &dae_bench::dbsmc_runs_table(&records);
+    md += &dae_bench::particle_bench::dbsmc_runs_table(&records);
     md += "\n## Stability\n\n";
     md += &stability_table(&records);
     // Charts.
@@ -636,7 +643,7 @@ fn main() {
         clock.elapsed().as_secs_f64(),
         draws.len()
     );
-    md += &dae_bench::targets_section(&records, &draws);
+    md += &dae_bench::particle_bench::targets_section(&records, &draws);
     md += "\n## Notes\n\n";
     for n in &notes {
         md += &format!("- {n}\n");

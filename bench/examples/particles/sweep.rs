@@ -4,11 +4,14 @@ use std::path::Path;
 use std::time::Duration;
 
 use dae_bench::{
-    MethodSpec, ParticleRecord, ParticleScene, c1, c3_with_slack, cheapest, parallel_map,
-    particle_pilot, run_particle_method, scene_title, timed_repeatedly,
+    particle_bench::MethodSpec, particle_bench::ParticleRecord, particle_bench::ParticleScene,
+    particle_bench::c1, particle_bench::c3_with_slack, particle_bench::cheapest,
+    particle_bench::parallel_map, particle_bench::particle_pilot,
+    particle_bench::run_particle_method, particle_bench::scene_title,
+    particle_bench::timed_repeatedly,
 };
 use dae_particles::GridPins;
-use dae_runtime::{Integrator, SolverChoice};
+use dae_runtime::{settings::Integrator, solve::SolverChoice};
 
 use super::{Options, bisect_small_steps, print};
 
@@ -111,7 +114,7 @@ pub fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Option
                 // and a lost layer on a big cloth can take minutes per frame.
                 if let Some(prev) = runs
                     .last()
-                    .filter(|r| !r.complete() || r.counters.layer_lost_at.is_some())
+                    .filter(|r| !r.complete() || r.counters.layer_lost_at().is_some())
                 {
                     println!(
                         "  {family}: {:22} {:16} size {}: not run (left its {} at {} links)",
@@ -138,7 +141,7 @@ pub fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Option
                 .filter(|r| r.complete())
                 .map(|r| (r.size as f64, r.ms_mean))
                 .collect();
-            let exp = dae_bench::fitted_exponent(&points);
+            let exp = dae_bench::particle_bench::fitted_exponent(&points);
             let col = |f: &dyn Fn(&ParticleRecord) -> String| {
                 runs.iter()
                     .map(f)
@@ -158,14 +161,19 @@ pub fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Option
                     r.status.chars().take(40).collect()
                 }),
                 if is_dbsmc {
-                    col(&|r| format!("{:.0}", r.counters.updates as f64 / r.frames.max(1) as f64))
+                    col(&|r| {
+                        format!(
+                            "{:.0}",
+                            r.counters.updates() as f64 / r.frames.max(1) as f64
+                        )
+                    })
                 } else {
                     "-".into()
                 },
                 if is_dbsmc {
                     col(&|r| {
-                        r.counters.layer_lost_at.map_or("-".into(), |t| {
-                            let ratio = r.counters.layer_worst_ratio.unwrap_or(f64::NAN);
+                        r.counters.layer_lost_at().map_or("-".into(), |t| {
+                            let ratio = r.counters.layer_worst_ratio().unwrap_or(f64::NAN);
                             if ratio < 100.0 {
                                 format!("{t:.3} s (max {ratio:.2} eps)")
                             } else {
@@ -183,7 +191,7 @@ pub fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Option
                 Some(p) => format!("{label} (exponent {p:.2})"),
                 None => label,
             };
-            lines.push(dae_bench::Line { label, points });
+            lines.push(dae_bench::particle_bench::Line { label, points });
             records.extend(runs);
         }
         records.extend(bisect_xpbd(&scenes, records, o));
@@ -207,7 +215,7 @@ pub fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Option
                 .collect();
             // An exponent only where every size holds: a gap would fit other sizes.
             let exp = if points.len() == scenes.len() {
-                dae_bench::fitted_exponent(&points)
+                dae_bench::particle_bench::fitted_exponent(&points)
             } else {
                 None
             };
@@ -224,7 +232,7 @@ pub fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Option
         }
     }
     md += &hold;
-    if let Err(e) = dae_bench::loglog(
+    if let Err(e) = dae_bench::particle_bench::loglog(
         &pictures.join("cost_vs_size.svg"),
         &format!("mean cost per frame against links (first {SWEEP_FRAMES} frames, fixed settings)"),
         "links",

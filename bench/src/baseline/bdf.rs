@@ -9,7 +9,7 @@
 use std::cell::{Cell, RefCell};
 use std::time::Instant;
 
-use dae_runtime::{Initial, Model};
+use dae_runtime::{Model, settings::Initial};
 use diffsol::{NalgebraLU, NalgebraMat, OdeBuilder, OdeSolverMethod, OdeSolverStopReason, Vector};
 
 use super::index1::start;
@@ -147,7 +147,7 @@ pub fn bdf_index1<M: Model + ?Sized>(
         .map_err(|e| fail(e.to_string()))?;
     let mut w = vec![0.0; sum_w(model)];
     let (mut s, mut ah) = (vec![0.0; m], vec![0.0; m]);
-    let offs = dae_runtime::w_offsets(model.indices());
+    let offs = dae_runtime::model::w_offsets(model.indices());
     let mut max_w = vec![0.0f64; m];
     let mut x = vec![0.0; n];
     loop {

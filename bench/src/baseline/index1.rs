@@ -9,7 +9,10 @@
 
 use std::time::Instant;
 
-use dae_runtime::{Initial, LinearSolver, Model, SolveError, Solver, SolverChoice, w_offsets};
+use dae_runtime::{
+    Model, model::w_offsets, settings::Initial, solve::LinearSolver, solve::SolveError,
+    solve::Solver, solve::SolverChoice,
+};
 
 /// A callback `observe(t, x, w)` after each step: time, states, constraint residuals.
 pub type Observer<'a> = &'a mut dyn FnMut(f64, &[f64], &[f64]);

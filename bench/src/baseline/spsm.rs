@@ -1,4 +1,4 @@
-//! Baseline (b): SPSM (the runtime's `Policy::Spsm`) and the search for the largest
+//! Baseline (b): SPSM (the runtime's `Law::Spsm`) and the search for the largest
 //! step a method survives.
 
 use dae_runtime::{Model, Summary};

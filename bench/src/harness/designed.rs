@@ -2,9 +2,10 @@
 //! bounds `|beta_i|` and `M_i`, then per layer `eps` the pure `design` (maximise the
 //! guaranteed period over `mu_i` with relaxed gains `k_i = mu_i^(r-1) |beta_i|`).
 
+use dae_runtime::settings::StepEnd;
 use dae_runtime::{
-    AutoDesignOptions, Crossing, GainChoice, LayerBound, Model, MuSearch, Settings, auto_design,
-    design, pilot_specs,
+    Model, Settings, design::AutoDesignOptions, design::GainChoice, design::LayerBound,
+    design::MuSearch, design::auto_design, design::design, design::pilot_specs,
 };
 
 use super::{DbsmcStep, Method, Scene, step_rule};
@@ -37,7 +38,7 @@ pub fn designed_bounds<M: Model + ?Sized>(
     // dense samples in every interval for the drift bound M.
     let pilot = Settings::new(vec![eps_pilot; m], vec![0.05; m], gains)
         .step(step)
-        .crossing(Crossing::StepEnd)
+        .law(StepEnd::default())
         .t_end(scene.t_end)
         .check_robustness(false)
         .initial(scene.x0.clone(), scene.z0.clone());
@@ -68,7 +69,7 @@ impl DesignedBounds {
     /// `step` says; with `None`, the step rule of before located crossings
     /// (`h = 0.2 eps / max k_i` clamped to `[1e-6, h_max]`, step-end crossings).
     pub fn dbsmc(&self, eps: f64, step: Option<DbsmcStep>, h_max: f64) -> Result<Method, String> {
-        let est = dae_runtime::PilotEstimate {
+        let est = dae_runtime::design::PilotEstimate {
             beta_abs: self.beta_abs.clone(),
             m: self.m.clone(),
             intervals: 0,

@@ -4,9 +4,12 @@
 mod chart;
 mod designed;
 
+use dae_runtime::settings::{Law, StepEnd};
 use std::io::{self, Write};
 
-use dae_runtime::{Crossing, Initial, Integrator, Model, NoTrace, Policy, Settings, Simulator};
+use dae_runtime::{
+    Model, Settings, Simulator, settings::Initial, settings::Integrator, trace::NoTrace,
+};
 
 use crate::baseline::{BaselineError, IndexOneRk4, IndexOneSettings};
 #[cfg(feature = "bdf")]
@@ -29,7 +32,7 @@ pub struct Scene<'a, M: Model + ?Sized> {
     /// Initial states (on the constraint manifold for work-precision).
     pub x0: Vec<f64>,
     /// Initial algebraic unknowns (consistent with `x0`, e.g. from
-    /// [`consistent_alg`](crate::consistent_alg)).
+    /// [`consistent_alg`](crate::baseline::consistent_alg)).
     pub z0: Vec<f64>,
     /// End time (the start is 0).
     pub t_end: f64,
@@ -167,7 +170,7 @@ impl DbsmcStep {
             DbsmcStep::StepEnd(h) => settings
                 .integrator(Integrator::Rk4)
                 .step(h)
-                .crossing(Crossing::StepEnd),
+                .law(StepEnd::default()),
         }
     }
 }
@@ -187,7 +190,7 @@ pub enum Method {
         /// Gain factor over `mu^(r-1) |beta|`.
         gain_factor: f64,
     },
-    /// SPSM (the runtime's `Policy::Spsm`), RK4 with step `step`.
+    /// SPSM (the runtime's `Law::Spsm`), RK4 with step `step`.
     Spsm {
         /// Layer half width.
         eps: f64,
@@ -300,7 +303,7 @@ impl Method {
                 ref mu,
                 ref gains,
                 step,
-            } => (eps, mu.clone(), gains.clone(), step, Policy::Monitor),
+            } => (eps, mu.clone(), gains.clone(), step, Law::default()),
             Method::Dbsmc {
                 eps,
                 mu,
@@ -311,7 +314,7 @@ impl Method {
                 vec![mu; m],
                 scene.gains(mu, gain_factor),
                 step,
-                Policy::Monitor,
+                Law::default(),
             ),
             Method::Spsm {
                 eps,
@@ -323,13 +326,13 @@ impl Method {
                 vec![mu; m],
                 scene.gains(mu, gain_factor),
                 DbsmcStep::StepEnd(step),
-                Policy::Spsm,
+                Law::Spsm,
             ),
             _ => return None,
         };
         let settings = Settings::new(vec![eps; m], mu, gains)
             .t_end(scene.t_end)
-            .policy(policy)
+            .law(policy)
             .check_robustness(false)
             .initial(scene.x0.clone(), scene.z0.clone());
         Some(step.apply(settings))

@@ -110,9 +110,9 @@ pub fn frame_tied_draws(
                     let s = if design == FrameTied::Held {
                         s
                     } else {
-                        s.ramp_against_drift()
+                        super::ramped(s)
                     };
-                    let mu = s.mu[0];
+                    let mu = s.layers.mu[0];
                     s.max_step(per_mu * nudge * mu)
                 },
             )
@@ -122,11 +122,11 @@ pub fn frame_tied_draws(
     let of = |f: &dyn Fn(&ParticleRecord) -> f64| Spread::of(runs.iter().map(f).collect());
     Draws {
         ms: of(&|r| r.ms_mean),
-        updates: of(&|r| per_frame(r, r.counters.updates)),
+        updates: of(&|r| per_frame(r, r.counters.updates())),
         steps: of(&|r| per_frame(r, r.counters.steps)),
         updates_at_design: {
             let r = &runs[NUDGES.len() / 2];
-            per_frame(r, r.counters.updates)
+            per_frame(r, r.counters.updates())
         },
         // A run without a finite worst strain did not complete, and counts there.
         worst_strain: runs.iter().map(|r| r.worst_strain).fold(0.0, f64::max),

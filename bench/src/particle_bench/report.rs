@@ -5,6 +5,8 @@ use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::io::{self, Write};
 
+use dae_particles::MuSearchCounters;
+
 use super::run::ParticleRecord;
 use super::series::{STRAIN_LEVELS, held_whole};
 
@@ -72,22 +74,20 @@ pub fn bound_held(r: &ParticleRecord) -> Option<bool> {
 /// Whether a DBSMC run kept both its guarantees over the frames it ran: the strain
 /// within 1.05 eps ([`bound_held`]) and every `s_i` within its layer.
 pub fn kept_both(r: &ParticleRecord) -> bool {
-    bound_held(r) == Some(true) && r.counters.layer_lost_at.is_none()
+    bound_held(r) == Some(true) && r.counters.layer_lost_at().is_none()
 }
 
 /// Whether a run lost a guarantee: it left an `s`-layer, or a frame it ran broke the
 /// strain bound. A run that ran no frame lost nothing (nor kept anything).
 pub fn left_a_guarantee(r: &ParticleRecord) -> bool {
-    bound_held(r) == Some(false) || r.counters.layer_lost_at.is_some()
+    bound_held(r) == Some(false) || r.counters.layer_lost_at().is_some()
 }
 
 /// A count of the search for `mu`, for the runs that searched (empty otherwise).
-fn searched(r: &ParticleRecord, count: u64) -> String {
-    if r.counters.mu_scale.is_some() {
-        count.to_string()
-    } else {
-        String::new()
-    }
+fn searched(r: &ParticleRecord, count: impl Fn(MuSearchCounters) -> u64) -> String {
+    r.counters
+        .mu_search()
+        .map_or_else(String::new, |m| count(m).to_string())
 }
 
 /// Write the records as CSV with [`CSV_COLUMNS`].
@@ -113,21 +113,21 @@ pub fn write_particles_csv<W: Write>(records: &[ParticleRecord], mut out: W) -> 
             r.counters.f_evals.to_string(),
             r.counters.factorisations.to_string(),
             r.counters.iterations.to_string(),
-            r.counters.updates.to_string(),
+            r.counters.updates().to_string(),
             opt(r.pos_err),
             opt(r.energy_drift),
             opt(r.t_min),
-            opt(r.counters.layer_lost_at),
-            opt(r.counters.layer_worst_ratio),
+            opt(r.counters.layer_lost_at()),
+            opt(r.counters.layer_worst_ratio()),
             if r.method.starts_with("dbsmc") {
-                r.counters.links_asking.to_string()
+                r.counters.links_asking().to_string()
             } else {
                 String::new()
             },
             r.timings.to_string(),
-            opt(r.counters.mu_scale),
-            searched(r, r.counters.mu_moves),
-            searched(r, r.counters.mu_refused),
+            opt(r.counters.mu_search().map(|m| m.scale)),
+            searched(r, |m| m.moves),
+            searched(r, |m| m.refused),
         ];
         let line: Vec<String> = fields.iter().map(|f| quote(f)).collect();
         writeln!(out, "{}", line.join(","))?;
@@ -209,7 +209,7 @@ fn cheapest_kept<'a>(
     runs: impl Iterator<Item = &'a ParticleRecord>,
     held: impl Fn(&ParticleRecord) -> bool,
 ) -> Option<&'a ParticleRecord> {
-    runs.filter(|r| held(r) && r.counters.layer_lost_at.is_none())
+    runs.filter(|r| held(r) && r.counters.layer_lost_at().is_none())
         .min_by(|a, b| a.ms_mean.total_cmp(&b.ms_mean))
 }
 
@@ -304,7 +304,7 @@ pub fn stability_table(records: &[ParticleRecord]) -> String {
                 "-".into()
             },
             if bounded {
-                count(&|r| r.counters.layer_lost_at.is_some()).to_string()
+                count(&|r| r.counters.layer_lost_at().is_some()).to_string()
             } else {
                 "-".into()
             },
@@ -325,10 +325,10 @@ pub fn dbsmc_runs_table(records: &[ParticleRecord]) -> String {
     for (t, runs) in scene_groups(records) {
         for r in runs.iter().filter(|r| r.method.starts_with("dbsmc")) {
             let per_frame = |n: u64| n as f64 / r.frames.max(1) as f64;
-            let layer = r.counters.layer_lost_at.map_or("-".into(), |at| {
+            let layer = r.counters.layer_lost_at().map_or("-".into(), |at| {
                 format!(
                     "t = {at:.3} s ({:.3})",
-                    r.counters.layer_worst_ratio.unwrap_or(f64::NAN)
+                    r.counters.layer_worst_ratio().unwrap_or(f64::NAN)
                 )
             });
             let held = match bound_held(r) {
@@ -347,9 +347,9 @@ pub fn dbsmc_runs_table(records: &[ParticleRecord]) -> String {
                 r.frames,
                 r.ms_mean,
                 r.ms_max,
-                per_frame(r.counters.updates),
+                per_frame(r.counters.updates()),
                 per_frame(r.counters.steps),
-                r.counters.links_asking,
+                r.counters.links_asking(),
             );
         }
     }
@@ -380,8 +380,11 @@ mod tests {
     #[test]
     fn csv_has_the_required_columns_first_and_one_row_per_run() {
         let mut searched = rec("dbsmc-adapt", "eps=1e-3", Some(1e-3), 9e-4, 0.5, "ok");
-        searched.counters.mu_scale = Some(0.25);
-        (searched.counters.mu_moves, searched.counters.mu_refused) = (5, 1);
+        searched.counters.sliding.get_or_insert_default().mu_search = Some(MuSearchCounters {
+            scale: 0.25,
+            moves: 5,
+            refused: 1,
+        });
         let records = vec![
             rec("dbsmc", "eps=1e-3", Some(1e-3), 9e-4, 0.5, "ok"),
             searched,
@@ -429,7 +432,7 @@ mod tests {
         assert!(cheapest(&records, "C1 N=10 r=1", "m", 1e-4).is_none());
         // A run that left its s-layer holds nothing, whatever its strain.
         let mut lost = rec("m", "e", None, 1e-4, 0.1, "ok");
-        lost.counters.layer_lost_at = Some(0.5);
+        lost.counters.sliding.get_or_insert_default().layer_lost_at = Some(0.5);
         let records = [records, vec![lost]].concat();
         assert_eq!(
             cheapest(&records, "C1 N=10 r=1", "m", 1e-3).unwrap().knob,
@@ -475,7 +478,7 @@ mod tests {
             ..rec("m", knob, None, strain, ms, "budget")
         };
         let mut lost = stopped("lost", 1e-5, 0.1, 40);
-        lost.counters.layer_lost_at = Some(0.2);
+        lost.counters.sliding.get_or_insert_default().layer_lost_at = Some(0.2);
         let records = vec![
             // Complete, but holds only 1e-2.
             rec("m", "whole", None, 5e-3, 9.0, "ok"),
@@ -528,9 +531,12 @@ mod tests {
     #[test]
     fn the_dbsmc_table_has_every_dbsmc_run_and_no_other() {
         let mut lost = rec("dbsmc-euler", "eps=1e-3", Some(1e-3), 2e-3, 1.0, "ok");
-        lost.counters.layer_lost_at = Some(1.527);
-        lost.counters.layer_worst_ratio = Some(2.64);
-        lost.counters.updates = 600;
+        lost.counters.sliding.get_or_insert_default().layer_lost_at = Some(1.527);
+        lost.counters
+            .sliding
+            .get_or_insert_default()
+            .layer_worst_ratio = Some(2.64);
+        lost.counters.sliding.get_or_insert_default().updates = 600;
         let records = vec![
             rec("dbsmc", "eps=1e-3", Some(1e-3), 9e-4, 0.5, "ok"),
             rec("xpbd-substeps", "k=16", None, 6e-3, 0.01, "ok"),

@@ -7,13 +7,17 @@ use std::time::{Duration, Instant};
 use dae_particles::{
     AdaptiveMu, Backend, BackendError, Counters, Dbsmc, FRAME, ParticleDae, ParticleModel, Scene,
 };
+use dae_runtime::settings::{self, GainRule, Hold, InLayer};
 use dae_runtime::{
-    AlphaChoice, ConstraintSpec, GainChoice, Integrator, LayerBound, MuSearch, Settings,
-    SolverChoice, design,
+    Settings, design::ConstraintSpec, design::GainChoice, design::LayerBound, design::MuSearch,
+    design::design, settings::AlphaChoice, settings::Integrator, solve::SolverChoice,
 };
 
 use super::scenes::{ParticleScene, SceneShape};
-use crate::{IndexOneParticles, PilotBounds, SweepOrder, Xpbd};
+use crate::{
+    particle_methods::IndexOneParticles, particle_methods::PilotBounds,
+    particle_methods::SweepOrder, particle_methods::Xpbd,
+};
 
 /// A method and its setting.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -30,7 +34,7 @@ pub enum MethodSpec {
     /// DBSMC designed as [`MethodSpec::Dbsmc`] (automatic solver), run on the scene's
     /// generated family model (C1: `examples/models/chain.dae`, C2:
     /// `bench/models/c2_hair.dae`, C3 and C4: `bench/models/c3_cloth.dae`; see
-    /// [`crate::FamilyParticles`]).
+    /// [`crate::particle_methods::FamilyParticles`]).
     DbsmcGenerated {
         /// Relative layer (strain bound).
         eps: f64,
@@ -46,7 +50,7 @@ pub enum MethodSpec {
         gain: f64,
     },
     /// The frame-tied design of [`relaxed_settings`] with `v` ramping between updates
-    /// against the drift of `s'` ([`Settings::ramp_against_drift`]).
+    /// against the drift of `s'` ([`Hold::RampAgainstDrift`]).
     DbsmcRamped {
         /// Relative layer (strain bound).
         eps: f64,
@@ -460,21 +464,21 @@ pub const RELAXED_STEP_PER_MU: f64 = 0.5;
 
 /// The state tolerance of the relaxed design's Dormand-Prince steps, as a fraction of the
 /// smallest layer: `rtol = atol = RELAXED_TOLERANCE_PER_EPS * min eps_i`, ten times the
-/// runtime's default ([`dae_runtime::TOLERANCE_PER_EPS`]). What keeps `s` within its
-/// layer is each step's error in `s` ([`dae_runtime::LAYER_ERROR_PER_STEP`]), which
+/// runtime's default ([`dae_runtime::settings::TOLERANCE_PER_EPS`]). What keeps `s` within its
+/// layer is each step's error in `s` ([`dae_runtime::settings::LAYER_ERROR_PER_STEP`]), which
 /// does not depend on it; on the heavy 10-link chain at eps = 1e-3 the default
 /// tolerance set the steps (68 per frame for 18 updates; 47 at ten times it, 42 at 30
 /// times, the same updates, every layer kept: one-off runs, 2026-11-27).
 pub const RELAXED_TOLERANCE_PER_EPS: f64 = 0.1;
 
 /// Safety factor of the relaxed design's gains over the drift of `s'` measured online
-/// ([`Settings::follow_drift`]): 1 kept the layer on every scene of `relaxed_design`,
+/// ([`GainRule::FollowDrift`]): 1 kept the layer on every scene of `relaxed_design`,
 /// 2 cost 1.5-3.8x more per frame there and kept nothing more (one run of
 /// `cargo run --release -p dae-bench --example relaxed_design`).
 pub const RELAXED_DRIFT_SAFETY: f64 = 1.0;
 
 /// The shortest time between the grazing returns of a relaxed design's gain, as a
-/// fraction of `mu` ([`Settings::graze`]): a gain is raised over its floor only as far
+/// fraction of `mu` (its `graze`): a gain is raised over its floor only as far
 /// as its returns need to stay `mu / 8` apart, not to the gain that sweeps the whole
 /// layer. On C1 N=10 r=1e4 at eps = 1e-3 with the floor `4 eps / mu` this made 23
 /// updates per frame against 143 with the sweeping gains; `mu / 16` made as many,
@@ -526,9 +530,25 @@ pub fn relaxed_settings_at<M: ParticleDae>(
         .integrator(Integrator::DormandPrince)
         .step(FRAME)
         .max_step(RELAXED_STEP_PER_MU * mu)
-        .follow_drift(RELAXED_DRIFT_SAFETY)
-        .graze(RELAXED_GRAZE_PER_MU * mu)
-        .saturate_in_layer()
+        .law(
+            settings::Dbsmc::default()
+                .gains(GainRule::FollowDrift {
+                    safety: RELAXED_DRIFT_SAFETY,
+                    graze: Some(RELAXED_GRAZE_PER_MU * mu),
+                    raise: None,
+                })
+                .in_layer(InLayer::Saturate),
+        )
+}
+
+/// `settings` (a DBSMC law, as every frame-tied design is) with `v` ramping against the
+/// drift between updates instead of held.
+pub fn ramped(mut settings: Settings) -> Settings {
+    settings
+        .dbsmc_mut()
+        .expect("the frame-tied designs use the DBSMC law")
+        .hold = Hold::RampAgainstDrift;
+    settings
 }
 
 /// The frame-tied design ([`relaxed_settings`]) on the hand-written model of `scene`,
@@ -730,16 +750,22 @@ impl RunDbsmc<'_, '_> {
             SceneShape::Chain {
                 links,
                 end_mass_ratio,
-            } => self.with(crate::generated_chain(sys, links, end_mass_ratio)),
-            SceneShape::Strands { strands, links } => {
-                self.with(crate::generated_strands(sys, strands, links))
-            }
+            } => self.with(crate::particle_methods::generated_chain(
+                sys,
+                links,
+                end_mass_ratio,
+            )),
+            SceneShape::Strands { strands, links } => self.with(
+                crate::particle_methods::generated_strands(sys, strands, links),
+            ),
             SceneShape::Grid {
                 w,
                 pins,
                 shear,
                 slack,
-            } => self.with(crate::generated_grid(sys, w, pins, shear, slack)),
+            } => self.with(crate::particle_methods::generated_grid(
+                sys, w, pins, shear, slack,
+            )),
         }
     }
 
@@ -772,7 +798,7 @@ impl RunDbsmc<'_, '_> {
             // No guaranteed period: the design assumes its drift (see relaxed_settings).
             Design::Relaxed { gain, ramp, .. } => {
                 let settings = relaxed_settings(&model, self.eps, gain);
-                Ok((Settings { ramp, ..settings }, None))
+                Ok((if ramp { ramped(settings) } else { settings }, None))
             }
         };
         let (settings, t_min) = match designed {
@@ -782,7 +808,7 @@ impl RunDbsmc<'_, '_> {
                 return r;
             }
         };
-        let step = settings.step;
+        let step = settings.integration.step;
         let name = format!("{} {}", self.spec.method(), self.spec.knob());
         let search = match self.design {
             Design::Relaxed { search, .. } => search,

@@ -58,7 +58,7 @@ pub struct SceneDraws {
 
 /// Target 3's scenes, with the DBSMC run it reads on each: the cheapest that held worst
 /// strain 1e-3 over the whole scene. The benchmark runs these settings nine times more
-/// ([`crate::frame_tied_draws`]) and gives the draws to [`targets_section`].
+/// ([`crate::particle_bench::frame_tied_draws`]) and gives the draws to [`targets_section`].
 pub fn heavy_chain_choices(records: &[ParticleRecord]) -> Vec<(String, &ParticleRecord)> {
     let heavy = records
         .iter()
@@ -109,7 +109,7 @@ fn bound_target(records: &[ParticleRecord]) -> String {
             count(&|r| r.status == "budget"),
             count(&|r| r.status.starts_with("failed")),
             count(&|r| bound_held(r) == Some(false)),
-            count(&|r| r.counters.layer_lost_at.is_some()),
+            count(&|r| r.counters.layer_lost_at().is_some()),
         );
         misses.extend(
             runs.iter()
@@ -138,10 +138,12 @@ fn bound_target(records: &[ParticleRecord]) -> String {
             r.method,
             r.knob,
             ratio(r),
-            r.counters.layer_lost_at.map_or(String::new(), |t| format!(
-                ", s-layer left at t = {t:.3} s (max |s| {:.3} eps)",
-                r.counters.layer_worst_ratio.unwrap_or(f64::NAN)
-            )),
+            r.counters
+                .layer_lost_at()
+                .map_or(String::new(), |t| format!(
+                    ", s-layer left at t = {t:.3} s (max |s| {:.3} eps)",
+                    r.counters.layer_worst_ratio().unwrap_or(f64::NAN)
+                )),
             r.status,
             r.frames,
             r.frames_total
@@ -418,8 +420,12 @@ mod tests {
             5e-4,
             1.0,
         );
-        layer.counters.layer_lost_at = Some(1.5);
-        layer.counters.layer_worst_ratio = Some(2.6);
+        layer.counters.sliding.get_or_insert_default().layer_lost_at = Some(1.5);
+        layer
+            .counters
+            .sliding
+            .get_or_insert_default()
+            .layer_worst_ratio = Some(2.6);
         let strain = rec("C4", "W=8", 112, 1.0, "dbsmc", "c", Some(1e-2), 2e-2, 1.0);
         let xpbd = rec(
             "C1",
@@ -490,7 +496,7 @@ mod tests {
             rec("C1", "N=10 r=1e2", 10, 1e2, m, k, eps, strain, ms)
         };
         let mut lost = t("dbsmc-dp", "x", Some(1e-3), 1e-4, 0.01);
-        lost.counters.layer_lost_at = Some(0.1);
+        lost.counters.sliding.get_or_insert_default().layer_lost_at = Some(0.1);
         let records = [
             t("dbsmc-relaxed", "a", Some(1e-3), 9e-4, 0.3),
             t("dbsmc-ramp", "b", Some(1e-3), 8e-4, 0.2),
@@ -614,7 +620,7 @@ mod tests {
             )
         };
         let mut lost = sweep(1000, "dbsmc-ramp", 10.0, Some(1e-2));
-        lost.counters.layer_lost_at = Some(0.1);
+        lost.counters.sliding.get_or_insert_default().layer_lost_at = Some(0.1);
         let records = [
             sweep(10, "xpbd-substeps", 1.0, None),
             sweep(1000, "xpbd-substeps", 100.0, None),

@@ -36,7 +36,7 @@ use std::cell::{Cell, OnceCell, RefCell};
 
 use dae_particles::{ModelError, ParticleDae, Pin, System, check_pin_change, distance};
 use dae_runtime::family::{FamilyInstance, Kernels};
-use dae_runtime::{LinearSolver, Model, Solver, SolverChoice};
+use dae_runtime::{Model, ModelInfo, solve::LinearSolver, solve::Solver, solve::SolverChoice};
 
 /// A family model (any back end `K`: generated kernels or the interpreter) as the
 /// particle model of a [`System`] (module docs).
@@ -45,11 +45,10 @@ pub struct FamilyParticles<K: Kernels> {
     /// inputs first. The `Model` methods never re-enter, so borrows do not overlap.
     model: RefCell<FamilyInstance<K>>,
     name: String,
-    /// Copies of what `Model` lends out by reference (the model sits in a `RefCell`).
+    /// Copies of what `Model` lends out by reference (the model sits in a `RefCell`):
+    /// the pattern, and the metadata, copied on first use.
     pattern: Vec<(usize, usize)>,
-    indices: Vec<usize>,
-    /// State, algebraic, constraint and parameter names, copied on first use.
-    names: [OnceCell<Vec<String>>; 4],
+    info: OnceCell<ModelInfo>,
     /// Per particle: the states `x[k].x` and `v[k].x`, the parameter `free[k]`, the
     /// inputs `pin[k].x, .y, .z`.
     slots: Vec<(usize, usize)>,
@@ -166,9 +165,8 @@ impl<K: Kernels> FamilyParticles<K> {
         let mut this = Self {
             name: model.name().to_string(),
             pattern: model.jacobian_pattern().to_vec(),
-            indices: model.indices().to_vec(),
             model: RefCell::new(model),
-            names: Default::default(),
+            info: OnceCell::new(),
             slots,
             free,
             pin_inputs,
@@ -345,29 +343,6 @@ impl<K: Kernels> FamilyParticles<K> {
         Ok(())
     }
 
-    /// A name of kind `kind` (0 state, 1 algebraic, 2 constraint, 3 parameter), copied
-    /// from the model on first use.
-    fn name_of(&self, kind: usize, i: usize) -> &str {
-        let names = self.names[kind].get_or_init(|| {
-            let model = self.model.borrow();
-            match kind {
-                0 => (0..model.n_states())
-                    .map(|i| model.state_name(i).to_string())
-                    .collect(),
-                1 => (0..model.n_constraints())
-                    .map(|i| model.alg_name(i).to_string())
-                    .collect(),
-                2 => (0..model.n_constraints())
-                    .map(|i| model.constraint_name(i).to_string())
-                    .collect(),
-                _ => (0..model.n_params())
-                    .map(|i| model.param_name(i).to_string())
-                    .collect(),
-            }
-        });
-        &names[i]
-    }
-
     /// The family model (for its names, parameters and inputs).
     pub fn family(&self) -> std::cell::Ref<'_, FamilyInstance<K>> {
         self.model.borrow()
@@ -388,8 +363,8 @@ fn norm(a: [f64; 3]) -> f64 {
 }
 
 impl<K: Kernels> Model for FamilyParticles<K> {
-    fn name(&self) -> &str {
-        &self.name
+    fn info(&self) -> &ModelInfo {
+        self.info.get_or_init(|| self.model.borrow().info().clone())
     }
     fn n_states(&self) -> usize {
         6 * self.slots.len()
@@ -399,21 +374,6 @@ impl<K: Kernels> Model for FamilyParticles<K> {
     }
     fn n_params(&self) -> usize {
         self.model.borrow().n_params()
-    }
-    fn state_name(&self, i: usize) -> &str {
-        self.name_of(0, i)
-    }
-    fn alg_name(&self, i: usize) -> &str {
-        self.name_of(1, i)
-    }
-    fn constraint_name(&self, i: usize) -> &str {
-        self.name_of(2, i)
-    }
-    fn param_name(&self, i: usize) -> &str {
-        self.name_of(3, i)
-    }
-    fn indices(&self) -> &[usize] {
-        &self.indices
     }
     fn param(&self, i: usize) -> f64 {
         self.model.borrow().param(i)

@@ -15,7 +15,7 @@
 //! No projection.
 
 use dae_particles::{Backend, BackendError, Counters, Kinematics, ParticleDae, Pin};
-use dae_runtime::{LinearSolver, Solver, SolverChoice};
+use dae_runtime::{solve::LinearSolver, solve::Solver, solve::SolverChoice};
 
 /// The index-1 method (module docs) on any [`ParticleDae`] model.
 #[derive(Debug)]

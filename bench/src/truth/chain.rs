@@ -19,7 +19,7 @@
 //! which [`PlanarChain::accelerations`] solves (dense LU, `M` is symmetric positive
 //! definite) at every evaluation.
 
-use dae_runtime::{LinearSolver, Solver, SolverChoice};
+use dae_runtime::{solve::LinearSolver, solve::Solver, solve::SolverChoice};
 
 use crate::truth::TruthError;
 

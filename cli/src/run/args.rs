@@ -2,8 +2,11 @@
 //! the numbers and the outputs checked, the integration chosen.
 
 use super::{Args, IntegratorArg, MAX_STEPS};
+use super::{CrossingArg, ReachingArg};
 use crate::Reported;
-use dae_runtime::{Integrator, Policy};
+use dae_runtime::settings::{
+    Dbsmc, GainRule, Hold, InLayer, Integrator, Law, Reaching, StepEnd, Update,
+};
 use std::fs::File;
 use std::path::Path;
 
@@ -24,12 +27,13 @@ pub(super) fn auto_or_list(what: &str, text: &str) -> Result<Option<Vec<f64>>, R
         })
 }
 
-pub(super) fn parse_policy(text: &str) -> Result<Policy, Reported> {
+/// `--policy`: the update rule of DBSMC, or `None` for SPSM.
+fn parse_policy(text: &str, reaching: Reaching) -> Result<Option<Update>, Reported> {
     match text {
-        "monitor" => Ok(Policy::Monitor),
-        "spsm" => Ok(Policy::Spsm),
+        "monitor" => Ok(Some(Update::Monitor { reaching })),
+        "spsm" => Ok(None),
         _ => match text.strip_prefix("fixed:").map(str::parse::<f64>) {
-            Some(Ok(p)) if p > 0.0 && p.is_finite() => Ok(Policy::Fixed(p)),
+            Some(Ok(p)) if p > 0.0 && p.is_finite() => Ok(Some(Update::Fixed { period: p })),
             Some(Ok(p)) => {
                 eprintln!("error: --policy fixed:{p}: the period must be finite and > 0");
                 Err(Reported)
@@ -39,6 +43,100 @@ pub(super) fn parse_policy(text: &str) -> Result<Policy, Reported> {
                 Err(Reported)
             }
         },
+    }
+}
+
+/// The control law of the run and of the design's pilots, from `--policy`,
+/// `--crossing`, `--reaching` and the extensions (`--follow-drift`, `--graze`,
+/// `--ramp`, `--saturate`), each refused by name where the law cannot take it. The
+/// pilots monitor with the run's crossing and reaching rules, fixed gains, `v` held and
+/// `sgn(s)`: they measure what the design's gains must cover.
+pub(super) struct Laws {
+    pub(super) run: Law,
+    pub(super) pilot: Law,
+}
+
+pub(super) fn laws(args: &Args) -> Result<Laws, Reported> {
+    let reaching = match args.reaching {
+        ReachingArg::Attract => Reaching::AttractingSurfaces,
+        ReachingArg::Contract => Reaching::ContractingLayers,
+    };
+    let update = parse_policy(&args.policy, reaching)?;
+    let step_end = matches!(args.crossing, CrossingArg::StepEnd);
+    let extensions = [
+        ("--follow-drift", args.follow_drift.is_some()),
+        ("--ramp", args.ramp),
+        ("--saturate", args.saturate),
+    ];
+    let given = || extensions.iter().filter(|e| e.1).map(|e| e.0);
+    if let (None, Some(flag)) = (update, given().next()) {
+        eprintln!(
+            "error: {flag} changes the DBSMC law; --policy spsm saturates at every stage and takes none of --follow-drift, --ramp, --saturate"
+        );
+        return Err(Reported);
+    }
+    let needs_rates = given().find(|f| *f != "--saturate");
+    if let (true, Some(flag)) = (step_end, needs_rates) {
+        eprintln!(
+            "error: {flag} needs the rates s' at the step ends, which only located crossings give: drop --crossing step-end"
+        );
+        return Err(Reported);
+    }
+    let in_layer = if args.saturate {
+        InLayer::Saturate
+    } else {
+        InLayer::Sign
+    };
+    let monitor = Update::Monitor { reaching };
+    let (run, pilot) = match update {
+        None if step_end => (Law::Spsm, StepEnd::default().into_monitor(monitor)),
+        None => (Law::Spsm, Dbsmc::default().update(monitor).into()),
+        Some(update) if step_end => (
+            StepEnd {
+                update,
+                raise: None,
+                in_layer,
+            }
+            .into(),
+            StepEnd::default().into_monitor(monitor),
+        ),
+        Some(update) => {
+            let gains = match args.follow_drift {
+                Some(safety) => GainRule::FollowDrift {
+                    safety,
+                    graze: args.graze,
+                    raise: None,
+                },
+                None => GainRule::Fixed,
+            };
+            let hold = if args.ramp {
+                Hold::RampAgainstDrift
+            } else {
+                Hold::Constant
+            };
+            let run = Dbsmc::default()
+                .update(update)
+                .gains(gains)
+                .hold(hold)
+                .in_layer(in_layer);
+            (run.into(), Dbsmc::default().update(monitor).into())
+        }
+    };
+    Ok(Laws { run, pilot })
+}
+
+/// A step-end law that monitors.
+trait IntoMonitor {
+    fn into_monitor(self, monitor: Update) -> Law;
+}
+
+impl IntoMonitor for StepEnd {
+    fn into_monitor(self, monitor: Update) -> Law {
+        StepEnd {
+            update: monitor,
+            ..self
+        }
+        .into()
     }
 }
 
@@ -62,10 +160,10 @@ pub(super) struct Integration {
     pub(super) chosen: bool,
 }
 
-pub(super) fn integration(args: &Args, policy: Policy) -> Integration {
-    let choice = match (args.integrator, args.step, policy) {
+pub(super) fn integration(args: &Args, law: Law) -> Integration {
+    let choice = match (args.integrator, args.step, law) {
         (Some(i), _, _) => i,
-        (None, Some(_), _) | (None, None, Policy::Spsm) => IntegratorArg::Rk4,
+        (None, Some(_), _) | (None, None, Law::Spsm) => IntegratorArg::Rk4,
         (None, None, _) => IntegratorArg::Dopri5,
     };
     let integrator = match choice {

@@ -3,7 +3,9 @@
 use super::args::Integration;
 use super::{Args, DesignInfo, Outcome};
 use crate::bounded::{listed_constraints, triggered_text, values_text};
-use dae_runtime::{Crossing, Integrator, Model, NEAR_SINGULAR, Settings, Summary};
+use dae_runtime::{
+    Model, Settings, Summary, settings::Integrator, settings::Law, summary::NEAR_SINGULAR,
+};
 use serde_json::json;
 
 /// Everything the summary reports.
@@ -68,32 +70,33 @@ impl Report<'_> {
 
     fn integrator_name(&self) -> String {
         let st = self.settings;
-        match st.integrator {
+        match st.integration.integrator {
             Integrator::DormandPrince | Integrator::BogackiShampine => {
                 let tol = st.effective_tolerance();
-                let name = if st.integrator == Integrator::DormandPrince {
+                let name = if st.integration.integrator == Integrator::DormandPrince {
                     "Dormand-Prince 5(4)"
                 } else {
                     "Bogacki-Shampine 3(2)"
                 };
-                let how = if st.tolerance.is_some() {
+                let how = if st.integration.tolerance.is_some() {
                     ""
-                } else if st.eps.is_empty() {
+                } else if st.layers.eps.is_empty() {
                     " (the default without constraints)"
                 } else {
                     " (0.01 x the smallest eps)"
                 };
                 format!("{name}, tolerance {:e}{how}", tol.rtol)
             }
-            Integrator::Rk4 => format!("RK4, fixed step {:e}", st.step),
-            Integrator::Euler => format!("Euler, fixed step {:e}", st.step),
+            Integrator::Rk4 => format!("RK4, fixed step {:e}", st.integration.step),
+            Integrator::Euler => format!("Euler, fixed step {:e}", st.integration.step),
         }
     }
 
     fn crossing_name(&self) -> String {
-        match self.settings.crossing {
-            Crossing::Located { tol } => format!("located in the step (to {tol:e} of eps)"),
-            Crossing::StepEnd => "at step ends (thesis rule)".into(),
+        match self.settings.law {
+            Law::Dbsmc(d) => format!("located in the step (to {:e} of eps)", d.crossing_tol),
+            Law::StepEnd(_) => "at step ends (thesis rule)".into(),
+            Law::Spsm => "none (SPSM recomputes v at every stage)".into(),
         }
     }
 
@@ -116,21 +119,21 @@ impl Report<'_> {
                 Outcome::NotReached => "not reached",
             },
             "exit_status": self.outcome.code(),
-            "eps": st.eps,
-            "mu": st.mu,
-            "gain": st.gains,
+            "eps": st.layers.eps,
+            "mu": st.layers.mu,
+            "gain": st.layers.gains,
             "chosen": {
                 "mu": if model.n_constraints() == 0 { "none" } else { given(&self.args.mu) },
                 "gain": if model.n_constraints() == 0 { "none" } else { given(&self.args.gain) },
                 "integrator": if self.integration.chosen { "chosen" } else { "given" },
             },
             "integrator": {
-                "name": format!("{:?}", st.integrator),
-                "adaptive": st.integrator.is_adaptive(),
-                "step": (!st.integrator.is_adaptive()).then_some(st.step),
-                "rtol": st.integrator.is_adaptive().then_some(tol.rtol),
-                "atol": st.integrator.is_adaptive().then_some(tol.atol),
-                "max_step": st.max_step.is_finite().then_some(st.max_step),
+                "name": format!("{:?}", st.integration.integrator),
+                "adaptive": st.integration.integrator.is_adaptive(),
+                "step": (!st.integration.integrator.is_adaptive()).then_some(st.integration.step),
+                "rtol": st.integration.integrator.is_adaptive().then_some(tol.rtol),
+                "atol": st.integration.integrator.is_adaptive().then_some(tol.atol),
+                "max_step": st.integration.max_step.is_finite().then_some(st.integration.max_step),
                 "crossing": self.crossing_name(),
             },
             "design": self.design.map(|d| d.json.clone()),
@@ -211,11 +214,11 @@ impl Report<'_> {
             };
             println!(
                 "  mu = {} ({}), gains = {} ({}), eps = {}",
-                values_text(&st.mu),
+                values_text(&st.layers.mu),
                 how(&self.args.mu),
-                values_text(&st.gains),
+                values_text(&st.layers.gains),
                 how(&self.args.gain),
-                values_text(&st.eps)
+                values_text(&st.layers.eps)
             );
         }
         println!(
@@ -249,7 +252,10 @@ impl Report<'_> {
         if let Some(line) = triggered_text(&s.triggered_updates, &s.constraints) {
             println!("{line}");
         }
-        let listed = listed_constraints(s.max_abs_s.as_ref().unwrap_or(&s.seen_max_abs_s), &st.eps);
+        let listed = listed_constraints(
+            s.max_abs_s.as_ref().unwrap_or(&s.seen_max_abs_s),
+            &st.layers.eps,
+        );
         if listed.len() < m {
             println!(
                 "  {m} constraints; the {} with the largest max |s| / eps:",
@@ -261,7 +267,7 @@ impl Report<'_> {
                 (Some(ms), Some(mw)) => println!(
                     "  {c}: max |s| = {:.6} ({:.4} eps), max |w| = {:.6}",
                     ms[i],
-                    ms[i] / st.eps[i],
+                    ms[i] / st.layers.eps[i],
                     mw[i]
                 ),
                 _ => println!(

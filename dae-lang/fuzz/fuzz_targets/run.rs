@@ -6,7 +6,9 @@
 //! and `v` ramped against the drift, chosen by the input's length).
 #![no_main]
 
-use dae_runtime::{Integrator, Model, NoTrace, Settings, Simulator};
+use dae_runtime::settings::{Dbsmc, GainRule, Hold, Integrator};
+use dae_runtime::trace::NoTrace;
+use dae_runtime::{Model, Settings, Simulator};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
@@ -34,14 +36,16 @@ fuzz_target!(|data: &[u8]| {
             .step(1e-3)
             .t_end(0.05)
             .max_steps(20_000);
+        let grazing = Dbsmc::default().gains(GainRule::FollowDrift {
+            safety: 1.0,
+            graze: Some(1e-3),
+            raise: None,
+        });
         let settings = match data.len() % 4 {
             0 => settings,
             1 => settings.integrator(Integrator::DormandPrince),
-            2 => settings
-                .integrator(Integrator::DormandPrince)
-                .follow_drift(1.0)
-                .graze(1e-3),
-            _ => settings.follow_drift(1.0).graze(1e-3).ramp_against_drift(),
+            2 => settings.integrator(Integrator::DormandPrince).law(grazing),
+            _ => settings.law(grazing.hold(Hold::RampAgainstDrift)),
         };
         if let Ok(mut sim) = Simulator::new(&model, settings) {
             // A run may fail (a value leaves its domain, the reaching phase does not

@@ -263,7 +263,7 @@ fn thinning_keeps_the_envelope_and_order() {
 /// A trace of two constraints fed by hand through the `Sink` calls the simulator makes,
 /// with `updates` control updates.
 fn run_trace(updates: usize) -> crate::Trace {
-    use crate::{Layout, Sample, Sink};
+    use crate::trace::{Layout, Sample, Sink};
     let mut out = crate::Trace::new();
     let layout = Layout {
         states: vec!["x".into()],

@@ -20,9 +20,9 @@ use crate::solve::{LinearSolver, Solver, SolverChoice};
 ///
 /// ```
 /// // Jacobi on a bent chain whose rows are 80 % coupled: five times the exact gain.
-/// let k = dae_runtime::approximate_inverse_gain(2.0, 0.2).unwrap();
+/// let k = dae_runtime::design::approximate_inverse_gain(2.0, 0.2).unwrap();
 /// assert!((k - 10.0).abs() < 1e-12);
-/// assert!(dae_runtime::approximate_inverse_gain(2.0, 0.0).is_err());
+/// assert!(dae_runtime::design::approximate_inverse_gain(2.0, 0.0).is_err());
 /// ```
 pub fn approximate_inverse_gain(need: f64, delta: f64) -> Result<f64, DesignError> {
     non_negative("need", need)?;

@@ -167,7 +167,7 @@ pub fn optimise_mu(
 /// The double pendulum of the thesis (docs/method.md section 8), relaxed gains with (T 4.6):
 ///
 /// ```
-/// use dae_runtime::{ConstraintSpec, GainChoice, LayerBound, MuSearch, design};
+/// use dae_runtime::{design::ConstraintSpec, design::GainChoice, design::LayerBound, design::MuSearch, design::design};
 ///
 /// let link = |beta_abs, m| ConstraintSpec {
 ///     r: 3,
@@ -180,7 +180,7 @@ pub fn optimise_mu(
 /// assert!((d.constraints[0].mu - 0.076).abs() < 0.001);
 /// assert!((d.t_min - 0.0053).abs() < 1e-4);
 /// assert!(d.quiet.is_empty());
-/// # Ok::<(), dae_runtime::DesignError>(())
+/// # Ok::<(), dae_runtime::design::DesignError>(())
 /// ```
 pub fn design(
     specs: &[ConstraintSpec],

@@ -16,7 +16,9 @@ use super::{
     ConstraintSpec, Design, DesignError, GainChoice, LayerBound, MuSearch, PilotError,
     PilotEstimate, PilotEstimator, design, design_at,
 };
-use crate::{AlphaChoice, Layout, Model, Sample, Settings, SimError, Simulator, Sink, Summary};
+use crate::settings::AlphaChoice;
+use crate::trace::{Layout, Sample, Sink};
+use crate::{Model, Settings, SimError, Simulator, Summary};
 
 /// Why a pilot run or an automatic design failed.
 #[derive(Debug, thiserror::Error)]
@@ -51,7 +53,7 @@ pub enum PilotRunError {
         /// See `gain_min`.
         gain_max: f64,
         /// When `J_s` was nearly singular in the pilot (its smallest pivot below
-        /// [`NEAR_SINGULAR`](crate::NEAR_SINGULAR) of its earlier largest value): then
+        /// [`NEAR_SINGULAR`](crate::summary::NEAR_SINGULAR) of its earlier largest value): then
         /// no gain keeps the layer there.
         near_singular_at: Option<f64>,
     },
@@ -80,9 +82,9 @@ pub struct PilotRun {
 /// what it measures then is not a motion to design for.
 ///
 /// Cost: per step one `beta` and one `J_Omega` evaluation on top of the simulation.
-/// Works with [`Policy::Monitor`](crate::Policy::Monitor) and
-/// [`Policy::Fixed`](crate::Policy::Fixed); [`Policy::Spsm`](crate::Policy::Spsm) has no
-/// held control and is rejected.
+/// Works with the DBSMC laws ([`Law::Dbsmc`](crate::settings::Law::Dbsmc) and
+/// [`Law::StepEnd`](crate::settings::Law::StepEnd), monitored or at a fixed period);
+/// [`Law::Spsm`](crate::settings::Law::Spsm) has no held control and is rejected.
 pub fn pilot_run<M: Model + ?Sized>(
     model: &M,
     settings: &Settings,
@@ -99,7 +101,7 @@ fn pilot_run_until_lost<M: Model + ?Sized>(
     model: &M,
     settings: &Settings,
 ) -> Result<PilotOutcome, PilotRunError> {
-    if settings.policy == crate::Policy::Spsm {
+    if settings.law == crate::settings::Law::Spsm {
         return Err(PilotRunError::Mismatch(
             "a pilot run needs a held control: use the monitor or fixed policy, not SPSM".into(),
         ));
@@ -116,12 +118,12 @@ fn pilot_run_until_lost<M: Model + ?Sized>(
         return Ok(PilotOutcome::Held(PilotRun { estimate, summary }));
     };
     // Stopped by the sink at the loss: the summary of the run up to there.
-    let summary = sim.finish(&mut crate::NoTrace)?;
+    let summary = sim.finish(&mut crate::trace::NoTrace)?;
     let near_singular_at = summary
         .min_pivot_ratio
-        .filter(|(r, _)| *r < crate::NEAR_SINGULAR)
+        .filter(|(r, _)| *r < crate::summary::NEAR_SINGULAR)
         .map(|(_, t)| t);
-    let fold = |f: fn(f64, f64) -> f64, init| settings.gains.iter().copied().fold(init, f);
+    let fold = |f: fn(f64, f64) -> f64, init| settings.layers.gains.iter().copied().fold(init, f);
     let error = PilotRunError::LayerLost {
         constraint,
         t,
@@ -190,11 +192,11 @@ impl<'a, M: Model + ?Sized> PilotSink<'a, M> {
         PilotSink {
             model,
             estimator: PilotEstimator::new(m),
-            eps: settings.eps.clone(),
+            eps: settings.layers.eps.clone(),
             tol: 1.0 + settings.bound_tol,
-            watch: matches!(settings.crossing, crate::Crossing::Located { .. }),
+            watch: matches!(settings.law, crate::settings::Law::Dbsmc(_)),
             lost: None,
-            window_from: settings.t_start + settings.settle,
+            window_from: settings.window.t_start + settings.window.settle,
             reached: false,
             feeding: false,
             update_pending: false,
@@ -465,7 +467,7 @@ pub fn auto_design<M: Model + ?Sized>(
         return Err(DesignError::NoConstraints.into());
     }
     let mut settings = pilot.clone();
-    settings.eps = eps.to_vec();
+    settings.layers.eps = eps.to_vec();
     settings.alpha = AlphaChoice::Exact;
     if let MuChoice::Given(mu) = &options.mu {
         if mu.len() != m {
@@ -474,7 +476,7 @@ pub fn auto_design<M: Model + ?Sized>(
                 mu.len()
             )));
         }
-        settings.mu = mu.clone();
+        settings.layers.mu = mu.clone();
     }
     let mut passes: Vec<DesignPass> = Vec::with_capacity(options.passes.min(8));
     let (mut beta_max, mut m_max) = (vec![0.0f64; m], vec![0.0f64; m]);
@@ -487,7 +489,7 @@ pub fn auto_design<M: Model + ?Sized>(
                 // The first pilot's gains are below the drift: ten times them.
                 PilotOutcome::Lost { .. } if retries > 0 => {
                     retries -= 1;
-                    settings.gains.iter_mut().for_each(|k| *k *= 10.0);
+                    settings.layers.gains.iter_mut().for_each(|k| *k *= 10.0);
                 }
                 // A designed pilot left its layers: the drift is larger than the bounds
                 // it was designed from. What it measured up to there enters the last
@@ -515,8 +517,8 @@ pub fn auto_design<M: Model + ?Sized>(
             MuChoice::Given(mu) => design_at(&specs, mu, options.gain)?,
         };
         passes.push(DesignPass {
-            mu: settings.mu.clone(),
-            gains: settings.gains.clone(),
+            mu: settings.layers.mu.clone(),
+            gains: settings.layers.gains.clone(),
             alpha: settings.alpha,
             pilot: run,
             pilot_left_layer: left,
@@ -525,8 +527,8 @@ pub fn auto_design<M: Model + ?Sized>(
         if left {
             break;
         }
-        settings.mu = d.constraints.iter().map(|c| c.mu).collect();
-        settings.gains = d.constraints.iter().map(|c| c.k).collect();
+        settings.layers.mu = d.constraints.iter().map(|c| c.mu).collect();
+        settings.layers.gains = d.constraints.iter().map(|c| c.k).collect();
         // A fixed gain has no mu^(r-1) |beta| term, so only the exact alpha fits it.
         settings.alpha = match options.gain {
             GainChoice::Fixed(_) => AlphaChoice::Exact,

@@ -9,7 +9,7 @@ use dae_lang::model::Family;
 use super::Kernels;
 use super::inputs::{InputError, Inputs};
 use super::names::{Decl, NameTable, lookup, lookup_at};
-use crate::Model;
+use crate::{Model, ModelInfo};
 
 /// A family model at given sizes: the [`Instance`] built by construction from a
 /// [`Spec`], run by the back end `K` (the [`Interpreter`](super::Interpreter) or
@@ -31,6 +31,8 @@ pub struct FamilyInstance<K: Kernels> {
     inputs: Inputs,
     scratch: RefCell<K::Scratch>,
     names: [OnceCell<NameTable>; 5],
+    /// The metadata as one value, built when first asked for (from the tables above).
+    info: OnceCell<ModelInfo>,
 }
 
 /// The kinds of names, indexing `FamilyInstance::names`.
@@ -107,6 +109,7 @@ impl<K: Kernels> FamilyInstance<K> {
             inst,
             kernels,
             names: Default::default(),
+            info: OnceCell::new(),
         }
     }
 
@@ -340,7 +343,27 @@ impl<K: Kernels> std::fmt::Debug for FamilyInstance<K> {
     }
 }
 
+/// The sizes, names and indices are also read directly (without building the whole
+/// [`ModelInfo`]): a model of `10^5` links is asked for its sizes more often than for
+/// all its names.
 impl<K: Kernels> Model for FamilyInstance<K> {
+    fn info(&self) -> &ModelInfo {
+        self.info.get_or_init(|| {
+            let names = |kind: Kind| -> Vec<String> {
+                (0..self.len(kind))
+                    .map(|i| self.name_of(kind, i).to_string())
+                    .collect()
+            };
+            ModelInfo {
+                name: self.name.clone(),
+                states: names(Kind::State),
+                algs: names(Kind::Alg),
+                constraints: names(Kind::Constraint),
+                params: names(Kind::Param),
+                indices: self.indices.clone(),
+            }
+        })
+    }
     fn name(&self) -> &str {
         &self.name
     }

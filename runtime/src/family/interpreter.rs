@@ -13,7 +13,7 @@ use dae_lang::family::{Construction, FamilyModel, Instance, Program, Scratch, Va
 use dae_lang::tape::{Inputs, Tape};
 
 use super::Kernels;
-use crate::Model;
+use crate::{Model, ModelInfo};
 
 /// Runs a compiled family model's programs with the vectorised interpreter of
 /// `dae-lang`: no Rust is generated or compiled, so a `.dae` file runs as soon as it
@@ -143,6 +143,7 @@ pub struct Interpreted {
     /// Scratch slots, sized for the longest tape. `Model` methods take `&self`, so the
     /// buffer sits in a `RefCell`; evaluation never re-enters, so the borrow cannot fail.
     slots: RefCell<Vec<f64>>,
+    info: ModelInfo,
 }
 
 impl Interpreted {
@@ -155,10 +156,19 @@ impl Interpreted {
             .iter()
             .map(|(_, t)| t.n_slots())
             .fold(sliding, usize::max);
+        let info = ModelInfo {
+            name: model.name.clone(),
+            states: model.states.clone(),
+            algs: model.algs.clone(),
+            constraints: model.constraints.clone(),
+            params: model.params.iter().map(|(name, _)| name.clone()).collect(),
+            indices: model.indices.clone(),
+        };
         Interpreted {
             model,
             params,
             slots: RefCell::new(vec![0.0; longest]),
+            info,
         }
     }
 
@@ -185,32 +195,8 @@ impl Interpreted {
 }
 
 impl Model for Interpreted {
-    fn name(&self) -> &str {
-        &self.model.name
-    }
-    fn n_states(&self) -> usize {
-        self.model.states.len()
-    }
-    fn n_constraints(&self) -> usize {
-        self.model.algs.len()
-    }
-    fn n_params(&self) -> usize {
-        self.params.len()
-    }
-    fn state_name(&self, i: usize) -> &str {
-        &self.model.states[i]
-    }
-    fn alg_name(&self, i: usize) -> &str {
-        &self.model.algs[i]
-    }
-    fn constraint_name(&self, i: usize) -> &str {
-        &self.model.constraints[i]
-    }
-    fn param_name(&self, i: usize) -> &str {
-        &self.model.params[i].0
-    }
-    fn indices(&self) -> &[usize] {
-        &self.model.indices
+    fn info(&self) -> &ModelInfo {
+        &self.info
     }
     fn param(&self, i: usize) -> f64 {
         self.params[i]

@@ -29,9 +29,9 @@ impl<M: Model> Simulator<M> {
         if self.run.phase != Phase::Running {
             return Ok(change(self.model_mut()));
         }
-        let t = self.t;
-        self.ctl.sliding(&self.model, t, &self.x, &self.z);
-        self.ctl.omega(&mut self.omega_before);
+        let t = self.pt.t;
+        self.ctl.sliding(&self.model, t, &self.pt.x, &self.pt.z);
+        self.ctl.omega(&mut self.scratch.omega_before);
         let out = change(&mut self.model);
         self.carry_to_omega_before()?;
         Ok(out)
@@ -42,16 +42,17 @@ impl<M: Model> Simulator<M> {
     /// and ask for an update before the next step; the quantities cached at the point
     /// are evaluated again then.
     fn carry_to_omega_before(&mut self) -> Result<(), SimError> {
-        let t = self.t;
-        self.ctl.sliding(&self.model, t, &self.x, &self.z);
-        self.ctl.eval_jacobian(&self.model, t, &self.x, &self.z);
-        self.run.j_current = false;
-        self.run.dirty = true;
+        let t = self.pt.t;
+        self.ctl.sliding(&self.model, t, &self.pt.x, &self.pt.z);
         self.ctl
-            .carry_omega(&self.model, t, &self.omega_before, &mut self.z)?;
-        self.zb.copy_from_slice(&self.z);
-        self.tb = t;
-        self.va.fill(0.0);
+            .eval_jacobian(&self.model, t, &self.pt.x, &self.pt.z);
+        self.fresh.jacobian = false;
+        self.fresh.stale = true;
+        self.ctl
+            .carry_omega(&self.model, t, &self.scratch.omega_before, &mut self.pt.z)?;
+        self.pt.zb.copy_from_slice(&self.pt.z);
+        self.pt.tb = t;
+        self.pt.va.fill(0.0);
         self.run.update_requested = true;
         Ok(())
     }
@@ -59,7 +60,7 @@ impl<M: Model> Simulator<M> {
     /// Scale every `mu_i` by `factor` during a run, without a jump of the sliding
     /// variables, and with `mu` what a design ties to it: the configured gains by
     /// `1 / factor` (a floor `k_i = g eps_i / mu_i` keeps its `g`), the longest step and
-    /// the grazing return ([`crate::Settings::graze`]) by `factor`. Returns whether the change
+    /// the grazing return (([`GainRule::FollowDrift`](crate::settings::GainRule::FollowDrift))) by `factor`. Returns whether the change
     /// was made.
     ///
     /// `s_i = (mu_i d/dt + 1)^(r_i - 1) w_i` keeps `|w_i| <= eps_i` while `|s_i| <=
@@ -76,7 +77,7 @@ impl<M: Model> Simulator<M> {
     /// `s` is kept where it was by moving `z` (the part of `s` that depends on it is
     /// `mu_i^(r_i - 1) Omega_i`), as [`change_model`](Self::change_model) does: one
     /// exact factorisation, and a control update before the next step. The drift
-    /// estimates of [`crate::Settings::follow_drift`] are scaled by `factor^(r_i - 1)` where `mu`
+    /// estimates of [`GainRule::FollowDrift`](crate::settings::GainRule::FollowDrift) are scaled by `factor^(r_i - 1)` where `mu`
     /// grows (the highest term of `s'` grows so) and kept where it shrinks (its lower
     /// terms do not shrink), so that the next gains err high.
     ///
@@ -91,27 +92,33 @@ impl<M: Model> Simulator<M> {
                 reason: format!("rescale_mu: factor {factor:e} must be finite and > 0"),
             });
         }
-        let new_mu: Vec<f64> = self.set.mu.iter().map(|m| m * factor).collect();
+        let new_mu: Vec<f64> = self.set.layers.mu.iter().map(|m| m * factor).collect();
         let mu_pow = mu_powers(&self.model, &new_mu)?;
         let running = self.run.phase == Phase::Running;
-        let t = self.t;
+        let t = self.pt.t;
         if running {
-            self.ctl.sliding(&self.model, t, &self.x, &self.z);
+            self.ctl.sliding(&self.model, t, &self.pt.x, &self.pt.z);
             let offs = &self.ctl.offs;
             let admitted = (0..new_mu.len()).all(|i| {
                 let w = &self.ctl.w[offs[i]..offs[i + 1]];
                 let stages = 0..w.len().saturating_sub(1);
                 let bound = stages
                     .clone()
-                    .map(|k| filter_stage(w, self.set.mu[i], k).abs())
-                    .fold(self.set.eps[i], f64::max);
+                    .map(|k| filter_stage(w, self.set.layers.mu[i], k).abs())
+                    .fold(self.set.layers.eps[i], f64::max);
                 { stages }.all(|k| filter_stage(w, new_mu[i], k).abs() <= bound)
             });
             if !admitted {
                 return Ok(false);
             }
             // The `Omega` that gives `s` its present value at the new `mu`.
-            for (i, (target, &mu)) in self.omega_before.iter_mut().zip(&new_mu).enumerate() {
+            for (i, (target, &mu)) in self
+                .scratch
+                .omega_before
+                .iter_mut()
+                .zip(&new_mu)
+                .enumerate()
+            {
                 let w = &self.ctl.w[self.ctl.offs[i]..self.ctl.offs[i + 1]];
                 let top = w.len() - 1;
                 *target = (self.ctl.s[i] - filter_terms(w, mu, top)) / mu.powi(top as i32);
@@ -122,16 +129,17 @@ impl<M: Model> Simulator<M> {
                 *d *= factor.powi(r as i32 - 1);
             }
         }
-        self.set.mu.copy_from_slice(&new_mu);
-        for k in &mut self.set.gains {
+        self.set.layers.mu.copy_from_slice(&new_mu);
+        for k in &mut self.set.layers.gains {
             *k /= factor;
         }
-        self.set.max_step *= factor;
-        if let Some(g) = &mut self.set.graze {
+        self.set.integration.max_step *= factor;
+        if let Some(g) = self.set.law.graze_mut() {
             *g *= factor;
         }
         self.mu_min *= factor;
-        self.ctl.set_mu(&self.set.mu, mu_pow, &self.set.gains);
+        self.ctl
+            .set_mu(&self.set.layers.mu, mu_pow, &self.set.layers.gains);
         if running {
             self.carry_to_omega_before()?;
         }

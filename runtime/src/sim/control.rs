@@ -5,8 +5,9 @@
 mod conditioning;
 
 use super::robust::Robustness;
+use crate::model::w_offsets;
 use crate::solve::{InverseKind, LinearSolver, SolveError, Solver, SolverChoice, Structure};
-use crate::{Model, SimError, w_offsets};
+use crate::{Model, SimError};
 use conditioning::probe_vector;
 
 /// Switching function: `sgn` for DBSMC, `sat(s/eps)` for SPSM.

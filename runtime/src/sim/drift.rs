@@ -1,4 +1,5 @@
-//! Gains that follow the drift of `s'` ([`Settings::follow_drift`](crate::Settings::follow_drift)).
+//! Gains that follow the drift of `s'` ([`GainRule::FollowDrift`](crate::settings::GainRule::FollowDrift)), and `v` ramped against it
+//! ([`Hold::RampAgainstDrift`](crate::settings::Hold::RampAgainstDrift)).
 //!
 //! Between two updates `v` is held, so `s_i'` leaves its value right after the update
 //! (`-k_i sgn(s_i)` with exact `alpha`) only through the motion of the state. If it
@@ -11,9 +12,12 @@
 //! returns come every `2 k / D`, above it the crossings every `2 eps / k` or so. With
 //! many variables the update that one of them asks for resets all, and a raised gain
 //! makes every other variable's next crossing sooner too; on chains with heavy ends
-//! the sweeping gains made 5-8x more updates than the floor gains left grazing
-//! (docs/particles-log.md). [`Settings::graze`](crate::Settings::graze) therefore raises a
-//! gain only as far as its grazing returns need to stay a given time apart.
+//! the sweeping gains make more updates than the floor gains left grazing
+//! (docs/particles.md). The rule's `graze` therefore raises a gain only as far as its
+//! grazing returns need to stay a given time apart.
+
+use super::Simulator;
+use crate::Model;
 
 /// How much of the drift estimate is kept from one update to the next: a drift that
 /// fell is forgotten over a few updates, one that rose counts at once.
@@ -47,6 +51,74 @@ pub(crate) fn follow(
     let sweep = 2.0 * (eps * drift).sqrt();
     let graze = 0.5 * drift * how.min_return;
     (drift, configured.max(how.safety * sweep.min(graze)))
+}
+
+impl<M: Model> Simulator<M> {
+    /// [`Settings::follow_drift`]: measure the drift of `s'` over the interval that
+    /// ends at `t` (`ds` still holds the rate with the old `v`: the settings only allow
+    /// it with located crossings) and set the gains.
+    pub(super) fn follow_drift(&mut self, t: f64) {
+        let Some((safety, graze)) = self.set.law.follows_drift() else {
+            return;
+        };
+        let how = Follow {
+            safety,
+            min_return: graze.unwrap_or(f64::INFINITY),
+        };
+        if self.stats.updates == 0 || t <= self.pt.tb {
+            return;
+        }
+        let dt = t - self.pt.tb;
+        for i in 0..self.drift.len() {
+            let measured = (self.ds[i] - self.ds_b[i]).abs() / dt;
+            let (d, k) = follow(
+                self.set.layers.gains[i],
+                self.set.layers.eps[i],
+                how,
+                self.drift[i],
+                measured,
+            );
+            self.drift[i] = d;
+            self.ctl.gains[i] = k;
+        }
+    }
+
+    /// The rate of `v` that cancels the drift of `s'` at the update: `s''` by a finite
+    /// difference along the flow (`s'` one short step on, evaluated apart from the
+    /// point's own `s`, `J_Omega` and `beta`), `va = -J_s^{-1} s''`.
+    pub(super) fn ramp_against_drift(&mut self, t: f64) {
+        let delta = 1e-6 * self.mu_min;
+        self.model
+            .rhs(t, &self.pt.x, &self.pt.z, &mut self.scratch.fx);
+        self.stats.rhs_evals += 1;
+        for ((xs, x), f) in self
+            .scratch
+            .xs
+            .iter_mut()
+            .zip(&self.pt.x)
+            .zip(&self.scratch.fx)
+        {
+            *xs = x + delta * f;
+        }
+        for ((zs, z), v) in self.scratch.zs.iter_mut().zip(&self.pt.z).zip(&self.pt.v) {
+            *zs = z + delta * v;
+        }
+        self.ctl.s_rate_at(
+            &self.model,
+            t + delta,
+            &self.scratch.xs,
+            &self.scratch.zs,
+            &self.pt.v,
+            &mut self.pt.v_now,
+        );
+        for (n, d) in self.pt.v_now.iter_mut().zip(&self.ds) {
+            *n = -(*n - d) / delta;
+        }
+        self.ctl.solve_factored(&self.pt.v_now, &mut self.pt.va);
+        if self.pt.va.iter().any(|a| !a.is_finite()) {
+            self.pt.va.fill(0.0);
+        }
+    }
 }
 
 #[cfg(test)]

@@ -13,7 +13,7 @@
 
 use super::Simulator;
 use super::crossing::{Cubic, Watch};
-use crate::{Model, Policy};
+use crate::Model;
 
 /// Most cuts of one step while locating a crossing: the rebuilt cubic agrees with the
 /// true `s` to the tolerance after one or two; the rest is a guard against a model
@@ -43,7 +43,7 @@ impl<M: Model> Simulator<M> {
     pub(super) fn watch(&self, i: usize) -> Watch {
         let mut w = if self.steady() {
             Watch {
-                level: self.set.eps[i],
+                level: self.set.layers.eps[i],
                 surface_from: None,
             }
         } else {
@@ -89,7 +89,7 @@ impl<M: Model> Simulator<M> {
     fn measure_floor(&self, i: usize) -> f64 {
         let st = &self.stats;
         // Just inside the bound, so that `max / eps <= 1 + tol` holds after rounding.
-        let bound = (1.0 + self.set.bound_tol) * self.set.eps[i] * (1.0 - 1e-12);
+        let bound = (1.0 + self.set.bound_tol) * self.set.layers.eps[i] * (1.0 - 1e-12);
         let floor = st.seen_s[i].min(bound);
         if st.stats_from.is_some() {
             floor.min(st.max_s[i])
@@ -102,23 +102,23 @@ impl<M: Model> Simulator<M> {
     /// only), and measure the accepted step on the cubic of each `s_i`.
     pub(super) fn locate(&mut self, t0: f64) {
         let tol = self.crossing_tol();
-        self.build_cubics(self.t - t0);
+        self.build_cubics(self.pt.t - t0);
         if self.stalled() {
             // Two steps in a row made (almost) no progress: this one is not cut, and
             // the control is updated at its end, as the step-end rule does.
             self.run.force_update = true;
             self.stats.unlocated += 1;
-        } else if self.set.policy == Policy::Monitor {
+        } else if self.set.law.monitors() {
             let mut cut = false;
             for _ in 0..MAX_CUTS {
-                let h = self.t - t0;
+                let h = self.pt.t - t0;
                 let Some(ev) = self.first_event() else {
                     break;
                 };
                 let c = self.cubics[ev.i];
                 // The tolerance is relative to the layer (to eps for the surface).
                 let scale = match ev.target {
-                    Some(0.0) => self.set.eps[ev.i],
+                    Some(0.0) => self.set.layers.eps[ev.i],
                     _ => self.watches[ev.i].level,
                 };
                 // The event is the step's end (within the tolerance): for a level, when
@@ -149,7 +149,7 @@ impl<M: Model> Simulator<M> {
                 let theta = self.refine(t0, h, &ev, &c, tol * scale).unwrap_or(ev.theta);
                 self.cut(t0, t0 + theta * h);
                 cut = true;
-                self.build_cubics(self.t - t0);
+                self.build_cubics(self.pt.t - t0);
                 // An outward motion that starts at an extremum (outside the layer, or on
                 // its boundary where the rate's sign is lost in rounding) asks for an
                 // update at the cut whatever the end-of-step test says; so does a cut
@@ -162,11 +162,11 @@ impl<M: Model> Simulator<M> {
                 self.stats.cuts += 1;
             }
         }
-        let h = self.t - t0;
+        let h = self.pt.t - t0;
         let bound = 1.0 + self.set.bound_tol;
         for (i, c) in self.cubics.iter().enumerate() {
             self.measure.max_s[i] = c.max_abs_above(self.measure_floor(i));
-            self.measure.time_beyond[i] = c.time_beyond(bound * self.set.eps[i]) * h;
+            self.measure.time_beyond[i] = c.time_beyond(bound * self.set.layers.eps[i]) * h;
         }
     }
 

@@ -5,7 +5,8 @@
 use super::rk::{self, BOGACKI_SHAMPINE, DORMAND_PRINCE, Pair};
 use super::{Check, Simulator, Switch};
 use crate::error::Quantity;
-use crate::{Integrator, LAYER_ERROR_PER_STEP, Model, Policy, SimError};
+use crate::settings::{Integrator, LAYER_ERROR_PER_STEP, Law, Update};
+use crate::{Model, SimError};
 
 /// How far past the crossing predicted from the current `s'` an error-controlled step
 /// may reach (`s'` drifts within an interval, so the crossing lands somewhat before or
@@ -43,7 +44,7 @@ impl<M: Model> Simulator<M> {
     /// Steps of the fixed-step grid from `run.origin` to `target` (the last one ends
     /// exactly at `target`).
     pub(super) fn grid_steps(&self, target: f64) -> u64 {
-        let h = self.set.step;
+        let h = self.set.integration.step;
         (((target - self.run.origin) / h) - 1e-9).ceil().max(1.0) as u64
     }
 
@@ -62,20 +63,20 @@ impl<M: Model> Simulator<M> {
         } else {
             self.s_prev.copy_from_slice(&self.ctl.s);
         }
-        self.x0.copy_from_slice(&self.x);
-        self.z0.copy_from_slice(&self.z);
-        let t0 = self.t;
-        if self.set.policy == Policy::Spsm {
+        self.scratch.x0.copy_from_slice(&self.pt.x);
+        self.scratch.z0.copy_from_slice(&self.pt.z);
+        let t0 = self.pt.t;
+        if self.set.law == Law::Spsm {
             let t_new = self.grid_time();
             self.spsm_step(t_new - t0);
-            self.t = t_new;
+            self.pt.t = t_new;
             self.eval_point(t_new);
             self.measure_ends(t_new - t0);
-        } else if self.set.integrator.is_adaptive() {
+        } else if self.set.integration.integrator.is_adaptive() {
             self.adaptive_step(target)?;
         } else {
             let mut t_new = self.grid_time();
-            let monitored = self.located() && self.set.policy == Policy::Monitor;
+            let monitored = self.located() && self.set.law.monitors();
             let aims = monitored && !self.stalled();
             let mut aim = if aims {
                 t0 + AIM_PAST_CROSSING * self.predicted_crossing()
@@ -95,8 +96,8 @@ impl<M: Model> Simulator<M> {
             self.first_stage();
             self.fixed_step(t_new - t0);
             let s_known = monitored && self.fixed_layer_error(t0, &mut t_new, &mut off_grid);
-            self.x.copy_from_slice(&self.rk.y1);
-            self.t = t_new;
+            self.pt.x.copy_from_slice(&self.rk.y1);
+            self.pt.t = t_new;
             self.ramp_z();
             if s_known {
                 self.eval_point_but_s(t_new, false);
@@ -104,26 +105,26 @@ impl<M: Model> Simulator<M> {
                 self.eval_point(t_new);
             }
             if self.located() {
-                self.rate_at(self.t);
+                self.rate_at(self.pt.t);
                 self.locate(t0);
                 if self.rk.f1_known {
                     // The Hermite output needed f at the end: the next first stage.
-                    self.f_cur.copy_from_slice(&self.rk.f1);
-                    self.f_cur_valid = true;
+                    self.pt.f_cur.copy_from_slice(&self.rk.f1);
+                    self.fresh.f = true;
                 }
             } else {
                 self.measure_ends(t_new - t0);
             }
-            if off_grid && self.run.origin != self.t {
+            if off_grid && self.run.origin != self.pt.t {
                 self.restart_grid();
             }
         }
-        self.measure.h = self.t - t0;
+        self.measure.h = self.pt.t - t0;
         self.stats.steps += 1;
         // Progress guard: aimed and cut steps shrink without bound when a variable sits
         // on its watch level with a rate lost in rounding (Zeno); after two steps
         // shorter than a millionth of the reference step, the next is taken whole.
-        if self.t - t0 < STALL_FRACTION * self.reference_step() {
+        if self.pt.t - t0 < STALL_FRACTION * self.reference_step() {
             self.run.short_steps += 1;
         } else {
             self.run.short_steps = 0;
@@ -133,7 +134,7 @@ impl<M: Model> Simulator<M> {
 
     /// Start the fixed grid again at the current time (after a cut or an aimed step).
     fn restart_grid(&mut self) {
-        self.run.origin = self.t;
+        self.run.origin = self.pt.t;
         self.run.k = 0;
         self.run.n = self.grid_steps(self.run.grid_target);
     }
@@ -144,13 +145,19 @@ impl<M: Model> Simulator<M> {
         if self.run.k >= self.run.n {
             self.run.grid_target
         } else {
-            self.run.origin + self.run.k as f64 * self.set.step
+            self.run.origin + self.run.k as f64 * self.set.integration.step
         }
     }
 
     /// `z` on its exact ramp at the current time (avoids accumulating rounding).
     fn ramp_z(&mut self) {
-        ramp_from(&mut self.z, &self.zb, &self.v, &self.va, self.t - self.tb);
+        ramp_from(
+            &mut self.pt.z,
+            &self.pt.zb,
+            &self.pt.v,
+            &self.pt.va,
+            self.pt.t - self.pt.tb,
+        );
     }
 
     /// The error in `s` of the trial step that ends at `t1` with the solution `rk.y1`,
@@ -160,10 +167,12 @@ impl<M: Model> Simulator<M> {
     /// the point's own when the step is accepted.
     fn trial_layer_error(&mut self, t1: f64) -> f64 {
         let model = &self.model;
-        self.ctl.sliding(model, t1, &self.xs, &self.z_trial);
-        self.s_embedded.copy_from_slice(&self.ctl.s);
-        self.ctl.sliding(model, t1, &self.rk.y1, &self.z_trial);
-        layer_error(&self.ctl.s, &self.s_embedded, &self.set.eps)
+        self.ctl
+            .sliding(model, t1, &self.scratch.xs, &self.scratch.z_trial);
+        self.scratch.s_embedded.copy_from_slice(&self.ctl.s);
+        self.ctl
+            .sliding(model, t1, &self.rk.y1, &self.scratch.z_trial);
+        layer_error(&self.ctl.s, &self.scratch.s_embedded, &self.set.layers.eps)
     }
 
     /// Without located crossings (or under SPSM), a step's measure is its end.
@@ -172,7 +181,7 @@ impl<M: Model> Simulator<M> {
             let a = self.ctl.s[i].abs();
             self.measure.max_s[i] = a;
             // A NaN counts as beyond.
-            let within = a <= (1.0 + self.set.bound_tol) * self.set.eps[i];
+            let within = a <= (1.0 + self.set.bound_tol) * self.set.layers.eps[i];
             let beyond = !within;
             self.measure.time_beyond[i] = if beyond { h } else { 0.0 };
         }
@@ -181,31 +190,37 @@ impl<M: Model> Simulator<M> {
     /// `f(t, x, z)` at the current point (the step's start) into `rk.k[0]`, reusing a
     /// known one.
     fn first_stage(&mut self) {
-        if self.f_cur_valid {
-            self.rk.k[0].copy_from_slice(&self.f_cur);
+        if self.fresh.f {
+            self.rk.k[0].copy_from_slice(&self.pt.f_cur);
         } else {
-            self.model.rhs(self.t, &self.x, &self.z, &mut self.rk.k[0]);
+            self.model
+                .rhs(self.pt.t, &self.pt.x, &self.pt.z, &mut self.rk.k[0]);
             self.stats.rhs_evals += 1;
         }
-        self.f_cur_valid = false;
+        self.fresh.f = false;
     }
 
     /// One fixed step of Euler or RK4 from `(t, x0, z0)` over `h` into `rk.y1`, with
     /// `rk.k[0] = f(t, x0, z0)` given and `z` on the ramp `z0 + c h v` in the stages.
     fn fixed_step(&mut self, h: f64) {
-        let t = self.t;
+        let t = self.pt.t;
         self.v_at(t);
-        let (x, z, v, va) = (&self.x0, &self.z0, &self.v_now, &self.va);
+        let (x, z, v, va) = (
+            &self.scratch.x0,
+            &self.scratch.z0,
+            &self.pt.v_now,
+            &self.pt.va,
+        );
         let model = &self.model;
         let rk = &mut self.rk;
-        match self.set.integrator {
+        match self.set.integration.integrator {
             Integrator::Euler => {
                 for ((y, x), k) in rk.y1.iter_mut().zip(x).zip(&rk.k[0]) {
                     *y = x + h * k;
                 }
             }
             _ => {
-                let (xs, zs) = (&mut self.xs, &mut self.zs);
+                let (xs, zs) = (&mut self.scratch.xs, &mut self.scratch.zs);
                 set_axpy(xs, x, 0.5 * h, &rk.k[0]);
                 ramp_from(zs, z, v, va, 0.5 * h);
                 model.rhs(t + 0.5 * h, xs, zs, &mut rk.k[1]);
@@ -222,7 +237,7 @@ impl<M: Model> Simulator<M> {
                 self.stats.rhs_evals += 3;
             }
         }
-        self.rk.fixed_done(&self.x0, h);
+        self.rk.fixed_done(&self.scratch.x0, h);
     }
 
     /// The error control of a fixed step (Euler or RK4, monitored with located
@@ -238,28 +253,30 @@ impl<M: Model> Simulator<M> {
     fn fixed_layer_error(&mut self, t0: f64, t_new: &mut f64, off_grid: &mut bool) -> bool {
         // `x_hat = x + h (f(x) - k_last) / d`; the estimate is of order h^2 (Euler) or
         // h^4 (RK4).
-        let (order, last, d) = match self.set.integrator {
+        let (order, last, d) = match self.set.integration.integrator {
             Integrator::Euler => (2.0, 0, 2.0),
             _ => (4.0, 3, 6.0),
         };
-        let user_step = self.set.step;
+        let user_step = self.set.integration.step;
         for attempt in 0..=MAX_LAYER_RETRIES {
             let h = *t_new - t0;
             if self.rk.y1.iter().any(|y| !y.is_finite()) {
                 return false;
             }
             ramp_from(
-                &mut self.z_trial,
-                &self.zb,
-                &self.v,
-                &self.va,
-                *t_new - self.tb,
+                &mut self.scratch.z_trial,
+                &self.pt.zb,
+                &self.pt.v,
+                &self.pt.va,
+                *t_new - self.pt.tb,
             );
             let rk = &mut self.rk;
-            self.model.rhs(*t_new, &rk.y1, &self.z_trial, &mut rk.f1);
+            self.model
+                .rhs(*t_new, &rk.y1, &self.scratch.z_trial, &mut rk.f1);
             rk.f1_known = true;
             self.stats.rhs_evals += 1;
             for ((xh, y), (f1, k)) in self
+                .scratch
                 .xs
                 .iter_mut()
                 .zip(&rk.y1)
@@ -294,13 +311,14 @@ impl<M: Model> Simulator<M> {
         if self.rk.f1_known {
             return;
         }
-        self.model.rhs(self.t, &self.x, &self.z, &mut self.rk.f1);
+        self.model
+            .rhs(self.pt.t, &self.pt.x, &self.pt.z, &mut self.rk.f1);
         self.stats.rhs_evals += 1;
         self.rk.f1_known = true;
     }
 
     fn pair(&self) -> &'static Pair {
-        match self.set.integrator {
+        match self.set.integration.integrator {
             Integrator::BogackiShampine => &BOGACKI_SHAMPINE,
             _ => &DORMAND_PRINCE,
         }
@@ -312,16 +330,16 @@ impl<M: Model> Simulator<M> {
         let pair = self.pair();
         let tol = self.set.effective_tolerance();
         let tol = (tol.rtol, tol.atol);
-        let t0 = self.t;
+        let t0 = self.pt.t;
         self.first_stage();
         self.v_at(t0);
         let mut end = target;
-        if let Policy::Fixed(p) = self.set.policy {
-            end = end.min(self.tb + p);
+        if let Some(Update::Fixed { period: p }) = self.set.law.update() {
+            end = end.min(self.pt.tb + p);
         }
         let remaining = end - t0;
-        let mut h_max = self.set.max_step.min(remaining);
-        if self.located() && self.set.policy == Policy::Monitor && !self.stalled() {
+        let mut h_max = self.set.integration.max_step.min(remaining);
+        if self.located() && self.set.law.monitors() && !self.stalled() {
             // Aim a little beyond the next crossing that s' predicts, so that the cut
             // falls near the step's end: the dense output there is as accurate as the
             // step itself, and one step usually spans a control interval.
@@ -331,16 +349,25 @@ impl<M: Model> Simulator<M> {
             Some(h) => h,
             None => {
                 self.stats.rhs_evals += 1;
-                let (ys, fs) = (&mut self.xs, &mut self.f_cur);
+                let (ys, fs) = (&mut self.scratch.xs, &mut self.pt.f_cur);
                 let mut rhs = ramp_rhs(
                     &self.model,
                     t0,
-                    &self.z0,
-                    &self.v_now,
-                    &self.va,
-                    &mut self.zs,
+                    &self.scratch.z0,
+                    &self.pt.v_now,
+                    &self.pt.va,
+                    &mut self.scratch.zs,
                 );
-                rk::initial_step(pair, &self.x0, &self.rk.k[0], tol, h_max, ys, fs, &mut rhs)
+                rk::initial_step(
+                    pair,
+                    &self.scratch.x0,
+                    &self.rk.k[0],
+                    tol,
+                    h_max,
+                    ys,
+                    fs,
+                    &mut rhs,
+                )
             }
         };
         let mut rejected_before = false;
@@ -376,16 +403,16 @@ impl<M: Model> Simulator<M> {
             let t1 = if h >= remaining { end } else { t0 + h };
             let mut err = self.rk.embedded(
                 pair,
-                &self.x0,
+                &self.scratch.x0,
                 h,
                 tol,
                 &mut ramp_rhs(
                     &self.model,
                     t0,
-                    &self.z0,
-                    &self.v_now,
-                    &self.va,
-                    &mut self.zs,
+                    &self.scratch.z0,
+                    &self.pt.v_now,
+                    &self.pt.va,
+                    &mut self.scratch.zs,
                 ),
             );
             self.stats.rhs_evals += pair.stages() as u64 - 1;
@@ -407,10 +434,22 @@ impl<M: Model> Simulator<M> {
                     // makes in each `s_i` (which weighs the states by `mu` and the
                     // model's derivatives: on the pendulum with long steps, ten times
                     // the state's).
-                    for ((xh, y), e) in self.xs.iter_mut().zip(&self.rk.y1).zip(&self.rk.err) {
+                    for ((xh, y), e) in self
+                        .scratch
+                        .xs
+                        .iter_mut()
+                        .zip(&self.rk.y1)
+                        .zip(&self.rk.err)
+                    {
                         *xh = y - e;
                     }
-                    ramp_from(&mut self.z_trial, &self.zb, &self.v, &self.va, t1 - self.tb);
+                    ramp_from(
+                        &mut self.scratch.z_trial,
+                        &self.pt.zb,
+                        &self.pt.v,
+                        &self.pt.va,
+                        t1 - self.pt.tb,
+                    );
                     err = err.max(self.trial_layer_error(t1));
                 }
                 if err <= 1.0 {
@@ -424,7 +463,7 @@ impl<M: Model> Simulator<M> {
                 rk::step_factor(pair, err, true)
             };
             rejected_before = true;
-            if let Some(limit) = self.set.max_steps {
+            if let Some(limit) = self.set.integration.max_steps {
                 if self.stats.steps + self.stats.rejected >= limit {
                     break Err(SimError::StepLimit { limit, t: t0 });
                 }
@@ -434,26 +473,26 @@ impl<M: Model> Simulator<M> {
             Ok(err) => err,
             Err(e) => {
                 // The trials' tests of `s` evaluated it elsewhere: back to the point.
-                self.t = t0;
-                self.ctl.sliding(&self.model, t0, &self.x, &self.z);
+                self.pt.t = t0;
+                self.ctl.sliding(&self.model, t0, &self.pt.x, &self.pt.z);
                 return Err(e);
             }
         };
         self.run.h_next = Some(h * rk::step_factor(pair, err, rejected_before));
-        self.x.copy_from_slice(&self.rk.y1);
-        self.t = if h >= remaining { end } else { t0 + h };
+        self.pt.x.copy_from_slice(&self.rk.y1);
+        self.pt.t = if h >= remaining { end } else { t0 + h };
         self.ramp_z();
         // `s` at the point was evaluated last by the step's test (every accepted step
         // ends with one).
-        self.eval_point_but_s(self.t, false);
+        self.eval_point_but_s(self.pt.t, false);
         // FSAL: the last stage is f at the new point.
-        self.f_cur.copy_from_slice(&self.rk.k[pair.stages() - 1]);
-        self.f_cur_valid = true;
+        self.pt.f_cur.copy_from_slice(&self.rk.k[pair.stages() - 1]);
+        self.fresh.f = true;
         if self.located() {
-            self.rate_at(self.t);
+            self.rate_at(self.pt.t);
             self.locate(t0);
         } else {
-            self.measure_ends(self.t - t0);
+            self.measure_ends(self.pt.t - t0);
         }
         Ok(())
     }
@@ -479,13 +518,14 @@ impl<M: Model> Simulator<M> {
     /// it is 1 ms, the length of an ordinary step between updates, and the guard then
     /// took steps whole (uncut) that the control needed cut, and the layer was lost.
     fn reference_step(&self) -> f64 {
-        if self.set.integrator.is_adaptive() {
+        if self.set.integration.integrator.is_adaptive() {
             self.set
+                .integration
                 .max_step
-                .min(self.set.t_end - self.set.t_start)
+                .min(self.set.window.t_end - self.set.window.t_start)
                 .min(self.mu_min)
         } else {
-            self.set.step
+            self.set.integration.step
         }
     }
 
@@ -494,9 +534,10 @@ impl<M: Model> Simulator<M> {
     /// there): the last update can precede the configuration that stopped the run (a
     /// taut edge reached between two updates), and partial pivoting can hide it from
     /// the pivots ([`Controller::probe_singular`](super::control::Controller::probe_singular)).
-    fn near_singular_at_failure(&mut self, t: f64) -> Option<crate::NearSingular> {
+    fn near_singular_at_failure(&mut self, t: f64) -> Option<crate::summary::NearSingular> {
         if self.near_singular().is_none() {
-            self.ctl.probe_singular(&self.model, t, &self.x, &self.z);
+            self.ctl
+                .probe_singular(&self.model, t, &self.pt.x, &self.pt.z);
         }
         self.near_singular()
     }
@@ -510,79 +551,95 @@ impl<M: Model> Simulator<M> {
     /// `t0`, the step's start) with `z` on its ramp.
     pub(super) fn s_along(&mut self, t0: f64, h: f64, theta: f64, i: usize) -> f64 {
         let tau = t0 + theta * h;
-        if !self.set.integrator.is_adaptive() {
+        if !self.set.integration.integrator.is_adaptive() {
             self.fixed_end_derivative();
         }
         let th = ((tau - t0) / self.rk.step_length()).clamp(0.0, 1.0);
-        self.rk.dense(th, &mut self.xs);
-        ramp_from(&mut self.zs, &self.zb, &self.v, &self.va, tau - self.tb);
-        self.ctl.sliding(&self.model, tau, &self.xs, &self.zs);
+        self.rk.dense(th, &mut self.scratch.xs);
+        ramp_from(
+            &mut self.scratch.zs,
+            &self.pt.zb,
+            &self.pt.v,
+            &self.pt.va,
+            tau - self.pt.tb,
+        );
+        self.ctl
+            .sliding(&self.model, tau, &self.scratch.xs, &self.scratch.zs);
         self.ctl.s[i]
     }
 
     /// Shorten the current step from `t0` to `t_cut`: the dense output (embedded
     /// pairs) or a new step (fixed-step integrators), then the end point evaluated.
     pub(super) fn cut(&mut self, t0: f64, t_cut: f64) {
-        if self.set.integrator.is_adaptive() {
+        if self.set.integration.integrator.is_adaptive() {
             let th = (t_cut - t0) / self.rk.step_length();
-            self.rk.dense(th, &mut self.x);
-            self.f_cur_valid = false;
+            self.rk.dense(th, &mut self.pt.x);
+            self.fresh.f = false;
         } else {
             // rk.k[0] still holds f at the step's start.
-            self.t = t0;
+            self.pt.t = t0;
             self.fixed_step(t_cut - t0);
-            self.x.copy_from_slice(&self.rk.y1);
-            self.t = t_cut;
+            self.pt.x.copy_from_slice(&self.rk.y1);
+            self.pt.t = t_cut;
             self.restart_grid();
         }
-        self.t = t_cut;
+        self.pt.t = t_cut;
         self.ramp_z();
-        self.ctl.sliding(&self.model, t_cut, &self.x, &self.z);
+        self.ctl.sliding(&self.model, t_cut, &self.pt.x, &self.pt.z);
         self.eval_point_but_s(t_cut, true);
         self.rate_at(t_cut);
     }
 
-    /// One SPSM step: `(x, z)` as an ODE with `v` recomputed at every stage. `self.v`
+    /// One SPSM step: `(x, z)` as an ODE with `v` recomputed at every stage. `self.pt.v`
     /// holds the control at the step's start (computed after the previous step).
     fn spsm_step(&mut self, h: f64) {
-        let (t, model) = (self.t, &self.model);
+        let (t, model) = (self.pt.t, &self.model);
         let k = &mut self.rk.k;
-        match self.set.integrator {
+        match self.set.integration.integrator {
             Integrator::Euler => {
-                model.rhs(t, &self.x, &self.z, &mut k[0]);
-                axpy_into(&mut self.x, h, &k[0]);
-                axpy_into(&mut self.z, h, &self.v);
+                model.rhs(t, &self.pt.x, &self.pt.z, &mut k[0]);
+                axpy_into(&mut self.pt.x, h, &k[0]);
+                axpy_into(&mut self.pt.z, h, &self.pt.v);
                 self.stats.rhs_evals += 1;
             }
             _ => {
-                model.rhs(t, &self.x, &self.z, &mut k[0]);
-                self.kz[0].copy_from_slice(&self.v);
+                model.rhs(t, &self.pt.x, &self.pt.z, &mut k[0]);
+                self.scratch.kz[0].copy_from_slice(&self.pt.v);
                 for (stage, c) in [(1, 0.5), (2, 0.5), (3, 1.0)] {
-                    set_axpy(&mut self.xs, &self.x, c * h, &k[stage - 1]);
-                    set_axpy(&mut self.zs, &self.z, c * h, &self.kz[stage - 1]);
+                    set_axpy(&mut self.scratch.xs, &self.pt.x, c * h, &k[stage - 1]);
+                    set_axpy(
+                        &mut self.scratch.zs,
+                        &self.pt.z,
+                        c * h,
+                        &self.scratch.kz[stage - 1],
+                    );
                     let ts = t + c * h;
-                    model.rhs(ts, &self.xs, &self.zs, &mut k[stage]);
-                    self.ctl.sliding(model, ts, &self.xs, &self.zs);
+                    model.rhs(ts, &self.scratch.xs, &self.scratch.zs, &mut k[stage]);
+                    self.ctl
+                        .sliding(model, ts, &self.scratch.xs, &self.scratch.zs);
                     // A singular J_s inside a step leaves v non-finite; it is reported at
                     // the end of the step as a non-finite z (with its name and time).
-                    let ok = self.ctl.factor(model, ts, &self.xs, &self.zs).is_ok();
+                    let ok = self
+                        .ctl
+                        .factor(model, ts, &self.scratch.xs, &self.scratch.zs)
+                        .is_ok();
                     if ok {
                         self.ctl.law(
                             model,
                             ts,
-                            &self.xs,
-                            &self.zs,
+                            &self.scratch.xs,
+                            &self.scratch.zs,
                             Switch::Saturation,
                             Check::OFF,
-                            &mut self.kz[stage],
+                            &mut self.scratch.kz[stage],
                         );
                     } else {
-                        self.kz[stage].fill(f64::NAN);
+                        self.scratch.kz[stage].fill(f64::NAN);
                     }
                 }
-                rk4_combine(&mut self.x, h, &k[0], &k[1], &k[2], &k[3]);
-                let [z1, z2, z3, z4] = &self.kz;
-                rk4_combine(&mut self.z, h, z1, z2, z3, z4);
+                rk4_combine(&mut self.pt.x, h, &k[0], &k[1], &k[2], &k[3]);
+                let [z1, z2, z3, z4] = &self.scratch.kz;
+                rk4_combine(&mut self.pt.z, h, z1, z2, z3, z4);
                 self.stats.rhs_evals += 4;
                 self.stats.updates += 3;
             }

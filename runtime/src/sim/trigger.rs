@@ -39,7 +39,7 @@ impl<M: Model> Simulator<M> {
     fn outward(&self, i: usize, located: bool, steady: bool, tol: f64) -> bool {
         let s = self.ctl.s[i];
         let eps = if steady {
-            self.set.eps[i]
+            self.set.layers.eps[i]
         } else {
             self.eps_k[i]
         };
@@ -54,13 +54,13 @@ impl<M: Model> Simulator<M> {
     /// Reaching phase with contracting layers: row `i` started the interval outside its
     /// layer and has arrived at its surface (within the crossing tolerance).
     fn arrived(&self, i: usize, tol: f64) -> bool {
-        self.outside_k[i] && self.ctl.s[i] * self.sgn_k[i] <= tol * self.set.eps[i]
+        self.outside_k[i] && self.ctl.s[i] * self.sgn_k[i] <= tol * self.set.layers.eps[i]
     }
 
     /// The steady rule (the design layers) applies: after reaching, or with attracting
     /// surfaces from the start.
     pub(super) fn steady(&self) -> bool {
         self.stats.reaching_time.is_some()
-            || self.set.reaching == crate::Reaching::AttractingSurfaces
+            || self.set.law.reaching() == crate::settings::Reaching::AttractingSurfaces
     }
 }

@@ -36,11 +36,10 @@ use sparse::SparseSolver;
 use tree::TreeSolver;
 
 /// Largest `m` for which [`SolverChoice::Auto`] keeps the dense LU (it also keeps it
-/// for patterns with more than a quarter of the entries). Measured with
-/// `cargo run --release -p dae-bench --example solvers` ("Small systems"): on chains,
-/// random particle trees and cloth the exact sparse solvers overtake dense LU between
-/// 10 and 25 rows (at 40 rows they are 1.5 to 3.5 times faster); below 16 rows both
-/// take well under a microsecond and dense LU, which pivots, is kept.
+/// for patterns with more than a quarter of the entries): the exact sparse solvers
+/// overtake dense LU between 10 and 25 rows, and below 16 rows both take well under a
+/// microsecond and dense LU, which pivots, is kept (`cargo run --release -p dae-bench
+/// --example solvers`, "Small systems").
 pub const DENSE_MAX: usize = 16;
 
 /// Which solver applies `J_hat^{-1}` (the `--solver` of `daec run`).

@@ -3,7 +3,9 @@
 
 pub mod pendulum;
 
-use dae_runtime::{AlphaChoice, Model, Settings, SimError, Simulator};
+use std::sync::LazyLock;
+
+use dae_runtime::{Model, ModelInfo, Settings, SimError, Simulator, settings::AlphaChoice};
 
 /// [`pendulum::Pendulum`] with the designed gains of docs/method.md section 8 (`mu^2 beta`) at layers of 0.2, the
 /// fixed step `h`, over 2 s.
@@ -84,32 +86,10 @@ impl Default for Tracking {
 }
 
 impl Model for Tracking {
-    fn name(&self) -> &str {
-        "tracking"
-    }
-    fn n_states(&self) -> usize {
-        1
-    }
-    fn n_constraints(&self) -> usize {
-        1
-    }
-    fn n_params(&self) -> usize {
-        0
-    }
-    fn state_name(&self, _: usize) -> &str {
-        "x"
-    }
-    fn alg_name(&self, _: usize) -> &str {
-        "z"
-    }
-    fn constraint_name(&self, _: usize) -> &str {
-        "track"
-    }
-    fn param_name(&self, _: usize) -> &str {
-        ""
-    }
-    fn indices(&self) -> &[usize] {
-        &[2]
+    fn info(&self) -> &ModelInfo {
+        static INFO: LazyLock<ModelInfo> =
+            LazyLock::new(|| ModelInfo::new("tracking", &["x"], &["z"], &["track"], &[], &[2]));
+        &INFO
     }
     fn param(&self, _: usize) -> f64 {
         f64::NAN
@@ -160,32 +140,11 @@ impl Model for Tracking {
 pub struct Chain;
 
 impl Model for Chain {
-    fn name(&self) -> &str {
-        "chain"
-    }
-    fn n_states(&self) -> usize {
-        3
-    }
-    fn n_constraints(&self) -> usize {
-        1
-    }
-    fn n_params(&self) -> usize {
-        0
-    }
-    fn state_name(&self, i: usize) -> &str {
-        ["x1", "x2", "x3"][i]
-    }
-    fn alg_name(&self, _: usize) -> &str {
-        "z"
-    }
-    fn constraint_name(&self, _: usize) -> &str {
-        "track"
-    }
-    fn param_name(&self, _: usize) -> &str {
-        ""
-    }
-    fn indices(&self) -> &[usize] {
-        &[4]
+    fn info(&self) -> &ModelInfo {
+        static INFO: LazyLock<ModelInfo> = LazyLock::new(|| {
+            ModelInfo::new("chain", &["x1", "x2", "x3"], &["z"], &["track"], &[], &[4])
+        });
+        &INFO
     }
     fn param(&self, _: usize) -> f64 {
         f64::NAN
@@ -236,32 +195,10 @@ impl Model for Chain {
 pub struct Oscillator;
 
 impl Model for Oscillator {
-    fn name(&self) -> &str {
-        "oscillator"
-    }
-    fn n_states(&self) -> usize {
-        2
-    }
-    fn n_constraints(&self) -> usize {
-        0
-    }
-    fn n_params(&self) -> usize {
-        0
-    }
-    fn state_name(&self, i: usize) -> &str {
-        ["x", "v"][i]
-    }
-    fn alg_name(&self, _: usize) -> &str {
-        unreachable!("no algebraic unknowns")
-    }
-    fn constraint_name(&self, _: usize) -> &str {
-        unreachable!("no constraints")
-    }
-    fn param_name(&self, _: usize) -> &str {
-        ""
-    }
-    fn indices(&self) -> &[usize] {
-        &[]
+    fn info(&self) -> &ModelInfo {
+        static INFO: LazyLock<ModelInfo> =
+            LazyLock::new(|| ModelInfo::new("oscillator", &["x", "v"], &[], &[], &[], &[]));
+        &INFO
     }
     fn param(&self, _: usize) -> f64 {
         f64::NAN
@@ -301,32 +238,11 @@ pub struct Offset {
 }
 
 impl Model for Offset {
-    fn name(&self) -> &str {
-        "offset"
-    }
-    fn n_states(&self) -> usize {
-        1
-    }
-    fn n_constraints(&self) -> usize {
-        1
-    }
-    fn n_params(&self) -> usize {
-        2
-    }
-    fn state_name(&self, _: usize) -> &str {
-        "x"
-    }
-    fn alg_name(&self, _: usize) -> &str {
-        "z"
-    }
-    fn constraint_name(&self, _: usize) -> &str {
-        "track"
-    }
-    fn param_name(&self, i: usize) -> &str {
-        ["c", "push"][i]
-    }
-    fn indices(&self) -> &[usize] {
-        &[2]
+    fn info(&self) -> &ModelInfo {
+        static INFO: LazyLock<ModelInfo> = LazyLock::new(|| {
+            ModelInfo::new("offset", &["x"], &["z"], &["track"], &["c", "push"], &[2])
+        });
+        &INFO
     }
     fn param(&self, i: usize) -> f64 {
         [self.c, self.push][i]

@@ -7,7 +7,9 @@
 //! `x +- delta f(x, z)` (second order in `delta`): acceptable here because this model is
 //! only a test oracle for the simulator, not a production model.
 
-use dae_runtime::Model;
+use std::sync::LazyLock;
+
+use dae_runtime::{Model, ModelInfo};
 
 pub struct Pendulum {
     pub m1: f64,
@@ -113,34 +115,21 @@ impl Pendulum {
 }
 
 impl Model for Pendulum {
-    fn name(&self) -> &str {
-        "double_pendulum_3d"
-    }
-    fn n_states(&self) -> usize {
-        12
-    }
-    fn n_constraints(&self) -> usize {
-        2
-    }
-    fn n_params(&self) -> usize {
-        0
-    }
-    fn state_name(&self, i: usize) -> &str {
-        [
-            "R1x", "R1y", "R1z", "R2x", "R2y", "R2z", "V1x", "V1y", "V1z", "V2x", "V2y", "V2z",
-        ][i]
-    }
-    fn alg_name(&self, i: usize) -> &str {
-        ["z1", "z2"][i]
-    }
-    fn constraint_name(&self, i: usize) -> &str {
-        ["link1", "link2"][i]
-    }
-    fn param_name(&self, _: usize) -> &str {
-        ""
-    }
-    fn indices(&self) -> &[usize] {
-        &[3, 3]
+    fn info(&self) -> &ModelInfo {
+        static INFO: LazyLock<ModelInfo> = LazyLock::new(|| {
+            ModelInfo::new(
+                "double_pendulum_3d",
+                &[
+                    "R1x", "R1y", "R1z", "R2x", "R2y", "R2z", "V1x", "V1y", "V1z", "V2x", "V2y",
+                    "V2z",
+                ],
+                &["z1", "z2"],
+                &["link1", "link2"],
+                &[],
+                &[3, 3],
+            )
+        });
+        &INFO
     }
     fn param(&self, _: usize) -> f64 {
         f64::NAN

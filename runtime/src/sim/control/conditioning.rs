@@ -3,7 +3,7 @@
 //! its own (at the run's first factorisation, at every one of the dense LU, whose
 //! partial pivoting can keep every pivot large, and where the step control gave up).
 //! The run's smallest ratio is `Controller::min_pivot_ratio`, reported with the lost
-//! layer or the step-size underflow when below [`NEAR_SINGULAR`](crate::NEAR_SINGULAR).
+//! layer or the step-size underflow when below [`NEAR_SINGULAR`](crate::summary::NEAR_SINGULAR).
 
 use super::Controller;
 use crate::Model;
@@ -38,12 +38,9 @@ impl Controller {
     /// `|b|_1 / |J_s^{-1} b|_1` for a fixed `b` ([`Self::solve_measure`]) is at least the
     /// smallest singular value, and is compared with its own largest earlier value
     /// (`solve_max`). Partial pivoting can keep the pivots of a dense nearly singular
-    /// `J_s` well above it (measured on the taut far edge of `daec`'s 8 x 8 cloth with a
-    /// slack of 0.04 % and `--solver dense`: the least pivot never below 5.8e-3 of its
-    /// earlier largest, and the run stopped with no word of `J_s`; the solve read 5.1e-8
-    /// of its largest earlier value at t = 0.003699 s, just before the step control gave
-    /// up at 0.0037 s); the solve cannot hide it. Not for the iterations, which have no
-    /// pivots. A `J_s` found singular counts as a ratio of 0.
+    /// `J_s` well above it (the taut far edge of `daec`'s cloth test with `--solver
+    /// dense`, `cli/tests/family.rs`); the solve cannot hide it. Not for the iterations,
+    /// which have no pivots. A `J_s` found singular counts as a ratio of 0.
     pub(crate) fn probe_singular<M: Model + ?Sized>(
         &mut self,
         model: &M,

@@ -2,8 +2,9 @@
 //! `family-chain-user N`: builds the chain of N links, evaluates every function of the
 //! model at its start and runs ten DBSMC steps; prints one line of figures.
 
+use dae_runtime::settings::{ StepEnd,};
 use dae_runtime::family::Spec;
-use dae_runtime::{Crossing, Model, Settings, Simulator};
+use dae_runtime::{ Model, Settings, Simulator};
 
 dae_runtime::dae_file!("../../../examples/models/chain.dae");
 
@@ -38,10 +39,10 @@ fn main() {
     // Ten steps of 1e-5 s (the settings of the runtime's 1000-link chain test).
     let settings = Settings::new(vec![1e-3; m], vec![0.05; m], vec![20.0; m])
         .step(1e-5)
-        .crossing(Crossing::StepEnd)
+        .law(StepEnd::default())
         .t_end(1e-4);
     let summary =
-        match Simulator::new(&chain, settings).and_then(|mut s| s.run(&mut dae_runtime::NoTrace)) {
+        match Simulator::new(&chain, settings).and_then(|mut s| s.run(&mut dae_runtime::trace::NoTrace)) {
             Ok(s) => s,
             Err(e) => {
                 eprintln!("error: {e}");
