@@ -456,8 +456,8 @@ pub(crate) fn runnable(
 fn scalar_with_params(
     compiled: CompiledModel,
     sets: &[(String, f64)],
-) -> Result<daec::Interpreted, Reported> {
-    let mut m = daec::Interpreted::new(compiled);
+) -> Result<dae_runtime::family::Interpreted, Reported> {
+    let mut m = dae_runtime::family::Interpreted::new(compiled);
     for (name, value) in sets {
         match m.param_index(name) {
             Some(i) => m.set_param(i, *value),

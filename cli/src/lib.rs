@@ -1,10 +1,10 @@
-//! Library side of `daec`: the interpreter that runs `.dae` models through the runtime
-//! without compiling Rust. The command line itself is the `daec` binary.
+//! Library side of `daec`: `.dae` models run through the runtime without compiling
+//! Rust, by the runtime's interpreter ([`Interpreted`] for a version-1 model,
+//! `dae_runtime::family::Interpreter` for a family model). The command line itself is
+//! the `daec` binary.
 #![warn(missing_docs)]
 
-mod interp;
-
-pub use interp::Interpreted;
+use dae_runtime::family::Interpreted;
 
 /// Parse, check, analyse and compile every model of a source text into interpreted
 /// models (the interpreter's counterpart of the generated Rust types).

@@ -1,13 +1,13 @@
 //! The interpreted family versions of chain5 and the 3-D double pendulum against their
-//! scalar (version-1) models run by `daec`'s interpreter, both behind the runtime's
+//! scalar (version-1) models run by the runtime's interpreter, both behind the runtime's
 //! `Model` trait: the same f, w, s, alpha_hat, J_Omega and beta at random points (to
 //! 1e-12), and the same simulation.
 
 use std::path::Path;
 
-use dae_runtime::family::{FamilyInstance, Interpreter, Spec};
+use dae_runtime::family::{FamilyInstance, Interpreted, Interpreter, Spec};
 use dae_runtime::{Model, Settings, Simulator, Summary, model::w_offsets, trace::NoTrace};
-use daec::{Interpreted, interpret_source};
+use daec::interpret_source;
 
 fn source(file: &str) -> String {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))

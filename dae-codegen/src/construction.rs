@@ -18,8 +18,7 @@ use dae_lang::ast::BinOp;
 use dae_lang::family::Construction;
 use dae_lang::model::{Family, MapKind, RExpr};
 
-use crate::family::lang;
-use crate::rust::{number, usize_lit};
+use crate::literals::{lang, number, usize_lit};
 
 /// The [`Construction`] as the body of a function returning it (with `dae_lang` at
 /// [`lang`]).

@@ -12,8 +12,8 @@ use quote::{quote, quote_spanned};
 
 use dae_lang::Diagnostic;
 
-use crate::rust::{emit_rust, generate};
 use crate::tokens::TokenSource;
+use crate::{emit_rust, generate};
 
 /// Expand `dae! { model ... }`: the generated types, or compile errors at the tokens.
 pub fn expand_dae(input: TokenStream) -> TokenStream {

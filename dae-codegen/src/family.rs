@@ -40,13 +40,10 @@ use dae_lang::tape::Operand;
 use dae_lang::{CompiledModel, VarRef};
 
 use crate::construction::construction_expr;
-use crate::rust::{instr, number, rust_ident, slot, usize_lit};
+use crate::literals::{
+    instr, lang, map_ident, number, rust_ident, slot, usize_lit, var_ident, var_source,
+};
 use crate::vectors::{VectorReads, VectorWrites};
-
-/// The path of `dae-lang` as the runtime re-exports it (feature `families`).
-pub(crate) fn lang() -> TokenStream {
-    quote!(::dae_runtime::__dae_lang)
-}
 
 /// The tokens of the kernels type of a family model, its scratch type and its
 /// `Kernels` implementation.
@@ -342,56 +339,6 @@ fn per_element(v: VarRef, c: &Construction) -> bool {
     }
 }
 
-/// The local holding a variable: its value (scalar) or its slot (family).
-pub(crate) fn var_ident(v: VarRef) -> Ident {
-    match v {
-        VarRef::Param(i) => format_ident!("p{}", i.index()),
-        VarRef::State(i) => format_ident!("x{}", i.index()),
-        VarRef::Alg(i) => format_ident!("z{}", i.index()),
-        VarRef::AlgRate(i) => format_ident!("zr{}", i.index()),
-        VarRef::Mu(k) => format_ident!("mu{}", k.index()),
-        // Each derivative of an input has its own slot (a derivative block apart).
-        VarRef::Input(i, j) => format_ident!("u{}_{}", i.index(), j),
-        VarRef::Time => format_ident!("t"),
-        VarRef::Elem(_) => format_ident!("e"),
-        VarRef::Size(s) => format_ident!("size{}", s.index()),
-    }
-}
-
-/// The vector a variable is read from and its [`Slot`](dae_lang::family::Slot) in
-/// the instance's layout (an expression).
-pub(crate) fn var_source(v: VarRef) -> Option<(TokenStream, TokenStream)> {
-    let lit = |i: usize| usize_lit(i);
-    Some(match v {
-        VarRef::Param(i) => {
-            let i = lit(i.index());
-            (quote!(vals.params), quote!(inst.layout.params[#i]))
-        }
-        VarRef::State(i) => {
-            let i = lit(i.index());
-            (quote!(vals.states), quote!(inst.layout.states[#i]))
-        }
-        VarRef::Alg(i) => {
-            let i = lit(i.index());
-            (quote!(vals.algs), quote!(inst.layout.algs[#i]))
-        }
-        VarRef::AlgRate(i) => {
-            let i = lit(i.index());
-            (quote!(vals.alg_rates), quote!(inst.layout.algs[#i]))
-        }
-        VarRef::Mu(k) => {
-            let k = lit(k.index());
-            (quote!(vals.mu), quote!(inst.layout.rows[#k]))
-        }
-        // Derivative `j` sits `j` derivative blocks (a size-dependent length) further.
-        VarRef::Input(i, j) => {
-            let (i, j) = (lit(i.index()), lit(j as usize));
-            (quote!(vals.inputs), quote!(inst.layout.input_value(#i, #j)))
-        }
-        VarRef::Time | VarRef::Elem(_) | VarRef::Size(_) => return None,
-    })
-}
-
 /// The distance between the slots of two consecutive elements of a family variable
 /// (what [`Layout`](dae_lang::family::Layout) gives: `dim` values per element, also
 /// for each derivative of an input; one row per element). A literal in the generated
@@ -437,10 +384,6 @@ fn read_var(v: VarRef, at: TokenStream, c: &Construction) -> TokenStream {
 
 fn array_ident(a: usize) -> Ident {
     format_ident!("a{a}")
-}
-
-pub(crate) fn map_ident(m: usize) -> Ident {
-    format_ident!("m{m}")
 }
 
 /// The body of one `Kernels` function: reads before the loops, the accumulators set to

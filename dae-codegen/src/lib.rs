@@ -89,10 +89,37 @@
 mod construction;
 mod expand;
 mod family;
+mod literals;
 mod rust;
 mod tokens;
 mod vectors;
 
+use dae_lang::CompiledModel;
+use proc_macro2::TokenStream;
+
 pub use expand::{compile_file_to_out_dir, expand_dae, expand_dae_file};
-pub use rust::{emit_rust, generate, rust_ident};
+pub use literals::rust_ident;
 pub use tokens::TokenSource;
+
+/// The tokens of the generated type and its `Model` implementation; for a family model
+/// (`model.family` set), the kernels type implementing `dae_runtime::family::Kernels`
+/// (see the crate documentation).
+pub fn generate(model: &CompiledModel) -> TokenStream {
+    match &model.family {
+        Some(fam) => family::generate_family(model, fam),
+        None => rust::generate_scalar(model),
+    }
+}
+
+/// The generated code as Rust source: formatted with feature `pretty`, the tokens' text
+/// (one line, the same code) without it.
+pub fn emit_rust(model: &CompiledModel) -> String {
+    let tokens = generate(model);
+    #[cfg(feature = "pretty")]
+    if let Ok(file) = syn::parse2::<syn::File>(tokens.clone()) {
+        return prettyplease::unparse(&file);
+    }
+    // Without `pretty`, or if the generator ever produced something `syn` rejects (it
+    // always produces valid Rust): the raw tokens rather than nothing.
+    tokens.to_string()
+}

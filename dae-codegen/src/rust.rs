@@ -10,184 +10,17 @@
 //! The generated code names the runtime by absolute path (`::dae_runtime::Model`), so it
 //! compiles in any crate that depends on `dae-runtime`.
 
-use proc_macro2::{Ident, Literal, Span, TokenStream};
+use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 
-use dae_lang::CompiledModel;
-use dae_lang::tape::{BinaryOp, Instr, Operand, Tape, UnaryOp};
-use dae_lang::{Func, VarRef};
+use dae_lang::tape::{Operand, Tape};
+use dae_lang::{CompiledModel, VarRef};
 
-/// Names a model or a parameter must not take as they are in the generated code: every
-/// Rust keyword of every edition (strict, reserved and weak ones), the primitive types,
-/// the names of the standard prelude (types, traits, variants, functions, derive macros),
-/// and the crates and items the generated code names (`core`, `std`, `dae_runtime`,
-/// `Model`). A struct named `f64` would shadow the type in every `f64` the code writes, one
-/// named `Option` the prelude's in the user's module, one named `TryInto` the trait that
-/// `try_into()` needs.
-const RESERVED: &[&str] = &[
-    // Strict keywords (2015 to 2024).
-    "as",
-    "async",
-    "await",
-    "break",
-    "const",
-    "continue",
-    "crate",
-    "dyn",
-    "else",
-    "enum",
-    "extern",
-    "false",
-    "fn",
-    "for",
-    "if",
-    "impl",
-    "in",
-    "let",
-    "loop",
-    "match",
-    "mod",
-    "move",
-    "mut",
-    "pub",
-    "ref",
-    "return",
-    "self",
-    "Self",
-    "static",
-    "struct",
-    "super",
-    "trait",
-    "true",
-    "type",
-    "unsafe",
-    "use",
-    "where",
-    "while",
-    // Reserved keywords.
-    "abstract",
-    "become",
-    "box",
-    "do",
-    "final",
-    "gen",
-    "macro",
-    "override",
-    "priv",
-    "try",
-    "typeof",
-    "unsized",
-    "virtual",
-    "yield",
-    // Weak keywords.
-    "macro_rules",
-    "raw",
-    "safe",
-    "union",
-    // Primitive types.
-    "bool",
-    "char",
-    "str",
-    "f16",
-    "f32",
-    "f64",
-    "f128",
-    "i8",
-    "i16",
-    "i32",
-    "i64",
-    "i128",
-    "isize",
-    "u8",
-    "u16",
-    "u32",
-    "u64",
-    "u128",
-    "usize",
-    // The standard prelude (all editions).
-    "Copy",
-    "Send",
-    "Sized",
-    "Sync",
-    "Unpin",
-    "Drop",
-    "Fn",
-    "FnMut",
-    "FnOnce",
-    "AsyncFn",
-    "AsyncFnMut",
-    "AsyncFnOnce",
-    "drop",
-    "size_of",
-    "size_of_val",
-    "align_of",
-    "align_of_val",
-    "Box",
-    "ToOwned",
-    "Clone",
-    "PartialEq",
-    "PartialOrd",
-    "Eq",
-    "Ord",
-    "AsRef",
-    "AsMut",
-    "Into",
-    "From",
-    "TryFrom",
-    "TryInto",
-    "FromIterator",
-    "Default",
-    "Iterator",
-    "Extend",
-    "IntoIterator",
-    "DoubleEndedIterator",
-    "ExactSizeIterator",
-    "Option",
-    "Some",
-    "None",
-    "Result",
-    "Ok",
-    "Err",
-    "String",
-    "ToString",
-    "Vec",
-    "Future",
-    "IntoFuture",
-    "Debug",
-    "Hash",
-    // Crates and items the generated code names.
-    "core",
-    "std",
-    "alloc",
-    "dae_runtime",
-    "Model",
-    "panic",
-];
+use crate::literals::{instr, number, rust_ident, slot, usize_lit};
 
-/// The Rust identifier of a model or parameter name (the type, or the field).
-///
-/// A name that is in the reserved list above, possibly followed by underscores, gets one
-/// more underscore: `type` -> `type_`, `type_` -> `type__`, `f64` -> `f64_`, `Self_` ->
-/// `Self__`; so does a name made of underscores only (`_` -> `__`). Other names are kept.
-/// The mapping is injective (two names never give one identifier: only a name whose stem
-/// is reserved changes, and it changes into a name with the same stem that was itself
-/// changed), and its result is never a reserved name (none of them ends with `_`).
-pub fn rust_ident(name: &str) -> String {
-    let stem = name.trim_end_matches('_');
-    if stem.is_empty() || RESERVED.contains(&stem) {
-        format!("{name}_")
-    } else {
-        name.to_string()
-    }
-}
-
-/// The tokens of the generated type and its `Model` implementation; for a family model
-/// (`model.family` set), the kernels type implementing `dae_runtime::family::Kernels`
-/// (see the crate documentation).
-pub fn generate(model: &CompiledModel) -> TokenStream {
-    if let Some(fam) = &model.family {
-        return crate::family::generate_family(model, fam);
-    }
+/// The tokens of the generated type of a version-1 model and its `Model`
+/// implementation.
+pub(crate) fn generate_scalar(model: &CompiledModel) -> TokenStream {
     let ty = format_ident!("{}", rust_ident(&model.name));
     let name = &model.name;
     let fields: Vec<Ident> = model
@@ -347,49 +180,12 @@ pub fn generate(model: &CompiledModel) -> TokenStream {
     }
 }
 
-/// The generated code as Rust source: formatted with feature `pretty`, the tokens' text
-/// (one line, the same code) without it.
-pub fn emit_rust(model: &CompiledModel) -> String {
-    let tokens = generate(model);
-    #[cfg(feature = "pretty")]
-    if let Ok(file) = syn::parse2::<syn::File>(tokens.clone()) {
-        return prettyplease::unparse(&file);
-    }
-    // Without `pretty`, or if the generator ever produced something `syn` rejects (it
-    // always produces valid Rust): the raw tokens rather than nothing.
-    tokens.to_string()
-}
-
 /// `1 state`, `2 states`.
 fn counted(n: usize, noun: &str) -> String {
     if n == 1 {
         format!("1 {noun}")
     } else {
         format!("{n} {noun}s")
-    }
-}
-
-pub(crate) fn usize_lit(n: usize) -> Literal {
-    Literal::usize_unsuffixed(n)
-}
-
-pub(crate) fn slot(k: u32) -> Ident {
-    Ident::new(&format!("v{k}"), Span::call_site())
-}
-
-pub(crate) fn number(c: f64) -> TokenStream {
-    if c.is_nan() {
-        quote!(f64::NAN)
-    } else if c == f64::INFINITY {
-        quote!(f64::INFINITY)
-    } else if c == f64::NEG_INFINITY {
-        quote!(f64::NEG_INFINITY)
-    } else if c < 0.0 {
-        let l = Literal::f64_suffixed(-c);
-        quote!((-#l))
-    } else {
-        let l = Literal::f64_suffixed(c);
-        quote!(#l)
     }
 }
 
@@ -432,61 +228,6 @@ fn operand(o: Operand, fields: &[Ident]) -> TokenStream {
     }
 }
 
-fn call_name(f: Func) -> Ident {
-    Ident::new(f.name(), Span::call_site())
-}
-
-/// One instruction as an expression, its operands printed by `operand`.
-pub(crate) fn instr(i: &Instr, operand: &impl Fn(Operand) -> TokenStream) -> TokenStream {
-    match *i {
-        Instr::Unary(op, a) => {
-            let a = operand(a);
-            match op {
-                UnaryOp::Neg => quote!(-#a),
-                UnaryOp::Powi(n) => quote!(f64::powi(#a, #n)),
-                UnaryOp::Call(Func::Sign) => quote!({
-                    let a: f64 = #a;
-                    if a > 0.0 { 1.0 } else if a < 0.0 { -1.0 } else { a * 0.0 }
-                }),
-                UnaryOp::Call(f) => {
-                    let name = call_name(f);
-                    quote!(f64::#name(#a))
-                }
-            }
-        }
-        Instr::Binary(op, a, b) => {
-            let a = operand(a);
-            let b = operand(b);
-            match op {
-                BinaryOp::Add => quote!(#a + #b),
-                BinaryOp::Sub => quote!(#a - #b),
-                BinaryOp::Mul => quote!(#a * #b),
-                BinaryOp::Div => quote!(#a / #b),
-                BinaryOp::Call(f) => call2(f, a, b),
-            }
-        }
-    }
-}
-
-/// A two-argument built-in, with the value [`Func::apply2`] defines.
-fn call2(f: Func, a: TokenStream, b: TokenStream) -> TokenStream {
-    match f {
-        Func::Pow => quote!(f64::powf(#a, #b)),
-        // NaN propagates, as in `Func::apply2` (f64::min would drop it).
-        Func::Min | Func::Max => {
-            let name = call_name(f);
-            quote!({
-                let (a, b): (f64, f64) = (#a, #b);
-                if a.is_nan() || b.is_nan() { f64::NAN } else { f64::#name(a, b) }
-            })
-        }
-        _ => {
-            let name = call_name(f);
-            quote!(f64::#name(#a, #b))
-        }
-    }
-}
-
 fn lets(tape: &Tape, fields: &[Ident]) -> TokenStream {
     let stmts = tape.instrs().iter().enumerate().map(|(k, i)| {
         let v = slot(k as u32);
@@ -525,61 +266,4 @@ fn sliding_body(tape: &Tape, fields: &[Ident], nw: usize, m: usize) -> TokenStre
         }
     });
     quote!(#lets #(#stores)*)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use std::collections::HashSet;
-
-    #[test]
-    fn rust_ident_keeps_plain_names_and_mangles_reserved_ones() {
-        for plain in [
-            "x", "Pendulum", "l1", "mu", "types", "_x", "x_", "v0", "selfish",
-        ] {
-            assert_eq!(rust_ident(plain), plain);
-        }
-        for (name, ident) in [
-            ("type", "type_"),
-            ("type_", "type__"),
-            ("Self", "Self_"),
-            ("Self_", "Self__"),
-            ("f64", "f64_"),
-            ("f64__", "f64___"),
-            ("_", "__"),
-            ("__", "___"),
-            ("Default", "Default_"),
-            ("Model", "Model_"),
-            ("core", "core_"),
-            ("gen", "gen_"),
-            ("macro_rules", "macro_rules_"),
-        ] {
-            assert_eq!(rust_ident(name), ident, "{name}");
-        }
-    }
-
-    #[test]
-    fn rust_ident_is_injective_and_never_reserved() {
-        // Every reserved name with zero to three trailing underscores, the all-underscore
-        // names, and plain names: all distinct after mangling, none reserved, all
-        // identifiers.
-        let mut names: Vec<String> = Vec::new();
-        for stem in RESERVED.iter().copied().chain(["", "x", "Pendulum"]) {
-            for k in 0..4 {
-                let name = format!("{stem}{}", "_".repeat(k));
-                if !name.is_empty() {
-                    names.push(name);
-                }
-            }
-        }
-        let mut seen = HashSet::new();
-        for n in &names {
-            let id = rust_ident(n);
-            assert!(!RESERVED.contains(&id.as_str()), "{n} -> {id}");
-            assert!(id != "_", "{n}");
-            assert!(seen.insert(id.clone()), "{n} -> {id} collides");
-            // A valid identifier (proc-macro2 panics on anything else).
-            let _ = Ident::new(&id, Span::call_site());
-        }
-    }
 }

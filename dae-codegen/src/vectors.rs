@@ -24,7 +24,7 @@ use dae_lang::model::Family;
 use dae_lang::tape::Operand;
 use dae_lang::{AlgId, InputId, ParamId, StateId, VarRef};
 
-use crate::rust::usize_lit;
+use crate::literals::{lang, map_ident, usize_lit, var_ident, var_source};
 
 /// A component of a vector family: the variable of its component 0, which component it
 /// is, and how many there are. `None` for a scalar or a single-component family.
@@ -112,7 +112,7 @@ impl VectorReads {
     }
 
     fn local(base: VarRef, at: At) -> Ident {
-        let v = crate::family::var_ident(base);
+        let v = var_ident(base);
         match at {
             None => format_ident!("{v}_e"),
             Some(m) => format_ident!("{v}_m{m}"),
@@ -138,13 +138,13 @@ impl VectorReads {
                 .iter()
                 .next()
                 .expect("two components or more");
-            let (vec, _) = crate::family::var_source(v).expect("a variable read from a vector");
-            let slot = crate::family::var_ident(v);
+            let (vec, _) = var_source(v).expect("a variable read from a vector");
+            let slot = var_ident(v);
             let dim = usize_lit(read.dim);
             let element = match at {
                 None => quote!(e),
                 Some(m) => {
-                    let m = crate::family::map_ident(m);
+                    let m = map_ident(m);
                     quote!((#m[e] as usize))
                 }
             };
@@ -316,7 +316,7 @@ pub(crate) fn offset_check(c: &Construction) -> TokenStream {
     if checks.is_empty() {
         return TokenStream::new();
     }
-    let dl = crate::family::lang();
+    let dl = lang();
     quote! {
         // Component `i` of a vector family right after component `first`'s slot.
         let side_by_side = |slots: &[#dl::family::Slot], pairs: &[(usize, usize)]| {

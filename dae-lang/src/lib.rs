@@ -117,7 +117,7 @@ mod sym;
 
 #[cfg(any(test, feature = "fixtures"))]
 pub use analysis::fixtures;
-pub use analysis::{Analysis, AnalysisOptions, ConstraintAnalysis, InitialPoint, analyze};
+pub use analysis::{Analysis, AnalysisOptions, ConstraintAnalysis, InitialPoint};
 #[cfg(feature = "internals")]
 pub use analysis::{ConstraintExprs, Kernel, Lowered, SymbolicModel, lower};
 #[cfg(feature = "internals")]
@@ -127,6 +127,15 @@ pub use sym::{
 };
 
 pub use compiled::{CompiledModel, DENSE_JACOBIAN_MAX};
+
+/// Analyse a checked model: index, `J_Omega`, `beta`, `s`, `alpha`, `alpha_hat`, its
+/// compiled form, and the checks at the initial point. Every problem found is returned,
+/// each as a diagnostic with the span of the item concerned.
+pub fn analyze(model: &model::Model, opts: &AnalysisOptions) -> Result<Analysis, Vec<Diagnostic>> {
+    let (constraints, symbolic) = analysis::derive(model, opts)?;
+    let compiled = compile::compile(model, &constraints, &symbolic);
+    Analysis::checked(model, constraints, symbolic, compiled, opts)
+}
 
 /// The compiled form of an analysed model: its functions as straight-line programs (the
 /// input of the code generator and of the interpreter).

@@ -374,3 +374,19 @@ fn a_let_family_that_uses_itself() {
     );
     error_at(&src, "uses itself", "u[l in L]", "let u");
 }
+
+#[test]
+fn der_of_something_other_than_a_state() {
+    let src = chain(&format!("{EQUATIONS}\n    der(m) = 0;\n    der(t) = 1;"));
+    let d = error_at(
+        &src,
+        "`der(m)`: `m` is a parameter, not a state",
+        "m",
+        "der(m)",
+    );
+    assert_eq!(d.label, "a parameter");
+    let declared = src.find("m = 0.1").expect("the declaration of m");
+    assert_eq!(d.related[0].0.start, declared, "{d:?}");
+    let d = error_at(&src, "`der(t)`: `t` is time, not a state", "t", "der(t)");
+    assert_eq!(d.label, "time");
+}

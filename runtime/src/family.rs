@@ -123,7 +123,7 @@ mod rank;
 pub use dae_lang::family::{ConstructError, Construction, Instance, Spec, Values};
 pub use inputs::InputError;
 pub use instance::{FamilyInstance, UnknownName};
-pub use interpreter::{Interpreter, InterpreterScratch};
+pub use interpreter::{Interpreted, Interpreter, InterpreterScratch};
 pub use rank::{StructuralRank, structural_rank};
 
 /// The four evaluation functions of a family model over an [`Instance`], the back end

@@ -1,6 +1,6 @@
 //! Cost of the generated code: nanoseconds per evaluation of each `Model` function for
 //! the 3-D double pendulum and a planar chain of 5 links, the same functions through the
-//! interpreter (`daec::Interpreted`, evaluating the same tapes), and, printed before the
+//! interpreter (`dae_runtime::family::Interpreted`, evaluating the same tapes), and, printed before the
 //! timings, the operation count of the generated code (tape instructions, shared
 //! sub-expressions computed once) against the same outputs written as trees.
 //!

@@ -1,6 +1,6 @@
 //! The Rust code generated for every example model (compiled here through
 //! `dae_runtime::dae_file!`) against two oracles:
-//! * the interpreter (`daec::Interpreted`), which evaluates the same compiled tapes
+//! * the interpreter (`dae_runtime::family::Interpreted`), which evaluates the same compiled tapes
 //!   without generating code: every output of every `Model` function must agree to
 //!   1e-12 relative, also after parameter changes;
 //! * finite differences, which know nothing of the symbolic pipeline: `J_Omega` is the
@@ -35,7 +35,7 @@ fn generated(stem: &str) -> Box<dyn Model> {
 }
 
 /// Every example: (stem, generated, interpreted).
-fn pairs() -> Vec<(String, Box<dyn Model>, daec::Interpreted)> {
+fn pairs() -> Vec<(String, Box<dyn Model>, dae_runtime::family::Interpreted)> {
     let sources = scalar_example_sources();
     assert_eq!(sources.len(), 7, "a new example model: add it to this test");
     sources

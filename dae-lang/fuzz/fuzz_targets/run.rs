@@ -26,7 +26,7 @@ fuzz_target!(|data: &[u8]| {
     };
     for (_, analysis) in &analysed {
         assert!(analysis.condition_number.is_finite());
-        let model = daec::Interpreted::new(dae_lang::compile(analysis));
+        let model = dae_runtime::family::Interpreted::new(dae_lang::compile(analysis));
         let m = model.n_constraints();
         // The settings of a first try from the command line: 50 steps of 1 ms.
         // A step limit bounds the work of a far-inconsistent start with a small gain

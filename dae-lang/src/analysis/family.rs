@@ -1,90 +1,24 @@
-//! The analysis of a family model, on its templates: one derivation per constraint
-//! family (whatever the sizes), `J_Omega` as kernels with the couplings they hold in,
-//! and the check that every input is given with the derivatives the functions read.
-//!
-//! Nothing here depends on the sizes: the checks at the initial point need an instance
-//! and belong to construction (the runtime), so `Analysis::initial` is empty,
-//! `jacobian_at_initial` empty and `condition_number` NaN for a family model.
+//! What the analysis of a family model adds, on its templates (nothing here depends on
+//! the sizes): `J_Omega` as kernels with the couplings they hold in, and the check that
+//! every input is given with the derivatives the functions read.
 
-use super::{
-    Analysis, AnalysisOptions, ConstraintAnalysis, ConstraintExprs, InitialPoint, Kernel, Lowered,
-    SymbolicModel, index_of, lower, no_index, sliding_exprs, text::wname,
-};
+use super::{ConstraintAnalysis, Kernel, SymbolicModel, text::wname};
 use crate::diag::Diagnostic;
 use crate::model::{ConstraintDef, Model};
-use crate::sym::{Arena, DiffContext, Id, Names, Node, jacobian_terms};
-use crate::{AlgId, ConstraintId, VarRef};
+use crate::sym::{Arena, Id, Names, Node, jacobian_terms};
+use crate::{AlgId, VarRef};
 
-/// Analyse a checked family model (see the module documentation).
-pub(super) fn analyze(model: &Model, opts: &AnalysisOptions) -> Result<Analysis, Vec<Diagnostic>> {
-    let Lowered {
-        mut arena,
-        f,
-        g,
-        lets,
-    } = lower(model, opts.simplify);
-    let mut derivatives = DiffContext::new(f.clone());
-    let names = Names::from_model(model);
-    let mut errors = Vec::new();
-    let mut summaries = Vec::with_capacity(g.len());
-    let mut exprs = Vec::with_capacity(g.len());
-    for (i, (&gi, def)) in g.iter().zip(&model.constraints).enumerate() {
-        match index_of(&mut arena, &mut derivatives, gi, opts.max_differentiations) {
-            Ok(w) => match realize(&mut arena, &mut derivatives, &names, i, def, w) {
-                Ok((summary, e)) => {
-                    summaries.push(summary);
-                    exprs.push(e);
-                }
-                Err(d) => errors.push(d),
-            },
-            Err(kind) => errors.push(no_index(&arena, &names, model, i, gi, kind, opts)),
-        }
-    }
-    if !errors.is_empty() {
-        return Err(errors);
-    }
-    let symbolic = SymbolicModel {
-        arena,
-        names,
-        f,
-        lets,
-        let_names: model.lets.iter().map(|l| l.name.clone()).collect(),
-        init_state: Vec::new(),
-        init_alg: Vec::new(),
-        constraints: exprs,
-    };
-    check_inputs(model, &summaries, &symbolic)?;
-    let compiled = crate::family::compile(model, &summaries, &symbolic);
-    Ok(Analysis {
-        model_name: model.name.clone(),
-        constraints: summaries,
-        initial: InitialPoint {
-            params: Vec::new(),
-            states: Vec::new(),
-            algs: Vec::new(),
-        },
-        jacobian_at_initial: Vec::new(),
-        condition_number: f64::NAN,
-        symbolic,
-        compiled,
-    })
-}
-
-/// The realization of constraint family `i`: kernels of `J_Omega`, `beta`, `s`,
-/// `alpha`, `alpha_hat`.
-fn realize(
+/// The kernels of `J_Omega` of a constraint family: one per coupling (the unknown and
+/// the maps its rows and columns meet through), each a sum of row times column factors.
+pub(super) fn kernels(
     arena: &mut Arena,
-    derivatives: &mut DiffContext,
     names: &Names,
-    i: usize,
     def: &ConstraintDef,
-    w: Vec<Id>,
-) -> Result<(ConstraintAnalysis, ConstraintExprs), Diagnostic> {
-    let r = w.len();
-    let omega = w[r - 1];
-    let cols = arena.algs_in(omega);
+    omega: Id,
+    cols: &[AlgId],
+) -> Result<Vec<Kernel>, Diagnostic> {
     let mut kernels = Vec::new();
-    for &k in &cols {
+    for &k in cols {
         let terms = jacobian_terms(arena, omega, k).map_err(|_| two_hop(names, def, k))?;
         for t in terms {
             // A row factor whose node is scalar in a family: lifted through the unit.
@@ -107,32 +41,7 @@ fn realize(
             }
         }
     }
-    let beta = derivatives.dt(arena, omega);
-    let rate = derivatives.dt_moving(arena, omega);
-    let mu = arena.mu(ConstraintId::new(i));
-    let (s, alpha, alpha_hat) = sliding_exprs(arena, &w, beta, mu);
-    let summary = ConstraintAnalysis {
-        name: def.name.clone(),
-        span: def.span,
-        index: r,
-        depends_on: cols
-            .iter()
-            .map(|&k| family_name(&names.var(VarRef::Alg(k))))
-            .collect(),
-    };
-    let exprs = ConstraintExprs {
-        w,
-        omega,
-        jacobian_row: Vec::new(),
-        kernels,
-        beta,
-        rate: Some(rate),
-        mu,
-        s,
-        alpha,
-        alpha_hat,
-    };
-    Ok((summary, exprs))
+    Ok(kernels)
 }
 
 /// `pin.x` -> `pin`.
@@ -158,7 +67,7 @@ fn two_hop(names: &Names, def: &ConstraintDef, k: AlgId) -> Diagnostic {
 
 /// Every input read by a function at a derivative it does not give: located at the
 /// input's declaration, naming the derivative and where it is needed.
-fn check_inputs(
+pub(super) fn check_inputs(
     model: &Model,
     summaries: &[ConstraintAnalysis],
     sym: &SymbolicModel,

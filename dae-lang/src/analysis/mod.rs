@@ -7,10 +7,10 @@
 //! `s_i = sum_{j<r} C(r-1, j) mu^j w^(j)`,
 //! `alpha_i = mu^(r-1) beta_i + sum_{j=1}^{r-1} C(r-1, j-1) mu^(j-1) w^(j)` (corrected
 //! coefficients) and the cheap `alpha_hat_i = alpha_i - mu^(r-1) beta_i`.
-//! The initial values are lowered into the same arena, every function is compiled into
-//! its tape ([`CompiledModel`]), and those tapes, the ones that will run, are evaluated
-//! at the initial point, where non-finite values and a singular or ill-conditioned
-//! `J_Omega` are errors.
+//! The initial values are lowered into the same arena ([`derive`]). Every function is
+//! then compiled into its tape (`crate::compile`, [`CompiledModel`]), and those tapes,
+//! the ones that will run, are evaluated at the initial point ([`Analysis::checked`]),
+//! where non-finite values and a singular or ill-conditioned `J_Omega` are errors.
 
 mod family;
 #[cfg(any(test, feature = "fixtures"))]
@@ -31,7 +31,7 @@ use crate::{AlgId, ConstraintId, MapId};
 
 pub use lower::{Lowered, lower};
 
-/// Options of [`analyze`].
+/// Options of [`analyze`](crate::analyze).
 #[derive(Clone, Debug, PartialEq)]
 pub struct AnalysisOptions {
     /// Most time derivatives taken of a constraint looking for an algebraic unknown
@@ -145,7 +145,7 @@ pub struct InitialPoint {
     pub algs: Vec<f64>,
 }
 
-/// The result of [`analyze`].
+/// The result of [`analyze`](crate::analyze).
 #[derive(Clone, Debug)]
 pub struct Analysis {
     /// The model's name.
@@ -181,13 +181,15 @@ fn binomial(n: usize, k: usize) -> f64 {
     (0..k).fold(1.0, |c, i| c * (n - i) as f64 / (i + 1) as f64)
 }
 
-/// Analyse a checked model: index, `J_Omega`, `beta`, `s`, `alpha`, `alpha_hat`, and the
-/// checks at the initial point. Every problem found is returned, each as a diagnostic
-/// with the span of the item concerned.
-pub fn analyze(model: &Model, opts: &AnalysisOptions) -> Result<Analysis, Vec<Diagnostic>> {
-    if model.is_family() {
-        return family::analyze(model, opts);
-    }
+/// The derivation of a checked model: index, `J_Omega` (a row per constraint, or the
+/// kernels of a family model), `beta`, `s`, `alpha`, `alpha_hat`, in one arena. Every
+/// problem found is returned, each as a diagnostic with the span of the item concerned.
+/// The compiled form and the checks at the initial point follow ([`Analysis::checked`]).
+pub(crate) fn derive(
+    model: &Model,
+    opts: &AnalysisOptions,
+) -> Result<(Vec<ConstraintAnalysis>, SymbolicModel), Vec<Diagnostic>> {
+    let is_family = model.is_family();
     let Lowered {
         mut arena,
         f,
@@ -201,15 +203,18 @@ pub fn analyze(model: &Model, opts: &AnalysisOptions) -> Result<Analysis, Vec<Di
     let mut exprs = Vec::with_capacity(g.len());
     for (i, (&gi, def)) in g.iter().zip(&model.constraints).enumerate() {
         match index_of(&mut arena, &mut derivatives, gi, opts.max_differentiations) {
-            Ok(w) => {
-                let (summary, e) = realize(&mut arena, &mut derivatives, &names, i, def, w);
-                summaries.push(summary);
-                exprs.push(e);
-            }
+            Ok(w) => match realize(&mut arena, &mut derivatives, &names, i, def, w, is_family) {
+                Ok((summary, e)) => {
+                    summaries.push(summary);
+                    exprs.push(e);
+                }
+                Err(d) => errors.push(d),
+            },
             Err(kind) => errors.push(no_index(&arena, &names, model, i, gi, kind, opts)),
         }
     }
-    if model.algs.len() != model.constraints.len() {
+    // A family model's counts are checked per set, at the default sizes, by the checker.
+    if !is_family && model.algs.len() != model.constraints.len() {
         errors.push(Diagnostic {
             message: format!(
                 "{} algebraic unknowns but {} constraints",
@@ -226,8 +231,13 @@ pub fn analyze(model: &Model, opts: &AnalysisOptions) -> Result<Analysis, Vec<Di
         return Err(errors);
     }
     // Lowered last, so that the nodes above keep the ids (and the tapes the order) they
-    // have without them.
-    let (init_state, init_alg) = lower::lower_initial(&mut arena, model);
+    // have without them. A family model's initial values need its sizes: construction
+    // evaluates them.
+    let (init_state, init_alg) = if is_family {
+        (Vec::new(), Vec::new())
+    } else {
+        lower::lower_initial(&mut arena, model)
+    };
     let symbolic = SymbolicModel {
         arena,
         names,
@@ -238,22 +248,47 @@ pub fn analyze(model: &Model, opts: &AnalysisOptions) -> Result<Analysis, Vec<Di
         init_alg,
         constraints: exprs,
     };
-    let params: Vec<(String, f64)> = model
-        .params
-        .iter()
-        .map(|p| (p.name.clone(), p.default))
-        .collect();
-    let compiled = crate::compile::compile(&model.name, &params, &summaries, &symbolic);
-    let at_initial = init::check_initial_point(model, &summaries, &compiled, opts)?;
-    Ok(Analysis {
-        model_name: model.name.clone(),
-        constraints: summaries,
-        initial: at_initial.point,
-        jacobian_at_initial: at_initial.jacobian,
-        condition_number: at_initial.condition_number,
-        symbolic,
-        compiled,
-    })
+    if is_family {
+        family::check_inputs(model, &summaries, &symbolic)?;
+    }
+    Ok((summaries, symbolic))
+}
+
+impl Analysis {
+    /// The analysis of `model` from its derivation and its compiled form: for a
+    /// version-1 model the tapes that will run are evaluated at the initial point, where
+    /// non-finite values and a singular or ill-conditioned `J_Omega` are errors. A
+    /// family model's initial point needs an instance and is checked at construction
+    /// (the runtime), so `initial` and `jacobian_at_initial` are empty and
+    /// `condition_number` NaN.
+    pub(crate) fn checked(
+        model: &Model,
+        constraints: Vec<ConstraintAnalysis>,
+        symbolic: SymbolicModel,
+        compiled: CompiledModel,
+        opts: &AnalysisOptions,
+    ) -> Result<Analysis, Vec<Diagnostic>> {
+        let (initial, jacobian_at_initial, condition_number) = if model.is_family() {
+            let empty = InitialPoint {
+                params: Vec::new(),
+                states: Vec::new(),
+                algs: Vec::new(),
+            };
+            (empty, Vec::new(), f64::NAN)
+        } else {
+            let at = init::check_initial_point(model, &constraints, &compiled, opts)?;
+            (at.point, at.jacobian, at.condition_number)
+        };
+        Ok(Analysis {
+            model_name: model.name.clone(),
+            constraints,
+            initial,
+            jacobian_at_initial,
+            condition_number,
+            symbolic,
+            compiled,
+        })
+    }
 }
 
 /// Why a constraint has no index.
@@ -287,7 +322,9 @@ fn index_of(
     }
 }
 
-/// The realization of constraint `i` (`def`) from its derivatives `w`.
+/// The realization of constraint `i` (`def`) from its derivatives `w`: for a family
+/// model `J_Omega` as kernels and `Omega'` too (the rate program), for a version-1
+/// model `J_Omega` as the entries of its row.
 fn realize(
     arena: &mut Arena,
     derivatives: &mut DiffContext,
@@ -295,19 +332,21 @@ fn realize(
     i: usize,
     def: &ConstraintDef,
     w: Vec<Id>,
-) -> (ConstraintAnalysis, ConstraintExprs) {
+    is_family: bool,
+) -> Result<(ConstraintAnalysis, ConstraintExprs), Diagnostic> {
     let r = w.len();
     let omega = w[r - 1];
     let cols = arena.algs_in(omega);
-    let mut jacobian_row = Vec::with_capacity(cols.len());
-    for &k in &cols {
-        let z = arena.alg(k);
-        let d = derivatives.diff(arena, omega, z);
-        if arena.as_const(d) != Some(0.0) {
-            jacobian_row.push((k, d));
-        }
-    }
+    let (jacobian_row, kernels) = if is_family {
+        (
+            Vec::new(),
+            family::kernels(arena, names, def, omega, &cols)?,
+        )
+    } else {
+        (jacobian_row(arena, derivatives, omega, &cols), Vec::new())
+    };
     let beta = derivatives.dt(arena, omega);
+    let rate = is_family.then(|| derivatives.dt_moving(arena, omega));
     let mu = arena.mu(ConstraintId::new(i));
     let (s, alpha, alpha_hat) = sliding_exprs(arena, &w, beta, mu);
     let summary = ConstraintAnalysis {
@@ -320,15 +359,33 @@ fn realize(
         w,
         omega,
         jacobian_row,
-        kernels: Vec::new(),
+        kernels,
         beta,
-        rate: None,
+        rate,
         mu,
         s,
         alpha,
         alpha_hat,
     };
-    (summary, exprs)
+    Ok((summary, exprs))
+}
+
+/// The non-zero entries `(k, dOmega/dz_k)` of a row of `J_Omega`.
+fn jacobian_row(
+    arena: &mut Arena,
+    derivatives: &mut DiffContext,
+    omega: Id,
+    cols: &[AlgId],
+) -> Vec<(AlgId, Id)> {
+    let mut row = Vec::with_capacity(cols.len());
+    for &k in cols {
+        let z = arena.alg(k);
+        let d = derivatives.diff(arena, omega, z);
+        if arena.as_const(d) != Some(0.0) {
+            row.push((k, d));
+        }
+    }
+    row
 }
 
 /// `s`, `alpha` and `alpha_hat` of a constraint from its derivatives `w`, `beta` and its
@@ -356,8 +413,14 @@ fn sliding_exprs(arena: &mut Arena, w: &[Id], beta: Id, mu: Id) -> (Id, Id, Id) 
     (s, alpha, alpha_hat)
 }
 
+/// The name of an algebraic unknown's family (`pin` for the component `pin.x`; a
+/// version-1 name has no component).
 fn alg_name(names: &Names, k: AlgId) -> String {
-    names.var(crate::VarRef::Alg(k))
+    let name = names.var(crate::VarRef::Alg(k));
+    match name.split_once('.') {
+        Some((family, _)) => family.to_string(),
+        None => name,
+    }
 }
 
 fn no_index(

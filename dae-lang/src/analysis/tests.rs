@@ -3,6 +3,7 @@
 
 use super::fixtures::*;
 use super::*;
+use crate::analyze;
 use crate::sym::Point;
 
 fn opts() -> AnalysisOptions {

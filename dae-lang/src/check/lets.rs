@@ -1,5 +1,7 @@
 //! Ordering of `let` definitions: each must come after the ones it uses.
 
+use crate::ast::Decl;
+use crate::diag::Diagnostic;
 use crate::model::RExpr;
 
 /// The `let`s used by `e` (indices in source order), each once, in order of appearance.
@@ -106,6 +108,31 @@ pub(super) fn renumber(e: &mut RExpr, new_index: &[usize]) {
         }
         RExpr::Call(_, args) => args.iter_mut().for_each(|a| renumber(a, new_index)),
     }
+}
+
+/// The error of a cycle among `let`s (`cycle` indexes `decls`), at its first definition,
+/// the others on the cycle as related places.
+pub(super) fn cycle_error(cycle: &[usize], decls: &[&Decl]) -> Diagnostic {
+    let names: Vec<&str> = cycle.iter().map(|&i| decls[i].name.name.as_str()).collect();
+    let path = format!("{} -> {}", names.join(" -> "), names[0]);
+    let first = decls[cycle[0]];
+    let mut d = Diagnostic::new(
+        format!("the definitions form a cycle: {path}"),
+        first.name.span,
+        if cycle.len() == 1 {
+            "uses itself".to_string()
+        } else {
+            "this definition starts the cycle".into()
+        },
+    )
+    .hint("a `let` may not use itself, directly or through other `let`s: break the cycle");
+    for &i in &cycle[1..] {
+        d = d.related(
+            decls[i].name.span,
+            format!("`{}` is on the cycle", decls[i].name.name),
+        );
+    }
+    d
 }
 
 #[cfg(test)]

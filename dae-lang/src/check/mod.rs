@@ -309,28 +309,28 @@ fn order_lets(decls: &[&Decl], exprs: &[Option<RExpr>], diags: &mut Vec<Diagnost
         .collect();
     let order = lets::order(&uses);
     for cycle in &order.cycles {
-        let names: Vec<&str> = cycle.iter().map(|&i| decls[i].name.name.as_str()).collect();
-        let path = format!("{} -> {}", names.join(" -> "), names[0]);
-        let first = decls[cycle[0]];
-        let mut d = Diagnostic::new(
-            format!("the definitions form a cycle: {path}"),
-            first.name.span,
-            if cycle.len() == 1 {
-                "uses itself".to_string()
-            } else {
-                "this definition starts the cycle".into()
-            },
-        )
-        .hint("a `let` may not use itself, directly or through other `let`s: break the cycle");
-        for &i in &cycle[1..] {
-            d = d.related(
-                decls[i].name.span,
-                format!("`{}` is on the cycle", decls[i].name.name),
-            );
-        }
-        diags.push(d);
+        diags.push(lets::cycle_error(cycle, decls));
     }
     order.order
+}
+
+/// `der(name)` of a name declared as something other than a state.
+fn der_of_non_state(name: &str, at: Span, what: &str, declared: Span) -> Diagnostic {
+    Diagnostic::new(
+        format!("`der({name})`: `{name}` is {what}, not a state"),
+        at,
+        what,
+    )
+    .related(declared, format!("`{name}` is declared here"))
+    .hint(format!(
+        "only states have a derivative: declare `{name}` with `state`"
+    ))
+}
+
+/// `der(t)`.
+fn der_of_time(at: Span) -> Diagnostic {
+    Diagnostic::new("`der(t)`: `t` is time, not a state", at, "time")
+        .hint("`der` takes a state declared with `state`")
 }
 
 /// The `der` equations, one per state (indexed like `states`).
@@ -356,26 +356,15 @@ fn ders(
             // `der` of a name declared twice, once as a state: already reported.
             Some(_) if scope.duplicated.contains(name) => continue,
             Some(e) => {
-                diags.push(
-                    Diagnostic::new(
-                        format!("`der({name})`: `{name}` is {}, not a state", e.kind.words()),
-                        target.span,
-                        e.kind.words(),
-                    )
-                    .related(e.span, format!("`{name}` is declared here"))
-                    .hint(format!(
-                        "only states have a derivative: declare `{name}` with `state`"
-                    )),
-                );
+                diags.push(der_of_non_state(name, target.span, e.kind.words(), e.span));
                 continue;
             }
             None => {
-                let mut d = scope.unknown_name(name, target.span);
-                if name == "t" {
-                    d = Diagnostic::new("`der(t)`: `t` is time, not a state", target.span, "time")
-                        .hint("`der` takes a state declared with `state`");
-                }
-                diags.push(d);
+                diags.push(if name == "t" {
+                    der_of_time(target.span)
+                } else {
+                    scope.unknown_name(name, target.span)
+                });
                 continue;
             }
         };

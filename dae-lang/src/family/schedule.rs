@@ -17,9 +17,9 @@
 use std::collections::{BTreeMap, HashMap};
 
 use super::program::{ArrayDef, Dest, EntryLoop, Factor, Group, Program, Sink};
-use crate::compile::Emitter;
 use crate::sym::{Arena, Id, Node};
 use crate::tape::Operand;
+use crate::tape::emit::Emitter;
 use crate::{ArrayId, SetId, VarRef};
 
 /// A root of a program: a node and where its value goes.

@@ -52,6 +52,7 @@
 mod build;
 mod diff;
 mod kernels;
+mod names;
 // The compiler evaluates tapes, never the arena: this evaluator serves the tests.
 #[cfg(any(test, feature = "internals"))]
 mod eval;
@@ -76,10 +77,10 @@ pub use eval::Point;
 pub use kernels::jacobian_terms;
 #[cfg(any(test, feature = "internals"))]
 pub use kernels::{Term, TwoHop};
-pub use print::Names;
 #[cfg(any(test, feature = "internals"))]
-pub use print_family::FamilyNames;
-pub(crate) use print_family::primes;
+pub use names::FamilyNames;
+pub use names::Names;
+pub(crate) use names::primes;
 
 /// The id of a node in an [`Arena`]; children always have smaller ids than parents.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

@@ -9,58 +9,12 @@
 
 use std::collections::HashMap;
 
-use super::print::{Abbreviations, Kind, Names, Piece, Printer, number, wrap};
+use super::names::{Names, primes, split_component};
+use super::print::{Abbreviations, Kind, Piece, Printer, number, wrap};
 use super::{Arena, Id};
 use crate::ast::{BinOp, LogicOp};
-use crate::model::{IntOp, MapKind, Model, RExpr};
+use crate::model::{IntOp, MapKind, RExpr};
 use crate::{MapId, SetId, VarRef};
-
-/// The names printing needs for a family model.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct FamilyNames {
-    /// Sizes.
-    pub sizes: Vec<String>,
-    /// Sets.
-    pub sets: Vec<String>,
-    /// The element name of each set (`p` for `P`).
-    pub elems: Vec<String>,
-    /// Input components (`pin.x`).
-    pub inputs: Vec<String>,
-    /// Constraints (for `mu_link`).
-    pub constraints: Vec<String>,
-    /// Whether each constraint is a family (its `mu` prints `mu_link[l]`).
-    pub constraint_families: Vec<bool>,
-}
-
-impl FamilyNames {
-    /// The names of a family model.
-    pub fn from_model(m: &Model) -> FamilyNames {
-        FamilyNames {
-            sizes: m.sizes.iter().map(|s| s.name.clone()).collect(),
-            sets: m.sets.iter().map(|s| s.name.clone()).collect(),
-            elems: m.sets.iter().map(|s| s.elem.clone()).collect(),
-            inputs: m.inputs.iter().map(|i| i.name.clone()).collect(),
-            constraints: m.constraints.iter().map(|c| c.name.clone()).collect(),
-            constraint_families: m.constraints.iter().map(|c| c.over.is_some()).collect(),
-        }
-    }
-}
-
-/// `x.y` -> (`x`, `.y`); `x` -> (`x`, ``).
-pub(crate) fn split_component(name: &str) -> (&str, &str) {
-    match name.find('.') {
-        Some(i) => (&name[..i], &name[i..]),
-        None => (name, ""),
-    }
-}
-
-/// `'`, `''`, `'''`, then `^(j)`.
-pub(crate) fn primes(j: usize) -> String {
-    match j {
-        0..=3 => "'".repeat(j),
-        _ => format!("^({j})"),
-    }
-}
 
 impl<'a> Printer<'a> {
     pub(super) fn new(arena: &'a Arena, names: &'a Names) -> Printer<'a> {

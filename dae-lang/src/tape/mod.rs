@@ -15,6 +15,7 @@
 
 use crate::{ArrayId, Func, MapId, VarRef};
 
+pub(crate) mod emit;
 mod reciprocal;
 
 /// An operand of an instruction.

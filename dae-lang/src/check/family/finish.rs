@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use super::expr::{Env, Ty, Val, Where};
 use super::{Checker, Component, Kind, LET_STRIDE, LetState};
 use crate::ast::{BinOp, Item, Span};
-use crate::check::lets;
+use crate::check::{der_of_non_state, der_of_time, lets};
 use crate::diag::Diagnostic;
 use crate::model::{
     ConstraintDef, DerDef, Family, InputDef, LetDef, MapKind, Model, ParamDef, RExpr, VarDef,
@@ -199,30 +199,13 @@ impl Checker<'_> {
                 Some(e) if e.kind == Kind::State => *e,
                 Some(_) if self.duplicated.contains(name) => continue,
                 Some(e) => {
-                    let e = *e;
-                    self.diags.push(
-                        Diagnostic::new(
-                            format!("`der({name})`: `{name}` is {}, not a state", e.kind.words()),
-                            target.span,
-                            e.kind.words(),
-                        )
-                        .related(e.span, format!("`{name}` is declared here"))
-                        .hint(format!(
-                            "only states have a derivative: declare `{name}` with `state`"
-                        )),
-                    );
+                    let d = der_of_non_state(name, target.span, e.kind.words(), e.span);
+                    self.diags.push(d);
                     continue;
                 }
                 None => {
                     if name == "t" {
-                        self.diags.push(
-                            Diagnostic::new(
-                                "`der(t)`: `t` is time, not a state",
-                                target.span,
-                                "time",
-                            )
-                            .hint("`der` takes a state declared with `state`"),
-                        );
+                        self.diags.push(der_of_time(target.span));
                     } else {
                         self.unknown_name(name, target.span);
                     }
@@ -464,29 +447,7 @@ impl Checker<'_> {
             .collect();
         let order = lets::order(&uses);
         for cycle in &order.cycles {
-            let names: Vec<&str> = cycle
-                .iter()
-                .map(|&i| self.lets[i].name.name.as_str())
-                .collect();
-            let path = format!("{} -> {}", names.join(" -> "), names[0]);
-            let first = self.lets[cycle[0]];
-            let mut d = Diagnostic::new(
-                format!("the definitions form a cycle: {path}"),
-                first.name.span,
-                if cycle.len() == 1 {
-                    "uses itself".to_string()
-                } else {
-                    "this definition starts the cycle".into()
-                },
-            )
-            .hint("a `let` may not use itself, directly or through other `let`s: break the cycle");
-            for &i in &cycle[1..] {
-                d = d.related(
-                    self.lets[i].name.span,
-                    format!("`{}` is on the cycle", self.lets[i].name.name),
-                );
-            }
-            self.diags.push(d);
+            self.diags.push(lets::cycle_error(cycle, &self.lets));
         }
         order.order
     }
