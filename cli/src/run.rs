@@ -25,11 +25,11 @@ use std::path::PathBuf;
 const MAX_ROWS: u64 = 200_000;
 
 /// Most fixed steps a run (or all its pilot runs together) may take. The interpreted
-/// 3-D double pendulum takes about 2.5 us per RK4 step (README, Performance), so this
+/// 3-D double pendulum takes about 2.5 us per RK4 step (docs/performance.md), so this
 /// is some four minutes of work; beyond it `daec run` refuses up front and says why.
 pub(crate) const MAX_STEPS: f64 = 1e8;
 
-/// How a run ended, and the exit status that says it (README, "What a run reports").
+/// How a run ended, and the exit status that says it (docs/cli.md, "What a run reports").
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Outcome {
     /// The layers were reached and held to the end (exit status 0).

@@ -203,8 +203,8 @@ fn the_cloth_example_runs_with_the_frame_tied_settings() {
 /// the interpreter gave `Omega'` from its own program, then not within the 0.5 s run).
 /// At 0.04 % the edge is straight within the first 4 ms, whatever the rounding.
 ///
-/// The failure is the one of the law with `sgn(s)` inside the layer and the design
-/// before 2026-11-27 (the longest step `mu / 4`, the runtime's default tolerance); with
+/// The failure is the one of the law with `sgn(s)` inside the layer with the longest
+/// step `mu / 4` and the runtime's default tolerance; with
 /// the design's saturation (`--saturate`) the links stay nearer the middle of their
 /// layers (with a slack of 0.1 % the cloth ran its 0.5 s: the configuration is still
 /// inside the layers, only not reached in that time).
@@ -224,7 +224,7 @@ fn a_taut_edge_is_reported_as_a_near_singular_j_with_the_dense_solver_too() {
     assert_taut_edge_underflow_names_j_s(&["--set", "slack=0.0004", "--solver", "dense"]);
 }
 
-/// The 8 x 8 cloth with `sgn(s)` and the design before 2026-11-27 (and `extra`) stops
+/// The 8 x 8 cloth with `sgn(s)` and the longest step `mu / 4` with the default tolerance (and `extra`) stops
 /// with a step-size underflow that names `J_s` and hints at a smaller eps.
 fn assert_taut_edge_underflow_names_j_s(extra: &[&str]) {
     let (code, _, err) = run_cloth_w8_law(false, Steps::Before, extra);
@@ -272,7 +272,8 @@ enum Steps {
     /// The design's: the longest step `mu / 2` (`dae_bench::particle_bench::RELAXED_STEP_PER_MU`) and the
     /// tolerance a tenth of the layer (`dae_bench::particle_bench::RELAXED_TOLERANCE_PER_EPS`).
     Design,
-    /// The design's before 2026-11-27: `mu / 4` and the runtime's default tolerance.
+    /// The longest step `mu / 4` and the runtime's default tolerance (the frame-tied design's
+    /// earlier setting).
     Before,
 }
 

@@ -63,7 +63,7 @@ fn every_example_model_runs_from_the_layer_alone() {
         }
         // Family examples at small sizes (the design does not depend on them, the
         // pilots' cost does). The cloth at W = 4: the designed run of W = 16 had not
-        // finished 1 s after 10 min (README, "Families").
+        // finished 1 s after 10 min (docs/families.md).
         let sizes: &[&str] = match path.file_name().and_then(|f| f.to_str()) {
             Some("cloth.dae") => &["--set", "W=4"],
             Some("hair.dae") => &["--set", "S=2", "--set", "N=4"],

@@ -1,6 +1,6 @@
 //! `dae-codegen`: Rust code generation for DAE models, on top of `dae-lang`.
 //!
-//! `dae-lang` compiles a `.dae` model into a [`CompiledModel`](dae_lang::CompiledModel): one straight-line program
+//! `dae-lang` compiles a `.dae` model into a [`CompiledModel`]: one straight-line program
 //! (tape) per function of the runtime's `Model` trait. This crate prints those tapes as
 //! Rust ([`generate`], [`emit_rust`]): one type per model, a struct whose public fields
 //! are the model's parameters, implementing `::dae_runtime::Model` with straight-line
