@@ -110,6 +110,11 @@ pub(crate) struct Args {
     /// Reaching phase rule.
     #[arg(long, value_enum, default_value = "attract")]
     reaching: ReachingArg,
+    /// Which rows a monitored update recomputes: `global` (every row), or `blocks:N`
+    /// (only the blocks of the rows that asked, blocks of at most N constraints close in
+    /// the graph of J_Omega; needs fixed gains and v held).
+    #[arg(long, default_value = "global")]
+    scope: String,
     /// alpha_hat: the cheap one, or the exact alpha.
     #[arg(long, value_enum, default_value = "cheap")]
     alpha: AlphaArg,
@@ -143,19 +148,19 @@ pub(crate) struct Args {
     solver: SolverChoice,
     /// Let the gains follow the drift of s' measured between updates, with this safety
     /// factor (at least the given gains, up to the gain that sweeps the layer against
-    /// the drift; Settings::follow_drift).
+    /// the drift; GainRule::FollowDrift).
     #[arg(long, value_name = "SAFETY")]
     follow_drift: Option<f64>,
     /// With --follow-drift: raise a gain only as far as its grazing returns need to stay
-    /// this many seconds apart (Settings::graze).
+    /// this many seconds apart (the `graze` of GainRule::FollowDrift).
     #[arg(long, value_name = "MIN_RETURN")]
     graze: Option<f64>,
     /// Let v ramp between updates at the rate that cancels the drift of s' found at each
-    /// update, instead of holding it (Settings::ramp_against_drift).
+    /// update, instead of holding it (Hold::RampAgainstDrift).
     #[arg(long)]
     ramp: bool,
     /// Inside the layer ask each constraint for the rate -k s/eps instead of -k sgn(s)
-    /// (Settings::saturate_in_layer; the same on the boundary, where the updates are
+    /// (InLayer::Saturate; the same on the boundary, where the updates are
     /// asked for).
     #[arg(long)]
     saturate: bool,

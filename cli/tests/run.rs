@@ -413,3 +413,54 @@ fn an_extension_the_law_cannot_take_is_refused_by_its_flag() {
     assert!(!err.contains("error: --saturate"), "{err}");
     assert_ne!(saturated_step_end.status.code(), Some(1), "{err}");
 }
+
+/// `--scope blocks:N` reaches the runtime (one block of both rows is the global run to
+/// the bit, and the summary says what the blocks did); a malformed scope and one the
+/// law cannot take are refused by name before any work.
+#[test]
+fn block_updates_from_the_command_line() {
+    let with = |extra: &[&str]| {
+        let mut a = vec!["--settle", "1"];
+        a.extend_from_slice(extra);
+        thesis_scene("2", &a)
+    };
+    let global = json(&with(&["--json"]));
+    let one = json(&with(&["--scope", "blocks:2", "--json"]));
+    assert_eq!(global["update_scope"]["name"], "global", "{global}");
+    assert_eq!(one["update_scope"]["name"], "blocks", "{one}");
+    assert_eq!(one["update_scope"]["blocks"], 1, "{one}");
+    assert_eq!(global["x_final"], one["x_final"]);
+    assert_eq!(global["updates"], one["updates"]);
+    let two = json(&with(&["--scope", "blocks:1", "--json"]));
+    assert_eq!(two["update_scope"]["blocks"], 2, "{two}");
+    assert!(two["bound_loss"].is_null(), "{two}");
+    assert!(
+        two["update_scope"]["block_solves"].as_u64().unwrap() > 0,
+        "{two}"
+    );
+    let text = String::from_utf8_lossy(&with(&["--scope", "blocks:1"]).stdout).into_owned();
+    assert!(
+        text.contains("updates by blocks (2 blocks of at most 1 constraints)"),
+        "{text}"
+    );
+    for (extra, says) in [
+        (&["--scope", "blocks:0"][..], "blocks:N"),
+        (&["--scope", "rows"][..], "blocks:N"),
+        (
+            &["--scope", "blocks:1", "--policy", "fixed:0.01"][..],
+            "--policy monitor",
+        ),
+        (
+            &["--scope", "blocks:1", "--follow-drift", "1"][..],
+            "--follow-drift",
+        ),
+    ] {
+        let o = with(extra);
+        assert_eq!(o.status.code(), Some(1), "{extra:?}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.contains("--scope") && err.contains(says),
+            "{extra:?}: {err}"
+        );
+    }
+}

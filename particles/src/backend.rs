@@ -23,8 +23,14 @@ pub struct Counters {
 /// The counters of a sliding-mode backend: its control updates and its own bound.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct SlidingCounters {
-    /// Control updates.
+    /// Control updates (of every row, or with block-local updates of some blocks).
     pub updates: u64,
+    /// With block-local updates ([`dae_runtime::settings::Scope::Blocks`]): the block
+    /// solves and the updates of every row among [`updates`](Self::updates); `None`
+    /// when every update was of every row.
+    pub blocks: Option<BlockCounters>,
+    /// Steps cut short at a located crossing.
+    pub steps_cut: u64,
     /// The links whose own `s_i` asked for at least one update.
     pub links_asking: u64,
     /// When a sliding variable first left its layer `|s_i| <= eps_i` after reaching
@@ -35,6 +41,17 @@ pub struct SlidingCounters {
     pub layer_worst_ratio: Option<f64>,
     /// The search for `mu` ([`crate::Dbsmc::adapt_mu`]), if one runs.
     pub mu_search: Option<MuSearchCounters>,
+}
+
+/// What block-local updates did.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct BlockCounters {
+    /// Blocks of the partition.
+    pub blocks: usize,
+    /// Block solves (one factorisation of a block of `J_s` each).
+    pub block_solves: u64,
+    /// Updates of every row (the first, and those after a pin change or a move of `mu`).
+    pub global_updates: u64,
 }
 
 /// What a search for `mu` did.

@@ -16,7 +16,9 @@ use dae_runtime::{
 };
 
 use crate::adaptive_mu::{AdaptiveMu, Searcher};
-use crate::backend::{Backend, BackendError, Counters, MuSearchCounters, SlidingCounters};
+use crate::backend::{
+    Backend, BackendError, BlockCounters, Counters, MuSearchCounters, SlidingCounters,
+};
 use crate::model::ParticleDae;
 use crate::motion::{Kinematics, Pin};
 use crate::scene::FRAME;
@@ -388,6 +390,12 @@ impl<M: ParticleDae> Backend for Dbsmc<M> {
             iterations: 0,
             sliding: Some(SlidingCounters {
                 updates: self.sink.updates,
+                blocks: self.sim.blocks().map(|b| BlockCounters {
+                    blocks: b.blocks,
+                    block_solves: b.block_solves,
+                    global_updates: b.global_updates,
+                }),
+                steps_cut: self.sim.steps_cut(),
                 links_asking: self
                     .sim
                     .triggered_updates()

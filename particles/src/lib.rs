@@ -91,7 +91,9 @@ mod scene;
 mod system;
 
 pub use adaptive_mu::AdaptiveMu;
-pub use backend::{Backend, BackendError, Counters, MuSearchCounters, SlidingCounters};
+pub use backend::{
+    Backend, BackendError, BlockCounters, Counters, MuSearchCounters, SlidingCounters,
+};
 pub use builders::{
     FAR_EDGE_SLACK, GridPins, HEAD_RADIUS, STRAND_LENGTH, STRAND_PARTICLE_MASS, chain, grid,
     grid_index, grid_with_slack, strands,

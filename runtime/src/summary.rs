@@ -26,6 +26,21 @@ pub struct SolverSummary {
     pub gain_raises: u64,
 }
 
+/// What block-local updates ([`Scope::Blocks`](crate::settings::Scope::Blocks)) did
+/// during a run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct BlockSummary {
+    /// Blocks of the partition, and the most rows in one.
+    pub blocks: usize,
+    /// The most rows in one block.
+    pub largest: usize,
+    /// Block solves (each one factorisation of its block of `J_s`), over all updates.
+    pub block_solves: u64,
+    /// Updates of every row: the first, the reaching phase's, those after a change of
+    /// the model or of `mu`, and those the progress guard forced.
+    pub global_updates: u64,
+}
+
 /// A layer left after the reaching phase: some `|s_i|` exceeded `(1 + tol) eps_i`
 /// ([`Settings::bound_tol`](crate::Settings::bound_tol)) after all `|s_i| <= eps_i`
 /// had held. The run continues to its end (the trace keeps everything); this record
@@ -110,6 +125,9 @@ pub struct Summary {
     pub updates: u64,
     /// Number of updates during the reaching phase.
     pub reaching_updates: u64,
+    /// With block-local updates, their counts (`None`: every update was of every row).
+    #[serde(default)]
+    pub blocks: Option<BlockSummary>,
     /// Per constraint, the updates of the monitoring policy that its own `s_i` asked
     /// for (on its layer boundary moving outward, or in the reaching phase arrived at
     /// its surface). An update several rows asked for at once counts for each of them;

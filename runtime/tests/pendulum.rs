@@ -3,7 +3,7 @@
 mod common;
 
 use common::pendulum::Pendulum;
-use dae_runtime::settings::{Dbsmc, Update};
+use dae_runtime::settings::{Dbsmc, Scope, Update};
 use dae_runtime::{
     Model, Settings, Simulator, Summary, Trace, settings::AlphaChoice, settings::Reaching,
     trace::NoTrace,
@@ -226,6 +226,7 @@ fn contracting_layers_reach_and_then_keep_the_layer() {
     let s = run(scene(
         Update::Monitor {
             reaching: Reaching::ContractingLayers,
+            scope: Scope::Global,
         },
         4.0,
     ));

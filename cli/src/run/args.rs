@@ -5,7 +5,7 @@ use super::{Args, IntegratorArg, MAX_STEPS};
 use super::{CrossingArg, ReachingArg};
 use crate::Reported;
 use dae_runtime::settings::{
-    Dbsmc, GainRule, Hold, InLayer, Integrator, Law, Reaching, StepEnd, Update,
+    Dbsmc, GainRule, Hold, InLayer, Integrator, Law, Reaching, Scope, StepEnd, Update,
 };
 use std::fs::File;
 use std::path::Path;
@@ -27,10 +27,26 @@ pub(super) fn auto_or_list(what: &str, text: &str) -> Result<Option<Vec<f64>>, R
         })
 }
 
+/// `--scope`: `global` or `blocks:N`.
+fn parse_scope(text: &str) -> Result<Scope, Reported> {
+    if text == "global" {
+        return Ok(Scope::Global);
+    }
+    match text.strip_prefix("blocks:").map(str::parse::<usize>) {
+        Some(Ok(size)) if size >= 1 => Ok(Scope::Blocks { size }),
+        _ => {
+            eprintln!(
+                "error: --scope `{text}`: expected `global` or `blocks:N` with N >= 1 constraints per block"
+            );
+            Err(Reported)
+        }
+    }
+}
+
 /// `--policy`: the update rule of DBSMC, or `None` for SPSM.
-fn parse_policy(text: &str, reaching: Reaching) -> Result<Option<Update>, Reported> {
+fn parse_policy(text: &str, reaching: Reaching, scope: Scope) -> Result<Option<Update>, Reported> {
     match text {
-        "monitor" => Ok(Some(Update::Monitor { reaching })),
+        "monitor" => Ok(Some(Update::Monitor { reaching, scope })),
         "spsm" => Ok(None),
         _ => match text.strip_prefix("fixed:").map(str::parse::<f64>) {
             Some(Ok(p)) if p > 0.0 && p.is_finite() => Ok(Some(Update::Fixed { period: p })),
@@ -61,7 +77,15 @@ pub(super) fn laws(args: &Args) -> Result<Laws, Reported> {
         ReachingArg::Attract => Reaching::AttractingSurfaces,
         ReachingArg::Contract => Reaching::ContractingLayers,
     };
-    let update = parse_policy(&args.policy, reaching)?;
+    let scope = parse_scope(&args.scope)?;
+    let update = parse_policy(&args.policy, reaching, scope)?;
+    if let (Scope::Blocks { .. }, false) = (scope, matches!(update, Some(Update::Monitor { .. }))) {
+        eprintln!(
+            "error: --scope {}: block updates answer the rows that ask, which needs --policy monitor",
+            args.scope
+        );
+        return Err(Reported);
+    }
     let step_end = matches!(args.crossing, CrossingArg::StepEnd);
     let extensions = [
         ("--follow-drift", args.follow_drift.is_some()),
@@ -82,12 +106,22 @@ pub(super) fn laws(args: &Args) -> Result<Laws, Reported> {
         );
         return Err(Reported);
     }
+    if let (Scope::Blocks { .. }, Some(flag)) = (scope, needs_rates) {
+        eprintln!(
+            "error: {flag} computes over every constraint at each update; --scope {} updates blocks: drop one of them",
+            args.scope
+        );
+        return Err(Reported);
+    }
     let in_layer = if args.saturate {
         InLayer::Saturate
     } else {
         InLayer::Sign
     };
-    let monitor = Update::Monitor { reaching };
+    let monitor = Update::Monitor {
+        reaching,
+        scope: Scope::Global,
+    };
     let (run, pilot) = match update {
         None if step_end => (Law::Spsm, StepEnd::default().into_monitor(monitor)),
         None => (Law::Spsm, Dbsmc::default().update(monitor).into()),
@@ -200,6 +234,7 @@ pub(super) fn flag(field: &str) -> &str {
         "graze" => "--graze",
         "ramp" => "--ramp",
         "saturate" => "--saturate",
+        "scope" => "--scope",
         other => other,
     }
 }

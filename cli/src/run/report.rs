@@ -146,6 +146,16 @@ impl Report<'_> {
             "f_evals": s.f_evals,
             "f_evals_per_update": s.f_evals as f64 / s.updates.max(1) as f64,
             "reaching_updates": s.reaching_updates,
+            "update_scope": match s.blocks {
+                None => json!({"name": "global"}),
+                Some(b) => json!({
+                    "name": "blocks",
+                    "blocks": b.blocks,
+                    "largest_block": b.largest,
+                    "block_solves": b.block_solves,
+                    "global_updates": b.global_updates,
+                }),
+            },
             "triggered_updates": s.triggered_updates,
             "reach_time": s.reaching_time,
             "stats_from": s.stats_from,
@@ -195,6 +205,12 @@ impl Report<'_> {
             s.f_evals,
             s.f_evals as f64 / s.updates.max(1) as f64
         );
+        if let Some(b) = s.blocks {
+            println!(
+                "  updates by blocks ({} blocks of at most {} constraints): {} block solves, {} updates of every row",
+                b.blocks, b.largest, b.block_solves, b.global_updates
+            );
+        }
         if s.unlocated_steps > 0 {
             println!(
                 "  {} steps taken whole by the progress guard (no progress in the steps before them): crossings were not located inside them",

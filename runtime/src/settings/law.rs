@@ -130,6 +130,9 @@ pub enum Update {
     Monitor {
         /// The rule while the motion is still outside some layer.
         reaching: Reaching,
+        /// Which rows an update recomputes once every layer was reached.
+        #[serde(default)]
+        scope: Scope,
     },
     /// Without monitoring: every `period` seconds (with a fixed step, rounded to a
     /// whole number of steps, at least one).
@@ -143,8 +146,34 @@ impl Default for Update {
     fn default() -> Self {
         Update::Monitor {
             reaching: Reaching::AttractingSurfaces,
+            scope: Scope::Global,
         }
     }
+}
+
+/// Which rows a monitored update recomputes.
+///
+/// The method as published recomputes every row whenever one asks, which costs a
+/// factorisation and solve of all of `J_s` per event: on a large, sparsely coupled
+/// system (a long chain, a cloth) the events grow with the system and so does each
+/// update. With [`Scope::Blocks`] an event recomputes only the blocks of the rows that
+/// asked, each from a solve with its own block of `J_s`, the other rows' `v` held; the
+/// layer is kept by the same monitor (docs/method.md, section 4, "Block-local
+/// updates").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum Scope {
+    /// Every row at every update (the method as published).
+    #[default]
+    Global,
+    /// The constraints partitioned into blocks of at most `size` rows that are close in
+    /// the graph of `J_Omega` (breadth-first, a block never spans two unconnected
+    /// parts); an update recomputes the blocks of the rows that asked for it. The
+    /// reaching phase and the updates the caller asks for (a changed model, a new
+    /// `mu`) stay global. Needs fixed gains and `v` held between updates.
+    Blocks {
+        /// The most rows in a block, `>= 1`.
+        size: usize,
+    },
 }
 
 /// Update rule while the motion is still outside some layer (monitoring only).
@@ -288,8 +317,16 @@ impl Law {
     /// The reaching rule (attracting surfaces where the law does not monitor).
     pub fn reaching(&self) -> Reaching {
         match self.update() {
-            Some(Update::Monitor { reaching }) => reaching,
+            Some(Update::Monitor { reaching, .. }) => reaching,
             _ => Reaching::AttractingSurfaces,
+        }
+    }
+    /// Which rows a monitored update recomputes ([`Scope::Global`] where the law does
+    /// not monitor).
+    pub fn scope(&self) -> Scope {
+        match self.update() {
+            Some(Update::Monitor { scope, .. }) => scope,
+            _ => Scope::Global,
         }
     }
     /// The tolerance of located crossings, `None` where crossings are not located.

@@ -9,7 +9,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::solve::SolverChoice;
 
-pub use law::{CROSSING_TOL, Dbsmc, GainRule, Hold, InLayer, Law, Reaching, StepEnd, Update};
+pub use law::{
+    CROSSING_TOL, Dbsmc, GainRule, Hold, InLayer, Law, Reaching, Scope, StepEnd, Update,
+};
 
 /// How `x` (and, between updates, `z` along its exact ramp) is integrated over a step.
 ///

@@ -1,7 +1,7 @@
 //! What the types of [`Settings`] cannot say: lengths against the model, finite and
 //! positive numbers, and the fixed step that SPSM needs.
 
-use super::{GainRule, Law, Settings, Update};
+use super::{GainRule, Hold, Law, Scope, Settings, Update};
 use crate::SimError;
 
 /// `Ok` if `ok`, else the settings error of `field` with the reason.
@@ -130,6 +130,31 @@ impl Settings {
         };
         if let Update::Fixed { period } = update {
             positive("policy", "fixed period", period)?;
+        }
+        if let Update::Monitor {
+            scope: Scope::Blocks { size },
+            ..
+        } = update
+        {
+            require(size >= 1, "scope", || {
+                "blocks of 0 rows: the size must be >= 1".into()
+            })?;
+            // A block update solves its own rows only: the gains that follow the drift
+            // and the ramp against it are global computations (of `s'` at the update
+            // and of `J_s^{-1}` applied to the drift), the raise a global condition.
+            let global_only = match self.law {
+                Law::Dbsmc(d) if d.gains != GainRule::Fixed => Some("gains other than fixed"),
+                Law::Dbsmc(d) if d.hold != Hold::Constant => Some("a ramp against the drift"),
+                Law::StepEnd(d) if d.raise.is_some() => Some("raised gains"),
+                _ => None,
+            };
+            if let Some(what) = global_only {
+                require(false, "scope", || {
+                    format!(
+                        "block updates need fixed gains and v held; {what} need global updates (Scope::Global)"
+                    )
+                })?;
+            }
         }
         match raise {
             Some(margin) => positive("raise_gains", "margin", margin),

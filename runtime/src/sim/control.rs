@@ -2,12 +2,15 @@
 //! check (T 3.22) with its gain-raising policy, the rate `s' = J_s v + alpha`, and the
 //! algebraic outputs `z_eq` and `z*`.
 
+mod blocks;
 mod conditioning;
 
 use super::robust::Robustness;
 use crate::model::w_offsets;
+use crate::settings::Scope;
 use crate::solve::{InverseKind, LinearSolver, SolveError, Solver, SolverChoice, Structure};
 use crate::{Model, SimError};
+pub(crate) use blocks::BlockSet;
 use conditioning::probe_vector;
 
 /// Switching function: `sgn` for DBSMC, `sat(s/eps)` for SPSM.
@@ -120,6 +123,10 @@ pub(crate) struct Controller {
     pub(crate) beta_evals: u64,
     pub(crate) rate_evals: u64,
     pub(crate) gain_raises: u64,
+    /// The partition of block-local updates ([`Scope::Blocks`]), and whether block
+    /// updates came after the last factorisation of all of `J_s`.
+    blocks: Option<BlockSet>,
+    global_stale: bool,
 }
 
 /// `w`, `s`, `alpha_hat`, `J_Omega` and `beta` at a point other than the current one,
@@ -179,6 +186,7 @@ impl Controller {
         eps: &[f64],
         exact_alpha: bool,
         solver: SolverChoice,
+        scope: Scope,
     ) -> Result<Self, SimError> {
         let m = model.n_constraints();
         let r = model.indices();
@@ -204,6 +212,10 @@ impl Controller {
             solver.clone()
         } else {
             Solver::new(m, &pattern, SolverChoice::Auto).map_err(bad_pattern)?
+        };
+        let blocks = match scope {
+            Scope::Global => None,
+            Scope::Blocks { size } => Some(BlockSet::new(m, &pattern, size).map_err(bad_pattern)?),
         };
         let offs = w_offsets(r);
         let mu_pow = mu_powers(model, mu)?;
@@ -254,6 +266,8 @@ impl Controller {
             beta_evals: 0,
             rate_evals: 0,
             gain_raises: 0,
+            blocks,
+            global_stale: false,
         })
     }
 
@@ -298,6 +312,10 @@ impl Controller {
         self.pivot_max = 0.0;
         self.min_pivot_ratio = None;
         self.solve_max = None;
+        if let Some(b) = &mut self.blocks {
+            b.reset();
+        }
+        self.global_stale = false;
     }
 
     /// Evaluate w-derivatives, `s` and the cheap `alpha_hat` at `(t, x, z)`.
@@ -353,6 +371,7 @@ impl Controller {
         match self.solver.factor(&self.jvals, &self.mu_pow) {
             Ok(()) => {
                 self.factored = true;
+                self.global_stale = false;
                 self.watch_conditioning(t);
                 Ok(())
             }

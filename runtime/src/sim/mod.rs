@@ -136,6 +136,7 @@ impl<M: Model> Simulator<M> {
             &settings.layers.eps,
             settings.alpha == AlphaChoice::Exact,
             settings.solver,
+            settings.law.scope(),
         )?;
         let layout = Layout {
             states: (0..n).map(|i| model.state_name(i).to_string()).collect(),
@@ -255,8 +256,28 @@ impl<M: Model> Simulator<M> {
 
     /// The counters of the `J_s` solver so far (what [`Summary::solver`](crate::Summary::solver) will say), for a
     /// run driven in pieces.
+    /// With block-local updates the blocks' solvers count with it.
     pub fn solver_stats(&self) -> crate::solve::SolverStats {
-        self.ctl.solver.stats()
+        let mut s = self.ctl.solver.stats();
+        if let Some(b) = self.ctl.blocks() {
+            let t = b.stats();
+            s.factorisations += t.factorisations;
+            s.solves += t.solves;
+            s.iterations += t.iterations;
+        }
+        s
+    }
+
+    /// With block-local updates, what they did so far (what
+    /// [`Summary::blocks`](crate::Summary::blocks) will say), for a run driven in pieces.
+    pub fn blocks(&self) -> Option<crate::summary::BlockSummary> {
+        self.block_summary()
+    }
+
+    /// Steps cut short at a located crossing so far (what
+    /// [`Summary::located_crossings`](crate::Summary::located_crossings) will say).
+    pub fn steps_cut(&self) -> u64 {
+        self.stats.cuts
     }
 
     /// A wall-clock `deadline` (or none): once it has passed, [`advance_to`](Self::advance_to)

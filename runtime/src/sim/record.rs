@@ -4,7 +4,7 @@
 use super::Simulator;
 use crate::error::Quantity;
 use crate::solve::LinearSolver;
-use crate::summary::SolverSummary;
+use crate::summary::{BlockSummary, SolverSummary};
 use crate::trace::{Sample, Sink};
 use crate::{Model, SimError, Summary};
 
@@ -16,7 +16,7 @@ impl<M: Model> Simulator<M> {
     ) -> Result<(), SimError> {
         let outputs = sink.algebraic_outputs();
         if outputs {
-            self.ctl.z_eq(&self.pt.z, &mut self.scratch.z_eq);
+            self.z_eq_now()?;
             if !self.fresh.jacobian {
                 self.ctl
                     .eval_jacobian(&self.model, self.pt.t, &self.pt.x, &self.pt.z);
@@ -91,6 +91,33 @@ impl<M: Model> Simulator<M> {
         Ok(())
     }
 
+    /// `z_eq` at the current point, into the scratch: where block updates came after
+    /// the last factorisation of all of `J_s`, `J_s` is factored again here first.
+    pub(super) fn z_eq_now(&mut self) -> Result<(), SimError> {
+        if self.ctl.global_factor_stale() {
+            if !self.fresh.jacobian {
+                self.ctl
+                    .eval_jacobian(&self.model, self.pt.t, &self.pt.x, &self.pt.z);
+                self.fresh.jacobian = true;
+            }
+            self.ctl.factor_current(&self.model, self.pt.t)?;
+        }
+        self.ctl.z_eq(&self.pt.z, &mut self.scratch.z_eq);
+        Ok(())
+    }
+
+    pub(super) fn block_summary(&self) -> Option<BlockSummary> {
+        self.ctl.blocks().map(|b| {
+            let (blocks, largest) = b.shape();
+            BlockSummary {
+                blocks,
+                largest,
+                block_solves: b.solves,
+                global_updates: self.stats.updates - self.stats.block_updates,
+            }
+        })
+    }
+
     pub(super) fn summary(&self, wall_time: f64) -> Summary {
         let st = &self.stats;
         let ss = self.ctl.solver.stats();
@@ -115,6 +142,7 @@ impl<M: Model> Simulator<M> {
             unlocated_steps: st.unlocated,
             updates: st.updates,
             reaching_updates: st.reaching_updates,
+            blocks: self.block_summary(),
             triggered_updates: st.triggered.clone(),
             reaching_time: st.reaching_time,
             stats_from: st.stats_from,

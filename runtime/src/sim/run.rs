@@ -117,7 +117,7 @@ impl<M: Model> Simulator<M> {
             self.fresh.jacobian = true;
         }
         self.ctl.z_star(&self.pt.z, &mut self.scratch.z_star);
-        self.ctl.z_eq(&self.pt.z, &mut self.scratch.z_eq);
+        self.z_eq_now()?;
         let wall = self.run.clock.map_or(0.0, |c| c.elapsed().as_secs_f64());
         Ok(self.summary(wall))
     }
@@ -166,7 +166,15 @@ impl<M: Model> Simulator<M> {
             }
             Some(Update::Monitor { .. }) => {
                 let forced = self.located() && std::mem::take(&mut self.run.force_update);
-                forced || self.monitor_due()
+                let asked = !forced && self.monitor_due();
+                if asked && self.steady() {
+                    // The rows that asked (only their blocks with block-local updates);
+                    // in the reaching phase every row, as the contracting layers need.
+                    self.update_asked(sink)?;
+                    false
+                } else {
+                    forced || asked
+                }
             }
         };
         if due {

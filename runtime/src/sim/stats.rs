@@ -31,6 +31,8 @@ pub(crate) struct Stats {
     /// Steps the progress guard took whole, without locating crossings in them.
     pub(crate) unlocated: u64,
     pub(crate) updates: u64,
+    /// Updates of the blocks that asked only (block-local updates).
+    pub(crate) block_updates: u64,
     /// Per constraint, the monitored updates its own `s_i` asked for.
     pub(crate) triggered: Vec<u64>,
     pub(crate) reaching_updates: u64,

@@ -25,6 +25,9 @@ impl<M: Model> Simulator<M> {
                 };
                 if asked {
                     self.stats.triggered[i] += 1;
+                    if let Some(blocks) = self.ctl.blocks_mut() {
+                        blocks.ask(i);
+                    }
                 }
             }
         }
