@@ -106,8 +106,8 @@ impl Sink for Counting {
 /// DBSMC on a particle model: the runtime's [`Simulator`] with the given [`Settings`]
 /// (layers `eps_i` in metres, `mu_i`, gains, step, solver), advanced frame by frame.
 ///
-/// The step must divide the frame ([`FRAME`] / step a whole number), so that frames
-/// end on steps. `settings.t_start` must be 0; `settings.t_end` is ignored (the run
+/// A fixed step (Euler, RK4) must divide the frame ([`FRAME`] / step a whole number),
+/// so that frames end on steps; an error-controlled integrator needs none. `settings.t_start` must be 0; `settings.t_end` is ignored (the run
 /// lasts as long as the backend lives).
 pub struct Dbsmc<M: ParticleDae> {
     name: String,
@@ -144,10 +144,14 @@ impl<M: ParticleDae> Dbsmc<M> {
             reason,
             deadline: false,
         };
+        // Frames end on steps: a fixed step must divide the frame. An error-controlled
+        // integrator ends its steps where it is asked to (its `step` is unused).
         let per_frame = FRAME / settings.integration.step;
-        if !(per_frame.is_finite()
-            && per_frame >= 1.0
-            && (per_frame - per_frame.round()).abs() < 1e-6)
+        let fixed = !settings.integration.integrator.is_adaptive();
+        if fixed
+            && !(per_frame.is_finite()
+                && per_frame >= 1.0
+                && (per_frame - per_frame.round()).abs() < 1e-6)
         {
             return Err(fail(
                 0.0,

@@ -6,7 +6,7 @@
 //! `beta` evaluation used for robustness counting), and the wall time of the 10 s scene of
 //! docs/method.md section 8 at h = 1e-4. Each figure is the best of several repetitions.
 
-#[path = "../tests/common/pendulum.rs"]
+#[path = "../tests/simulator/common/pendulum.rs"]
 mod pendulum;
 
 use dae_runtime::settings::{Dbsmc, Law, Update};

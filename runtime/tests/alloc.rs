@@ -1,6 +1,7 @@
 //! The simulator allocates nothing per step or per update: the number of heap
 //! allocations of a run does not depend on its length.
 
+#[path = "simulator/common/mod.rs"]
 mod common;
 
 use std::alloc::{GlobalAlloc, Layout, System};

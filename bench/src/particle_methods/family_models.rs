@@ -11,7 +11,7 @@
 //!
 //! Each is the same physics as the builder of `dae_particles` it stands for;
 //! [`FamilyParticles::new`] checks it against the system it is given, and
-//! `bench/tests/generated_particles.rs` checks `f`, `w`, `s`, `alpha_hat`, `J_Omega` and `beta`
+//! `bench/tests/suite/generated_particles.rs` checks `f`, `w`, `s`, `alpha_hat`, `J_Omega` and `beta`
 //! against the hand-written [`dae_particles::ParticleModel`].
 
 use dae_particles::{GridPins, System};

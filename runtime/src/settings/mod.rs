@@ -63,7 +63,7 @@ pub const TOLERANCE_PER_EPS: f64 = 0.01;
 /// (the fixed-step integrators build theirs from `f` at the step's end), whatever the
 /// state tolerance. The state's error alone does not bound `s`'s: `s` weighs the states
 /// by `mu` and the model's derivatives, and a crossing is cut from the dense output,
-/// which is less accurate than the step's end (`runtime/tests/located.rs` checks the
+/// which is less accurate than the step's end (`runtime/tests/simulator/located.rs` checks the
 /// layer against an independent fine integration).
 pub const LAYER_ERROR_PER_STEP: f64 = 0.001;
 

@@ -2,7 +2,7 @@
 //! step, checked against an independent fine integration between the recorded samples;
 //! the located crossing time against a fine-step reference; the error-controlled step.
 
-mod common;
+use crate::common;
 
 use common::pendulum::Pendulum;
 use common::{Chain, Tracking, independent_max_s, pendulum_settings as pendulum};

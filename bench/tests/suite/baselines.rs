@@ -1,6 +1,6 @@
 //! Baselines (a), (b), (c) against closed forms and the truth.
 
-mod common;
+use crate::common;
 
 use dae_runtime::settings::Law;
 use std::f64::consts::FRAC_PI_2;

@@ -3,7 +3,7 @@
 //! at updates forced inside the layer; and the layer kept, by an independent fine
 //! integration of the held `z`.
 
-mod common;
+use crate::common;
 
 use common::{
     TRACKING_EPS as EPS, TRACKING_MU as MU, Tracking, tracking_max_s, tracking_settings as settings,

@@ -2,7 +2,7 @@
 //! against the recorded trace: at every update after reaching, the rows whose recorded
 //! `s_i` sits on its layer boundary.
 
-mod common;
+use crate::common;
 
 use common::pendulum::Pendulum;
 use dae_runtime::settings::{Dbsmc, Law, Update};

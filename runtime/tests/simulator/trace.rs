@@ -1,7 +1,7 @@
 //! Sinks (decimation, CSV streaming, update times), the zero-order hold of `z`,
 //! integrator costs and summary serialisation.
 
-mod common;
+use crate::common;
 
 use common::{Chain, Tracking};
 use dae_runtime::settings::StepEnd;

@@ -3,7 +3,7 @@
 //! tracking model's closed-form `s''` asks for, the bound by an independent fine
 //! integration of the ramped `z`, and the updates it saves.
 
-mod common;
+use crate::common;
 
 use common::{
     TRACKING_EPS as EPS, TRACKING_MU as MU, Tracking, tracking_max_s, tracking_settings as settings,

@@ -5,7 +5,7 @@
 //! on every path that reads `s'` (fixed and error-controlled steps, cuts, updates, the
 //! ramp against the drift, the gains that follow it), with fewer `J_Omega` evaluations.
 
-mod common;
+use crate::common;
 
 use common::pendulum::Pendulum;
 use common::pendulum_settings as pendulum;

@@ -1,7 +1,7 @@
 //! A run in pieces (`start`, `advance_to`, `finish`), a model changed between pieces
 //! with a forced update, and a model without constraints.
 
-mod common;
+use crate::common;
 
 use common::{Offset, Oscillator, Tracking};
 use dae_runtime::{Settings, SimError, Simulator, Trace, settings::Integrator, trace::NoTrace};

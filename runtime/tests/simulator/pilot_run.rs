@@ -1,7 +1,7 @@
 //! The pilot run and the automatic design: an index-2 model with closed-form `beta` and
 //! `w''` derivative as the oracle, and the 3-D double pendulum against the thesis bounds.
 
-mod common;
+use crate::common;
 
 use common::Tracking;
 use common::pendulum::Pendulum;

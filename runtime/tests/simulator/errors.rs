@@ -1,6 +1,6 @@
 //! Typed run-time errors, and the trace kept up to the failure.
 
-mod common;
+use crate::common;
 
 use common::Tracking;
 use dae_runtime::settings::StepEnd;

@@ -1,6 +1,6 @@
 //! Convergence of `x` and `z_eq` to exact solutions as the layer `eps` shrinks.
 
-mod common;
+use crate::common;
 
 use common::{Chain, Tracking};
 use dae_runtime::settings::Law;

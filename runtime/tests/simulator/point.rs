@@ -10,7 +10,7 @@
 //! Both tests below failed then (RK4: `w_1` 1.3976924062437 recorded against
 //! 1.3976924062396).
 
-mod common;
+use crate::common;
 
 use common::pendulum::Pendulum;
 use dae_runtime::{Model, Settings, Simulator, Trace, model::w_offsets, settings::Integrator};

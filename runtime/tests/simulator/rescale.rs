@@ -2,7 +2,7 @@
 //! scales what the design ties to `mu`, keeps the layers, and is refused where the new
 //! filter would not keep `|w| <= eps` from the present state.
 
-mod common;
+use crate::common;
 
 use common::pendulum::Pendulum;
 use dae_runtime::settings::{Dbsmc, GainRule};

@@ -3,9 +3,9 @@
 //! simulator ends with against the rule evaluated on the recorded run with the model's
 //! closed-form `s'`, and the bound with the followed gains by an independent fine
 //! integration. (That a fixed gain too small for the drift loses a layer the followed
-//! gain keeps is tested on a particle chain: `bench/tests/particles.rs`.)
+//! gain keeps is tested on a particle chain: `bench/tests/suite/particles.rs`.)
 
-mod common;
+use crate::common;
 
 use common::{
     TRACKING_EPS as EPS, TRACKING_MU as MU, Tracking, assert_refused, independent_max_s,

@@ -2,7 +2,7 @@
 //! section 8: one block of both rows is the global policy, to the bit; blocks of one
 //! row keep the layer and say what they did; the laws they cannot serve are refused.
 
-mod common;
+use crate::common;
 
 use common::pendulum::Pendulum;
 use dae_runtime::settings::{Dbsmc, GainRule, Law, Reaching, Scope, StepEnd, Update};

@@ -1,6 +1,6 @@
 //! `Settings::initial`: starting from a given `(x0, z0)` instead of the model's own.
 
-mod common;
+use crate::common;
 
 use common::Tracking;
 use dae_runtime::{Settings, SimError, Simulator, Trace};

@@ -1,6 +1,6 @@
 //! The harness's measurements on cases with known answers.
 
-mod common;
+use crate::common;
 
 use common::Tracking;
 use dae_bench::{

@@ -1,6 +1,6 @@
 //! The docs/method.md section 8 scene on a hand-written 3-D double pendulum.
 
-mod common;
+use crate::common;
 
 use common::pendulum::Pendulum;
 use dae_runtime::settings::{Dbsmc, Scope, Update};
