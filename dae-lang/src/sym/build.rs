@@ -138,10 +138,12 @@ impl Arena {
                 let (t, a) = (*t, a.0);
                 if a == 1.0 {
                     t
-                } else if let Node::Mul(_, fs) = self.node(t) {
-                    // Only unit-coefficient products reach here (see the loop above).
-                    let fs = fs.clone();
-                    self.intern(Node::Mul(Num::norm(a), fs))
+                } else if let Node::Mul(c_t, fs) = self.node(t) {
+                    // The loop above leaves unit-coefficient products, except where
+                    // `product` keeps a coefficient it cannot fold into a non-finite
+                    // constant factor (`-(-1.677/0)`): `a (c_t prod) = (a c_t) prod`.
+                    let (c_t, fs) = (c_t.0, fs.clone());
+                    self.intern(Node::Mul(Num::norm(a * c_t), fs))
                 } else {
                     self.intern(Node::Mul(Num::norm(a), Box::new([(t, Num(1.0))])))
                 }

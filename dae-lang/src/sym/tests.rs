@@ -714,3 +714,29 @@ proptest! {
         prop_assert_eq!(vs.is_finite(), vr.is_finite(), "{}: folded {}, as written {}", r.display(er, &names()), vs, vr);
     }
 }
+
+/// A sum of one scaled product whose coefficient `product` could not fold into its
+/// non-finite constant factor keeps that coefficient: `-(-1.677/0) + 0` is `+inf`, and
+/// `min(0, it)` is 0 (a case found by `constant_expressions_fold_to_their_ieee_class`).
+#[test]
+fn a_scaled_infinite_constant_keeps_its_coefficient_in_a_sum() {
+    let mut s = Arena::new();
+    let a = s.num(-1.677);
+    let zero = s.num(0.0);
+    let d = s.div(a, zero);
+    let minus_one = s.num(-1.0);
+    let m = s.mul(d, minus_one);
+    let p = s.add(m, zero);
+    let r = s.f2(Func::Min, zero, p);
+    let none = at(&[], &[], &[], 0.0, &[]);
+    assert_eq!(s.eval(d, &none), f64::NEG_INFINITY);
+    assert_eq!(s.eval(m, &none), f64::INFINITY);
+    assert_eq!(s.eval(p, &none), f64::INFINITY);
+    assert_eq!(s.eval(r, &none), 0.0);
+    // The same with a finite scale: `-(2 (-1.677/0))` is `+inf` too.
+    let two = s.num(2.0);
+    let d2 = s.mul(two, d);
+    let m2 = s.neg(d2);
+    let p2 = s.add(m2, zero);
+    assert_eq!(s.eval(p2, &none), f64::INFINITY);
+}
