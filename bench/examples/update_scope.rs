@@ -37,11 +37,16 @@ enum Crossing {
     StepEnd,
 }
 
-fn with_law(settings: Settings, crossing: Crossing, scope: Scope) -> Settings {
-    let update = Update::Monitor {
+/// Monitoring with attracting surfaces over `scope`.
+fn monitor(scope: Scope) -> Update {
+    Update::Monitor {
         reaching: Default::default(),
         scope,
-    };
+    }
+}
+
+fn with_law(settings: Settings, crossing: Crossing, scope: Scope) -> Settings {
+    let update = monitor(scope);
     match crossing {
         Crossing::Located => settings.law(
             DbsmcLaw::default()
@@ -84,10 +89,7 @@ fn pilot_run(
     let (bounds, _) = particle_pilot(scene, 64, budget)?;
     let model = ParticleModel::new(&scene.system).map_err(|e| e.to_string())?;
     let (settings, _) = dbsmc_settings(&model, &bounds, eps, SolverChoice::Auto)?;
-    let update = Update::Monitor {
-        reaching: Default::default(),
-        scope,
-    };
+    let update = monitor(scope);
     let settings = match crossing {
         Crossing::Located => settings.law(DbsmcLaw::default().update(update)),
         Crossing::StepEnd => settings.law(StepEnd {

@@ -202,6 +202,10 @@ impl Controller {
             reason: format!("jacobian pattern: {e}"),
         };
         let structure = Structure::new(m, &pattern).map_err(bad_pattern)?;
+        let blocks = match scope {
+            Scope::Global => None,
+            Scope::Blocks { size } => Some(BlockSet::new(&structure, size).map_err(bad_pattern)?),
+        };
         let solver = Solver::new(m, &pattern, solver).map_err(|e| SimError::Settings {
             field: "solver",
             reason: e.to_string(),
@@ -212,10 +216,6 @@ impl Controller {
             solver.clone()
         } else {
             Solver::new(m, &pattern, SolverChoice::Auto).map_err(bad_pattern)?
-        };
-        let blocks = match scope {
-            Scope::Global => None,
-            Scope::Blocks { size } => Some(BlockSet::new(m, &pattern, size).map_err(bad_pattern)?),
         };
         let offs = w_offsets(r);
         let mu_pow = mu_powers(model, mu)?;
@@ -591,18 +591,11 @@ impl Controller {
             // solver, the condition k_i > |alpha_i - alpha_hat_i| + k_i^c), one solve.
             let mut failures = 0;
             for i in 0..m {
-                let exact_part = self.mu_pow[i] * self.beta[i];
-                let (ah, g) = if self.exact_alpha {
-                    (self.ah[i] + exact_part, 0.0)
-                } else {
-                    (self.ah[i], exact_part)
-                };
-                // A NaN beta counts as a failure.
-                let holds = self.gains[i] > g.abs() + self.margin[i];
+                let (rhs, holds) = self.law_row(i, switch);
                 if check.evaluate && !holds {
                     failures += 1;
                 }
-                self.rhs[i] = -ah - self.gains[i] * switch.of(self.s[i], self.eps[i]);
+                self.rhs[i] = rhs;
             }
             self.solver.solve_from(&self.rhs, v);
             return if check.count { failures } else { 0 };
@@ -668,6 +661,25 @@ impl Controller {
             }
         }
         if check.count { failures } else { 0 }
+    }
+
+    /// Row `i` of the law's right-hand side, `-alpha_hat_i - k_i sw(s_i)` (with the
+    /// exact alpha, `alpha_hat_i` includes `mu_i^(r_i-1) beta_i`), and whether the row
+    /// holds the robustness condition `k_i > |alpha_i - alpha_hat_i| + k_i^c` for an
+    /// exact solver (a NaN `beta` fails it).
+    #[inline]
+    fn law_row(&self, i: usize, switch: Switch) -> (f64, bool) {
+        let exact_part = self.mu_pow[i] * self.beta[i];
+        let (ah, g) = if self.exact_alpha {
+            (self.ah[i] + exact_part, 0.0)
+        } else {
+            (self.ah[i], exact_part)
+        };
+        let holds = self.gains[i] > g.abs() + self.margin[i];
+        (
+            -ah - self.gains[i] * switch.of(self.s[i], self.eps[i]),
+            holds,
+        )
     }
 
     /// `x = J_s^{-1} b` with the factorisation of the last update.

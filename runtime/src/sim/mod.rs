@@ -260,10 +260,7 @@ impl<M: Model> Simulator<M> {
     pub fn solver_stats(&self) -> crate::solve::SolverStats {
         let mut s = self.ctl.solver.stats();
         if let Some(b) = self.ctl.blocks() {
-            let t = b.stats();
-            s.factorisations += t.factorisations;
-            s.solves += t.solves;
-            s.iterations += t.iterations;
+            s.add(b.stats());
         }
         s
     }
@@ -271,7 +268,15 @@ impl<M: Model> Simulator<M> {
     /// With block-local updates, what they did so far (what
     /// [`Summary::blocks`](crate::Summary::blocks) will say), for a run driven in pieces.
     pub fn blocks(&self) -> Option<crate::summary::BlockSummary> {
-        self.block_summary()
+        self.ctl.blocks().map(|b| {
+            let (blocks, largest) = b.shape();
+            crate::summary::BlockSummary {
+                blocks,
+                largest,
+                block_solves: b.solves,
+                global_updates: self.stats.updates - self.stats.block_updates,
+            }
+        })
     }
 
     /// Steps cut short at a located crossing so far (what

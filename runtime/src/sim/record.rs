@@ -4,7 +4,7 @@
 use super::Simulator;
 use crate::error::Quantity;
 use crate::solve::LinearSolver;
-use crate::summary::{BlockSummary, SolverSummary};
+use crate::summary::SolverSummary;
 use crate::trace::{Sample, Sink};
 use crate::{Model, SimError, Summary};
 
@@ -106,18 +106,6 @@ impl<M: Model> Simulator<M> {
         Ok(())
     }
 
-    pub(super) fn block_summary(&self) -> Option<BlockSummary> {
-        self.ctl.blocks().map(|b| {
-            let (blocks, largest) = b.shape();
-            BlockSummary {
-                blocks,
-                largest,
-                block_solves: b.solves,
-                global_updates: self.stats.updates - self.stats.block_updates,
-            }
-        })
-    }
-
     pub(super) fn summary(&self, wall_time: f64) -> Summary {
         let st = &self.stats;
         let ss = self.ctl.solver.stats();
@@ -142,7 +130,7 @@ impl<M: Model> Simulator<M> {
             unlocated_steps: st.unlocated,
             updates: st.updates,
             reaching_updates: st.reaching_updates,
-            blocks: self.block_summary(),
+            blocks: self.blocks(),
             triggered_updates: st.triggered.clone(),
             reaching_time: st.reaching_time,
             stats_from: st.stats_from,

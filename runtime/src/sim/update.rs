@@ -44,7 +44,7 @@ impl<M: Model> Simulator<M> {
     /// A monitored update of the rows that asked ([`Self::monitor_due`]): with
     /// block-local updates only their blocks, every row otherwise.
     pub(super) fn update_asked<S: Sink + ?Sized>(&mut self, sink: &mut S) -> Result<(), SimError> {
-        if self.ctl.blocks_mut().is_none() {
+        if self.ctl.blocks().is_none() {
             return self.update(sink);
         }
         let t = self.pt.t;

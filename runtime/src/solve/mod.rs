@@ -151,6 +151,15 @@ pub struct SolverStats {
     pub iterations: u64,
 }
 
+impl SolverStats {
+    /// Add another solver's counts (the blocks' solvers to the global one's).
+    pub(crate) fn add(&mut self, other: SolverStats) {
+        self.factorisations += other.factorisations;
+        self.solves += other.solves;
+        self.iterations += other.iterations;
+    }
+}
+
 /// Why a solver could not be built or could not factor.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SolveError {

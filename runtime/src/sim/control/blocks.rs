@@ -34,7 +34,7 @@ pub(crate) struct BlockOutcome {
     /// No row next to a solved block was left on its boundary moving outward.
     pub(crate) settled: bool,
 }
-use crate::solve::{LinearSolver, SolveError, Solver, SolverChoice, SolverStats};
+use crate::solve::{LinearSolver, SolveError, Solver, SolverChoice, SolverStats, Structure};
 use crate::{Model, SimError};
 
 /// One block: its rows, its own pattern and solver, and the entries of its rows in
@@ -61,11 +61,8 @@ pub(crate) struct BlockSet {
     block_of: Vec<usize>,
     blocks: Vec<Block>,
     due: Vec<bool>,
-    any_due: bool,
-    /// The model's pattern by rows: row `i`'s entries (index in the pattern, column)
-    /// are `by_row[row_start[i]..row_start[i + 1]]`.
-    row_start: Vec<usize>,
-    by_row: Vec<(usize, usize)>,
+    /// The model's pattern, for the rows of the kicked rates.
+    structure: Structure,
     /// The blocks solved in the current sweep.
     solved: Vec<usize>,
     /// Block solves made (each one factorisation of a block).
@@ -75,32 +72,11 @@ pub(crate) struct BlockSet {
 /// Rows grouped into blocks of at most `size`: breadth-first over the graph of the
 /// pattern from the lowest row not yet placed, cut every `size` rows and at the end of
 /// each connected part. `O(m + nnz)`.
-fn partition(m: usize, pattern: &[(usize, usize)], size: usize) -> Vec<Vec<usize>> {
-    let mut degree = vec![0usize; m + 1];
-    for &(i, j) in pattern {
-        if i != j {
-            degree[i] += 1;
-            degree[j] += 1;
-        }
-    }
-    let mut start = vec![0usize; m + 1];
-    for i in 0..m {
-        start[i + 1] = start[i] + degree[i];
-    }
-    let mut fill = start.clone();
-    let mut adjacent = vec![0usize; start[m]];
-    for &(i, j) in pattern {
-        if i != j {
-            adjacent[fill[i]] = j;
-            fill[i] += 1;
-            adjacent[fill[j]] = i;
-            fill[j] += 1;
-        }
-    }
-    let mut placed = vec![false; m];
+fn partition(st: &Structure, size: usize) -> Vec<Vec<usize>> {
+    let mut placed = vec![false; st.m];
     let mut blocks: Vec<Vec<usize>> = Vec::new();
     let mut queue = VecDeque::new();
-    for root in 0..m {
+    for root in 0..st.m {
         if placed[root] {
             continue;
         }
@@ -112,7 +88,7 @@ fn partition(m: usize, pattern: &[(usize, usize)], size: usize) -> Vec<Vec<usize
             if current.len() == size {
                 blocks.push(std::mem::take(&mut current));
             }
-            for &j in &adjacent[start[i]..start[i + 1]] {
+            for &j in st.neighbours(i) {
                 if !placed[j] {
                     placed[j] = true;
                     queue.push_back(j);
@@ -145,14 +121,11 @@ fn to_model_rows(e: SolveError, rows: &[usize]) -> SolveError {
 }
 
 impl BlockSet {
-    /// Blocks of at most `size` rows for the `m x m` pattern, each with an exact
+    /// Blocks of at most `size` rows for the analysed pattern, each with an exact
     /// solver for its own pattern ([`SolverChoice::Auto`]).
-    pub(crate) fn new(
-        m: usize,
-        pattern: &[(usize, usize)],
-        size: usize,
-    ) -> Result<Self, SolveError> {
-        let groups = partition(m, pattern, size.max(1));
+    pub(crate) fn new(structure: &Structure, size: usize) -> Result<Self, SolveError> {
+        let (m, pattern) = (structure.m, &structure.entries);
+        let groups = partition(structure, size.max(1));
         let mut block_of = vec![0usize; m];
         let mut local = vec![0usize; m];
         for (b, rows) in groups.iter().enumerate() {
@@ -184,19 +157,6 @@ impl BlockSet {
             k.sort_unstable();
             k.dedup();
         }
-        let mut row_start = vec![0usize; m + 1];
-        for &(i, _) in pattern {
-            row_start[i + 1] += 1;
-        }
-        for i in 0..m {
-            row_start[i + 1] += row_start[i];
-        }
-        let mut fill = row_start.clone();
-        let mut by_row = vec![(0usize, 0usize); pattern.len()];
-        for (k, &(i, j)) in pattern.iter().enumerate() {
-            by_row[fill[i]] = (k, j);
-            fill[i] += 1;
-        }
         let mut blocks = Vec::with_capacity(groups.len());
         for (((rows, inner), (sub, outer)), kicked) in groups
             .into_iter()
@@ -221,12 +181,10 @@ impl BlockSet {
         }
         Ok(Self {
             block_of,
-            row_start,
-            by_row,
+            structure: structure.clone(),
             solved: Vec::with_capacity(blocks.len()),
             due: vec![false; blocks.len()],
             blocks,
-            any_due: false,
             solves: 0,
         })
     }
@@ -234,15 +192,11 @@ impl BlockSet {
     /// Row `i` asked for an update: its block is due.
     pub(crate) fn ask(&mut self, i: usize) {
         self.due[self.block_of[i]] = true;
-        self.any_due = true;
     }
 
     /// Forget the blocks asked for (a global update serves them all).
     pub(crate) fn clear(&mut self) {
-        if self.any_due {
-            self.due.fill(false);
-            self.any_due = false;
-        }
+        self.due.fill(false);
     }
 
     /// Number of blocks and the most rows in one.
@@ -255,10 +209,7 @@ impl BlockSet {
     pub(crate) fn stats(&self) -> SolverStats {
         let mut s = SolverStats::default();
         for b in &self.blocks {
-            let t = b.solver.stats();
-            s.factorisations += t.factorisations;
-            s.solves += t.solves;
-            s.iterations += t.iterations;
+            s.add(b.solver.stats());
         }
         s
     }
@@ -364,19 +315,12 @@ impl Controller {
             if let Err(e) = blk.solver.factor(&blk.values, &blk.scale) {
                 return Err(self.solver_error(model, t, to_model_rows(e, &blk.rows)));
             }
-            for (l, &i) in blk.rows.iter().enumerate() {
-                let exact_part = self.mu_pow[i] * self.beta[i];
-                let (ah, g) = if self.exact_alpha {
-                    (self.ah[i] + exact_part, 0.0)
-                } else {
-                    (self.ah[i], exact_part)
-                };
-                // A NaN beta counts as a failure.
-                let holds = self.gains[i] > g.abs() + self.margin[i];
+            for (rhs, &i) in blk.rhs.iter_mut().zip(&blk.rows) {
+                let (row, holds) = self.law_row(i, switch);
                 if check.evaluate && !holds {
                     *failures += 1;
                 }
-                blk.rhs[l] = -ah - self.gains[i] * switch.of(self.s[i], self.eps[i]);
+                *rhs = row;
             }
             for &(k, l, j) in &blk.outer {
                 blk.rhs[l] -= self.mu_pow[blk.rows[l]] * self.jvals[k] * v[j];
@@ -387,7 +331,6 @@ impl Controller {
             }
             set.solves += 1;
         }
-        set.any_due = false;
         Ok(())
     }
 
@@ -401,9 +344,10 @@ impl Controller {
                 if s.abs() < self.eps[i] * (1.0 - tol) {
                     continue;
                 }
+                let st = &set.structure;
                 let mut omega_rate = self.beta[i];
-                for &(k, j) in &set.by_row[set.row_start[i]..set.row_start[i + 1]] {
-                    omega_rate += self.jvals[k] * v[j];
+                for p in st.row_ptr[i]..st.row_ptr[i + 1] {
+                    omega_rate += self.jvals[st.entry[p]] * v[st.cols[p]];
                 }
                 let rate = self.ah[i] + self.mu_pow[i] * omega_rate;
                 if s * rate > 0.0 {
@@ -412,7 +356,6 @@ impl Controller {
                 }
             }
         }
-        set.any_due = any;
         any
     }
 
@@ -443,7 +386,7 @@ mod tests {
 
     #[test]
     fn a_chain_is_cut_into_consecutive_segments() {
-        let blocks = partition(10, &chain_pattern(10), 4);
+        let blocks = partition(&Structure::new(10, &chain_pattern(10)).unwrap(), 4);
         assert_eq!(blocks, vec![vec![0, 1, 2, 3], vec![4, 5, 6, 7], vec![8, 9]]);
     }
 
@@ -466,7 +409,7 @@ mod tests {
             (3, 5),
             (5, 3),
         ];
-        let blocks = partition(6, &p, 5);
+        let blocks = partition(&Structure::new(6, &p).unwrap(), 5);
         assert_eq!(blocks, vec![vec![0, 2, 4], vec![1, 3, 5]]);
     }
 
@@ -486,7 +429,7 @@ mod tests {
                 p.push((i + w, i));
             }
         }
-        let blocks = partition(w * w, &p, 7);
+        let blocks = partition(&Structure::new(w * w, &p).unwrap(), 7);
         let mut seen = vec![0; w * w];
         for b in &blocks {
             assert!(!b.is_empty() && b.len() <= 7, "{b:?}");
