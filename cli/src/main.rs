@@ -48,9 +48,9 @@ enum Command {
     /// 1 an error, 2 bad arguments, 3 a layer was left after reaching, 4 the layers were
     /// not reached by --t-end.
     #[command(allow_negative_numbers = true)]
-    Run(run::Args),
+    Run(Box<run::Args>),
     /// Choose mu, gains and the guaranteed period from bounds or from a pilot run.
-    Design(design::Args),
+    Design(Box<design::Args>),
     /// Print the index analysis of each model: w-derivatives, Omega, J_Omega, beta, s,
     /// alpha and alpha_hat, one equation per line in the language's syntax.
     Derive(derive::Args),

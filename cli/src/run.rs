@@ -7,6 +7,7 @@
 //! ([`Outcome`]).
 
 mod args;
+mod online;
 mod report;
 
 use self::args::{auto_or_list, check_args, check_number, flag, integration, laws};
@@ -14,8 +15,9 @@ use self::report::Report;
 use crate::Reported;
 use crate::pilot::{PilotArgs, design_json, per_constraint};
 use dae_runtime::{
-    Model, Settings, SimError, Simulator, Summary, Trace, charts::plot_run, error::Quantity,
-    settings::AlphaChoice, solve::SolverChoice, trace::CsvSink, trace::Decimate, trace::Tee,
+    Model, Settings, SimError, Simulator, Summary, Trace, charts::plot_run, design,
+    design::ConsistentStart, error::Quantity, settings::AlphaChoice, solve::SolverChoice,
+    trace::CsvSink, trace::Decimate, trace::Tee,
 };
 use std::fs::File;
 use std::io::{self, BufWriter};
@@ -115,9 +117,25 @@ pub(crate) struct Args {
     /// the graph of J_Omega; needs fixed gains and v held).
     #[arg(long, default_value = "global")]
     scope: String,
-    /// alpha_hat: the cheap one, or the exact alpha.
-    #[arg(long, value_enum, default_value = "cheap")]
-    alpha: AlphaArg,
+    /// alpha_hat: the cheap one, or the exact alpha [default: exact with the online
+    /// design, cheap otherwise].
+    #[arg(long, value_enum)]
+    alpha: Option<AlphaArg>,
+    /// How `--mu auto --gain auto` are designed: `online` (no pilot: mu a quarter of
+    /// --frame, gains that follow the drift measured during the run, docs/cli.md) or
+    /// `pilot` (the thesis's procedure: pilot runs estimate the bounds, mu maximises the
+    /// guaranteed period).
+    #[arg(long, value_enum, default_value = "online")]
+    design: DesignArg,
+    /// The time scale of the online design in seconds: the interval at which the motion
+    /// is looked at (a frame); mu is a quarter of it.
+    #[arg(long, default_value_t = 1.0 / 60.0)]
+    frame: f64,
+    /// Algebraic start values: `consistent` (the z at which every constraint's highest
+    /// w-derivative vanishes, found by Newton's method from the model's values before
+    /// anything else runs), or `given` (the model's `alg` values as written).
+    #[arg(long, value_enum, default_value = "consistent")]
+    start: StartArg,
     /// Statistics start this many seconds after t = 0, and never before the end of the
     /// reaching phase [default: at the end of the reaching phase].
     #[arg(long, default_value_t = 0.0)]
@@ -198,6 +216,23 @@ enum ReachingArg {
     Contract,
 }
 
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum DesignArg {
+    /// From the layers and --frame alone (dae_runtime::design::Online).
+    Online,
+    /// From pilot runs (dae_runtime::design::auto_design).
+    Pilot,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum StartArg {
+    /// Solved for from the states (the run and its pilots start on the surfaces as far
+    /// as z can put them there).
+    Consistent,
+    /// The model's own values.
+    Given,
+}
+
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
 enum AlphaArg {
     /// alpha_hat without the mu^(r-1) beta term (covered by the gain).
@@ -209,7 +244,10 @@ enum AlphaArg {
 /// What the design step found, for the summary and the charts.
 struct DesignInfo {
     json: serde_json::Value,
-    t_min: f64,
+    /// The guaranteed period of a pilot design.
+    t_min: Option<f64>,
+    /// The line of the summary that says what was designed.
+    line: String,
 }
 
 pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
@@ -234,8 +272,8 @@ pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
         .solver(args.solver)
         .law(laws.run)
         .alpha(match args.alpha {
-            AlphaArg::Cheap => AlphaChoice::Cheap,
-            AlphaArg::Exact => AlphaChoice::Exact,
+            Some(AlphaArg::Exact) => AlphaChoice::Exact,
+            _ => AlphaChoice::Cheap,
         });
     if let Some(l) = args.reaching_limit {
         settings = settings.reaching_limit(l);
@@ -245,6 +283,13 @@ pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
     }
     if let Some(h) = args.max_step {
         settings = settings.max_step(h);
+    }
+    let start = match args.start {
+        StartArg::Consistent if m > 0 => Some(consistent_start(model, &settings)?),
+        _ => None,
+    };
+    if let Some(st) = &start {
+        settings = settings.initial(st.x0.clone(), st.found.z0.clone());
     }
     let mu = auto_or_list("--mu", &args.mu)?;
     let gain = auto_or_list("--gain", &args.gain)?;
@@ -262,6 +307,9 @@ pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
         .alpha(AlphaChoice::Cheap);
     let design = match (mu, gain) {
         _ if m == 0 => None,
+        (None, None) if args.design == DesignArg::Online => {
+            Some(online::apply(args, &mut settings)?)
+        }
         (Some(mu), Some(k)) => {
             settings.layers.mu = per_constraint("--mu", &mu, m)?;
             settings.layers.gains = per_constraint("--gain", &k, m)?;
@@ -290,7 +338,8 @@ pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
             }
             Some(DesignInfo {
                 json: design_json(model, &a),
-                t_min: a.design.t_min,
+                t_min: Some(a.design.t_min),
+                line: format!("  design T_min = {}", a.design.t_min),
             })
         }
     };
@@ -308,11 +357,86 @@ pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
         settings: &settings,
         summary: &summary,
         design: design.as_ref(),
+        start: start.as_ref(),
         integration: &integ,
         outcome,
     };
     report.print();
     Ok(outcome)
+}
+
+/// The consistent start of a run: the model's states and the algebraic values found for
+/// them.
+pub(crate) struct Start {
+    pub(crate) x0: Vec<f64>,
+    pub(crate) found: ConsistentStart,
+}
+
+/// The consistent algebraic values at the model's initial states (`--start consistent`).
+fn consistent_start(model: &dyn Model, settings: &Settings) -> Result<Start, Reported> {
+    let mut x0 = vec![0.0; model.n_states()];
+    let mut z0 = vec![0.0; model.n_constraints()];
+    model.initial_state(&mut x0);
+    model.initial_alg(&mut z0);
+    match design::consistent_start(model, settings.window.t_start, &x0, &z0) {
+        Ok(found) => Ok(Start { x0, found }),
+        Err(e) => {
+            eprintln!(
+                "error: no consistent algebraic start values for `{}`: {}",
+                model.name(),
+                start_error(model, &e)
+            );
+            eprintln!(
+                "  hint: --start given runs from the model's own values (the reaching phase then starts from them)"
+            );
+            Err(Reported)
+        }
+    }
+}
+
+/// A [`design::StartError`] with the constraints named.
+fn start_error(model: &dyn Model, e: &design::StartError) -> String {
+    use design::StartError;
+    let names = |rows: &[usize]| {
+        let listed: Vec<String> = rows
+            .iter()
+            .take(crate::bounded::TEXT_LINES_MAX)
+            .map(|&i| format!("`{}`", model.constraint_name(i)))
+            .collect();
+        let more = rows.len().saturating_sub(listed.len());
+        if more > 0 {
+            format!("{} and {more} more", listed.join(", "))
+        } else {
+            listed.join(", ")
+        }
+    };
+    match e {
+        StartError::Singular { constraints } => format!(
+            "J_Omega is singular at the initial states: the rows of {} are dependent, so the algebraic unknowns are not determined there",
+            names(constraints)
+        ),
+        StartError::NonFinite {
+            constraint,
+            iteration,
+        } => format!(
+            "a non-finite value in `{}` {}",
+            model.constraint_name(*constraint),
+            if *iteration == 0 {
+                "at the model's own values".to_string()
+            } else {
+                format!("at Newton iteration {iteration}")
+            }
+        ),
+        StartError::NotConverged {
+            iterations,
+            residual,
+            constraint,
+        } => format!(
+            "Newton's method did not converge in {iterations} iterations (the highest w-derivative of `{}` is still {residual:e})",
+            model.constraint_name(*constraint)
+        ),
+        StartError::Mismatch(text) => text.clone(),
+    }
 }
 
 /// A fixed gain with the cheap alpha_hat must still cover the neglected `mu^(r-1) |beta|`
@@ -407,7 +531,7 @@ fn simulate(
         }
     };
     if let (Some(dir), Some(trace)) = (&args.plot, &sink.1) {
-        let t_min = design.map(|d| d.t_min);
+        let t_min = design.and_then(|d| d.t_min);
         plot_run(
             dir,
             model.name(),

@@ -399,6 +399,8 @@ fn bad_numbers_and_outputs_are_refused_up_front_by_flag() {
         "1",
         "--eps",
         "0.1",
+        "--design",
+        "pilot",
     ]);
     assert_eq!(status(&o), Some(1));
     assert!(
@@ -406,9 +408,19 @@ fn bad_numbers_and_outputs_are_refused_up_front_by_flag() {
         "{}",
         stderr(&o)
     );
-    let o = run(&["--t-end", "1", "--eps", "0.2", "--passes", "1000000"]);
+    let o = run(&[
+        "--t-end", "1", "--eps", "0.2", "--design", "pilot", "--passes", "1000000",
+    ]);
     assert_eq!(status(&o), Some(1));
     assert!(stderr(&o).contains("--passes"), "{}", stderr(&o));
+    // A pilot option is not dropped in silence by the online design (the default).
+    let o = run(&["--t-end", "1", "--eps", "0.2", "--passes", "3"]);
+    assert_eq!(status(&o), Some(1));
+    assert!(
+        stderr(&o).contains("--passes") && stderr(&o).contains("--design pilot"),
+        "{}",
+        stderr(&o)
+    );
 }
 
 /// Issue 14 (6): a NaN from a domain error is called that, not a divergence; a real

@@ -246,6 +246,8 @@ fn automatic_design_run_keeps_its_guarantees() {
         "auto",
         "--gain",
         "auto",
+        "--design",
+        "pilot",
         "--gains",
         "relaxed",
         "--bound",
@@ -270,6 +272,61 @@ fn automatic_design_run_keeps_its_guarantees() {
             "{v}"
         );
     }
+}
+
+/// A pendulum hanging at rest, written with `alg z = 0` as most models are: every pilot
+/// of the thesis's procedure sees nothing move. `daec run FILE --t-end --eps` alone
+/// makes its tension consistent first (the closed form `m g`), designs online and holds.
+#[test]
+fn a_model_at_rest_runs_from_t_end_and_eps_alone() {
+    let dir = temp_dir();
+    let file = dir.join("hanging.dae");
+    std::fs::write(
+        &file,
+        "model Hanging {\n\
+         param m = 0.5, g = 9.81, L = 1.0;\n\
+         state x = 0.0, y = -1.0, vx = 0.0, vy = 0.0;\n\
+         alg z = 0;\n\
+         let l = sqrt(x^2 + y^2);\n\
+         der(x) = vx; der(y) = vy;\n\
+         der(vx) = -z * x / l / m; der(vy) = -z * y / l / m - g;\n\
+         constraint rod: l = L;\n}\n",
+    )
+    .unwrap();
+    let file = file.display().to_string();
+    let v = json(&daec(&[
+        "run", &file, "--t-end", "2", "--eps", "1e-3", "--json",
+    ]));
+    assert_eq!(v["status"], "held", "{v}");
+    assert_eq!(v["design"]["method"], "online", "{v}");
+    assert_eq!(v["start"]["z"], "consistent", "{v}");
+    // The closed form: the rod carries the weight m g = 4.905.
+    let z0 = num(&v["start"]["z0"][0]);
+    assert!((z0 - 0.5 * 9.81).abs() < 1e-12, "{v}");
+    // From the consistent start no reaching phase is needed.
+    assert_eq!(num(&v["reaching_updates"]), 0.0, "{v}");
+    // Given z = 0, the start is |w''| = g away from consistent.
+    assert!(
+        (num(&v["start"]["residual_given"]) - 9.81).abs() < 1e-12,
+        "{v}"
+    );
+    // A flag the online design decides is refused, with the way to give it.
+    let o = daec(&[
+        "run",
+        &file,
+        "--t-end",
+        "2",
+        "--eps",
+        "1e-3",
+        "--policy",
+        "fixed:0.01",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("--policy") && err.contains("--design pilot"),
+        "{err}"
+    );
 }
 
 /// `--mu LIST --gain auto`: the gains follow from the pilot's bounds at the given mu.

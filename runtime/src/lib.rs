@@ -16,7 +16,7 @@
 //!
 //! ```
 //! # #[cfg(feature = "macros")] {
-//! use dae_runtime::{Settings, Simulator, Trace, dae};
+//! use dae_runtime::{Simulator, Trace, dae, design::Online};
 //!
 //! dae! {
 //!     // A planar pendulum of length L: the rod force z keeps the mass on the circle.
@@ -33,21 +33,24 @@
 //!     }
 //! }
 //!
-//! // One layer, one time constant and one gain per constraint.
-//! let settings = Settings::new(vec![1e-3], vec![0.05], vec![50.0])
-//!     .step(1e-4)
-//!     .t_end(1.0);
+//! // The layer |s| <= 1e-3 over one second: mu, the gains, the law, the step control
+//! // and consistent start values, in one call.
+//! let model = Pendulum::default();
+//! let settings = Online::default().design(&model, &[1e-3], 1.0)?;
 //! let mut trace = Trace::new();
-//! let summary = Simulator::new(Pendulum::default(), settings)?.run(&mut trace)?;
+//! let summary = Simulator::new(&model, settings)?.run(&mut trace)?;
 //! assert!(summary.bound_held());
 //! let r = (summary.x[0].powi(2) + summary.x[1].powi(2)).sqrt();
-//! assert!((r - 1.0).abs() < 2e-3);
+//! assert!((r - 1.0).abs() < 1e-3);
 //! # }
-//! # Ok::<(), dae_runtime::SimError>(())
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! `mu` and the gains need not be guessed: [`design::auto_design`] measures what the
-//! gains must cover in pilot runs and designs both (docs/method.md, section 5). A model
+//! [`design::Online`] designs from the layers and a time scale (a frame, 1/60 s by
+//! default) with no pilot run, gains that follow the drift the run measures; with the
+//! values themselves, `Settings::new(eps, mu, gains)` builds the settings, and
+//! [`design::auto_design`] designs `mu` and guaranteed fixed gains from pilot runs
+//! (docs/method.md, section 5). A model
 //! can also be written by hand: implement [`Model`] (its [`ModelInfo`]: name, sizes and names; `f`,
 //! the sliding variables, `J_Omega` and `beta`).
 //!

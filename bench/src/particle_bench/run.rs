@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 use dae_particles::{
     AdaptiveMu, Backend, BackendError, Counters, Dbsmc, FRAME, ParticleDae, ParticleModel, Scene,
 };
-use dae_runtime::settings::{self, GainRule, Hold, InLayer};
+use dae_runtime::settings::Hold;
 use dae_runtime::{
     Settings, design::ConstraintSpec, design::GainChoice, design::LayerBound, design::MuSearch,
     design::design, settings::AlphaChoice, settings::Integrator, solve::SolverChoice,
@@ -513,26 +513,20 @@ pub fn relaxed_settings_at<M: ParticleDae>(
     gain: f64,
     mu_per_frame: f64,
 ) -> Settings {
-    let m = model.n_constraints();
-    let mu = mu_per_frame * FRAME;
-    let e: Vec<f64> = (0..m).map(|i| eps * model.rest_length(i)).collect();
-    let k: Vec<f64> = e.iter().map(|e| gain * e / mu).collect();
-    let tol = RELAXED_TOLERANCE_PER_EPS * e.iter().copied().fold(f64::INFINITY, f64::min);
-    Settings::new(e, vec![mu; m], k)
-        .tolerance(tol, tol)
-        .alpha(AlphaChoice::Exact)
-        .integrator(Integrator::DormandPrince)
-        .step(FRAME)
-        .max_step(RELAXED_STEP_PER_MU * mu)
-        .law(
-            settings::Dbsmc::default()
-                .gains(GainRule::FollowDrift {
-                    safety: RELAXED_DRIFT_SAFETY,
-                    graze: Some(RELAXED_GRAZE_PER_MU * mu),
-                    raise: None,
-                })
-                .in_layer(InLayer::Saturate),
-        )
+    let e: Vec<f64> = (0..model.n_constraints())
+        .map(|i| eps * model.rest_length(i))
+        .collect();
+    dae_runtime::design::Online {
+        frame: FRAME,
+        mu_per_frame,
+        floor: gain,
+        step_per_mu: RELAXED_STEP_PER_MU,
+        tolerance_per_eps: RELAXED_TOLERANCE_PER_EPS,
+        drift_safety: RELAXED_DRIFT_SAFETY,
+        graze_per_mu: RELAXED_GRAZE_PER_MU,
+    }
+    .settings(e)
+    .expect("the frame-tied design's constants and layers are positive")
 }
 
 /// `settings` (a DBSMC law, as every frame-tied design is) with `v` ramping against the

@@ -289,7 +289,12 @@ pub(super) fn check_args(args: &Args, integration: &Integration, m: usize) -> Re
             return Err(Reported);
         }
     }
-    if m > 0 && (args.mu.trim() == "auto" || args.gain.trim() == "auto") {
+    let pilots = match (args.mu.trim() == "auto", args.gain.trim() == "auto") {
+        (true, true) => args.design == super::DesignArg::Pilot,
+        (false, false) => false,
+        _ => true,
+    };
+    if m > 0 && pilots {
         args.pilot_args.check_work(
             args.pilot.unwrap_or(args.t_end),
             integration.fixed.then_some(integration.step),

@@ -15,6 +15,8 @@ pub(super) struct Report<'a> {
     pub(super) settings: &'a Settings,
     pub(super) summary: &'a Summary,
     pub(super) design: Option<&'a DesignInfo>,
+    /// The consistent start, unless `--start given`.
+    pub(super) start: Option<&'a super::Start>,
     pub(super) integration: &'a Integration,
     pub(super) outcome: Outcome,
 }
@@ -100,6 +102,20 @@ impl Report<'_> {
         }
     }
 
+    fn start_json(&self) -> serde_json::Value {
+        match self.start {
+            None => json!({"z": "given"}),
+            Some(st) => json!({
+                "z": "consistent",
+                "z0": st.found.z0,
+                "newton_iterations": st.found.iterations,
+                "residual_given": st.found.residual_before,
+                "residual": st.found.residual_after,
+                "worst_given": self.model.constraint_name(st.found.worst_before),
+            }),
+        }
+    }
+
     fn json(&self) -> serde_json::Value {
         let (s, st, model) = (self.summary, self.settings, self.model);
         let tol = st.effective_tolerance();
@@ -110,7 +126,7 @@ impl Report<'_> {
                 "given"
             }
         };
-        json!({
+        let mut v = json!({
             "model": s.model,
             "constraints": s.constraints,
             "status": match self.outcome {
@@ -184,7 +200,9 @@ impl Report<'_> {
             "s_final": s.s,
             "w_final": s.w,
             "wall_seconds": s.wall_time,
-        })
+        });
+        v["start"] = self.start_json();
+        v
     }
 
     fn text(&self) {
@@ -247,8 +265,11 @@ impl Report<'_> {
             },
             self.crossing_name()
         );
+        if let Some(st) = self.start {
+            println!("{}", start_line(self.model, &st.found));
+        }
         if let Some(d) = self.design {
-            println!("  design T_min = {}", d.t_min);
+            println!("{}", d.line);
         }
         let window = match (s.reaching_time, s.stats_from) {
             _ if m == 0 => "none (no constraints)".to_string(),
@@ -313,4 +334,19 @@ impl Report<'_> {
         }
         println!("  wall time {:.3} s", s.wall_time);
     }
+}
+
+/// How far the model's own algebraic values were from consistent, and what was done.
+fn start_line(model: &dyn Model, st: &dae_runtime::design::ConsistentStart) -> String {
+    if st.iterations == 0 {
+        return "  start z consistent as given".to_string();
+    }
+    format!(
+        "  start z made consistent: max |w^(r-1)| {:.3e} (`{}`) at the given z, {:.3e} after {} Newton iteration{} (--start given keeps the given z)",
+        st.residual_before,
+        model.constraint_name(st.worst_before),
+        st.residual_after,
+        st.iterations,
+        if st.iterations == 1 { "" } else { "s" }
+    )
 }

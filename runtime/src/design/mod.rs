@@ -16,7 +16,10 @@
 //!   `E = J_s J_hat^{-1}`, solved with the solver seam) and [`jacobi_coupling`];
 //! * [`PilotEstimator`]: estimates `|beta_i|` and `M_i` from samples of a pilot run;
 //!   [`pilot_run`] feeds it from a simulation and [`auto_design`] runs the whole
-//!   procedure (pilot, design, pilot again with the design, design).
+//!   procedure (pilot, design, pilot again with the design, design);
+//! * [`consistent_start`]: the algebraic start values consistent with the states;
+//! * [`Online`]: the design without a pilot (the particle benchmark's frame-tied one),
+//!   from the layers and a time scale, in one call for a whole run ([`Online::design`]).
 //!
 //! Invalid input (non-finite numbers, `eps <= 0`, `mu <= 0`, `r = 0`, ...) is reported
 //! as a [`DesignError`] or [`PilotError`], never by a panic.
@@ -24,19 +27,23 @@
 mod approx;
 mod bounds;
 mod gains;
+mod online;
 mod optimise;
 mod pilot;
 mod pilot_run;
+mod start;
 
 pub use approx::{approximate_inverse_gain, approximate_inverse_gains, jacobi_coupling};
 pub use bounds::{LayerBound, c_r, reachable_bound, t_min};
 pub use gains::{GainChoice, robust_gain, sufficient_gain};
+pub use online::{Online, OnlineError};
 pub use optimise::{ConstraintDesign, Design, MuSearch, design, design_at, optimise_mu};
 pub use pilot::{PilotError, PilotEstimate, PilotEstimator, ROUNDING_FLOOR};
 pub use pilot_run::{
     AutoDesign, AutoDesignOptions, DesignPass, MuChoice, PilotRun, PilotRunError, auto_design,
     pilot_run, pilot_specs,
 };
+pub use start::{ConsistentStart, MAX_NEWTON, StartError, consistent_start};
 
 /// The largest constraint index the formulas accept; `mu^(r-1)` and `2^r` are computed
 /// in `f64` and no realistic model comes near it.

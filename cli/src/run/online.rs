@@ -1,0 +1,136 @@
+//! `--design online` (the default of `--mu auto --gain auto`): the runtime's
+//! [`Online`] design from the layers and `--frame`, with the flags it leaves open.
+
+use super::{AlphaArg, Args, CrossingArg, DesignInfo, IntegratorArg, ReachingArg};
+use crate::Reported;
+use crate::pilot::{BoundArg, GainsArg, PilotArgs};
+use dae_runtime::design::Online;
+use dae_runtime::settings::{AlphaChoice, Hold, Reaching, Scope, Update};
+use dae_runtime::{Settings, design::DesignError};
+use serde_json::json;
+
+/// The flags whose choice the online design makes, and what it chooses.
+fn conflicts(args: &Args) -> Option<(&'static str, &'static str)> {
+    let adaptive = matches!(
+        args.integrator,
+        None | Some(IntegratorArg::Dopri5 | IntegratorArg::Bs3)
+    );
+    [
+        (args.policy != "monitor", "--policy", "monitored updates"),
+        (
+            matches!(args.crossing, CrossingArg::StepEnd),
+            "--crossing step-end",
+            "crossings located in the step",
+        ),
+        (
+            args.follow_drift.is_some() || args.graze.is_some(),
+            "--follow-drift/--graze",
+            "gains that follow the drift with grazing returns mu/8 apart",
+        ),
+        (
+            args.scope != "global",
+            "--scope",
+            "gains that follow the drift, which every row's update measures",
+        ),
+        (
+            args.step.is_some() || !adaptive,
+            "--step/--integrator",
+            "error-controlled steps of at most mu/2",
+        ),
+        (args.pilot.is_some(), "--pilot", "no pilot run"),
+    ]
+    .into_iter()
+    .find(|c| c.0)
+    .map(|c| (c.1, c.2))
+    .or_else(|| pilot_option_given(&args.pilot_args).map(|flag| (flag, "no pilot run")))
+}
+
+/// The first option of the pilot design that differs from its default (given on the
+/// command line: the online design would leave it unused).
+fn pilot_option_given(p: &PilotArgs) -> Option<&'static str> {
+    [
+        ("--gains", !matches!(p.gains, GainsArg::Sufficient)),
+        ("--bound", !matches!(p.bound, BoundArg::General)),
+        ("--passes", p.passes != 2),
+        ("--pilot-mu", p.pilot_mu != 0.1),
+        ("--pilot-gain", p.pilot_gain.is_some()),
+        ("--safety", p.safety != 1.0),
+        ("--pilot-retries", p.pilot_retries != 4),
+    ]
+    .into_iter()
+    .find(|o| o.1)
+    .map(|o| o.0)
+}
+
+/// Puts the online design into `settings` (built from the flags): `mu`, the gains and the
+/// law, the exact alpha unless `--alpha`, its tolerance and longest step unless `--tol`
+/// and `--max-step`.
+pub(super) fn apply(args: &Args, settings: &mut Settings) -> Result<DesignInfo, Reported> {
+    if let Some((flag, sets)) = conflicts(args) {
+        eprintln!(
+            "error: {flag}: the online design (--design online, the default with --mu auto --gain auto) chooses {sets}"
+        );
+        eprintln!("  hint: --design pilot designs from pilot runs, or give --mu and --gain");
+        return Err(Reported);
+    }
+    let online = Online::frame(args.frame);
+    let designed = online.settings(settings.layers.eps.clone()).map_err(|e| {
+        let message = match e {
+            DesignError::NotPositive { name: "frame", .. }
+            | DesignError::NotPositive { name: "mu", .. } => {
+                format!("--frame {}: must be a finite number > 0", args.frame)
+            }
+            e => e.to_string(),
+        };
+        eprintln!("error: online design: {message}");
+        Reported
+    })?;
+    let reaching = match args.reaching {
+        ReachingArg::Attract => Reaching::AttractingSurfaces,
+        ReachingArg::Contract => Reaching::ContractingLayers,
+    };
+    let mut law = designed.law;
+    if let dae_runtime::settings::Law::Dbsmc(d) = &mut law {
+        d.update = Update::Monitor {
+            reaching,
+            scope: Scope::Global,
+        };
+        if args.ramp {
+            d.hold = Hold::RampAgainstDrift;
+        }
+    }
+    settings.layers.mu = designed.layers.mu;
+    settings.layers.gains = designed.layers.gains;
+    settings.law = law;
+    if args.alpha.is_none() {
+        settings.alpha = AlphaChoice::Exact;
+    }
+    if args.tol.is_none() {
+        settings.integration.tolerance = designed.integration.tolerance;
+    }
+    if args.max_step.is_none() {
+        settings.integration.max_step = designed.integration.max_step;
+    }
+    let mu = online.mu();
+    let alpha = match args.alpha {
+        Some(AlphaArg::Cheap) => "the cheap alpha_hat (given)",
+        _ => "the exact alpha",
+    };
+    Ok(DesignInfo {
+        json: json!({
+            "method": "online",
+            "frame": online.frame,
+            "mu": mu,
+            "gain_floor": online.floor,
+            "graze": online.graze_per_mu * mu,
+            "drift_safety": online.drift_safety,
+        }),
+        t_min: None,
+        line: format!(
+            "  design online (no pilot): frame {} s, mu = frame/4, gains from {} eps/mu following the drift (grazing returns mu/8 apart), rate -k s/eps inside the layer, {alpha}{}",
+            online.frame,
+            online.floor,
+            if args.ramp { ", v ramped" } else { "" }
+        ),
+    })
+}
