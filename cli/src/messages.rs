@@ -119,8 +119,10 @@ pub(crate) fn pilot_run_error(model: &dyn Model, e: &PilotRunError) -> String {
         }
         PilotRunError::Sim(sim) => format!("pilot run failed: {sim}"),
         PilotRunError::Pilot(PilotError::NoDriftData { constraint: i }) => format!(
-            "the pilot run gave no drift data for constraint `{}`: no interval after --settle \
-             had two samples at distinct times; lengthen --pilot or shorten --settle",
+            "the pilot run gave no drift data for constraint `{}`: no control interval after \
+             the reaching phase and --settle had two samples at distinct times (the pilot \
+             did not reach its layers, or the system hardly moves); --design online needs \
+             no pilot, or give --mu and --gain",
             constraint(*i)
         ),
         PilotRunError::Pilot(PilotError::NonFinite {
