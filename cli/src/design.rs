@@ -196,7 +196,9 @@ fn from_pilot(args: &Args, file: &std::path::Path) -> Result<(), Reported> {
         })
         .t_end(duration)
         .settle(args.settle);
-    let a = args.pilot_args.auto_design(model, &base, None, None)?;
+    let a = args
+        .pilot_args
+        .auto_design(model, &base, None, None, None)?;
     let mut out = design_json(model, &a);
     if args.json {
         crate::bounded::summarise(&mut out, model);

@@ -117,6 +117,10 @@ pub(crate) fn pilot_run_error(model: &dyn Model, e: &PilotRunError) -> String {
             };
             format!("pilot run: {flag}: {reason}")
         }
+        PilotRunError::OverBudget { budget, pass, t } => format!(
+            "the pilot runs took more than {} s (--pilot-budget) and were stopped, pass {pass} at t = {t:.6} of its pilot\n  hint: --design online needs no pilot; or a longer --pilot-budget, a shorter --pilot",
+            budget.as_secs_f64()
+        ),
         PilotRunError::Sim(sim) => format!("pilot run failed: {sim}"),
         PilotRunError::Pilot(PilotError::NoDriftData { constraint: i }) => format!(
             "the pilot run gave no drift data for constraint `{}`: no control interval after \

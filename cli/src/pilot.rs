@@ -84,6 +84,10 @@ pub(crate) struct PilotArgs {
     /// leaves a layer (its gains were below the model's drift).
     #[arg(long, default_value_t = 4)]
     pub(crate) pilot_retries: usize,
+    /// The most wall time, in seconds, all pilot runs together may take [default: 10 for
+    /// `daec run`, no limit for `daec design`].
+    #[arg(long, value_name = "SECONDS")]
+    pub(crate) pilot_budget: Option<f64>,
 }
 
 /// Most pilot -> design passes: each is a pilot run over the whole pilot duration, and
@@ -100,6 +104,9 @@ impl PilotArgs {
         positive("--pilot-mu", self.pilot_mu)?;
         if let Some(k) = self.pilot_gain {
             positive("--pilot-gain", k)?;
+        }
+        if let Some(b) = self.pilot_budget {
+            positive("--pilot-budget", b)?;
         }
         at_least("--safety", self.safety, 1.0)
     }
@@ -147,6 +154,7 @@ impl PilotArgs {
         base: &Settings,
         mu: Option<Vec<f64>>,
         fixed_gain: Option<f64>,
+        default_budget: Option<f64>,
     ) -> Result<AutoDesign, Reported> {
         let m = model.n_constraints();
         // A fixed step (given) runs the pilots as the design procedure was built for:
@@ -181,6 +189,10 @@ impl PilotArgs {
             safety: self.safety,
             mu: mu.map_or_else(MuChoice::default, MuChoice::Given),
             pilot_retries: self.pilot_retries,
+            budget: self
+                .pilot_budget
+                .or(default_budget)
+                .map(std::time::Duration::from_secs_f64),
         };
         let a = auto_design(model, &base.layers.eps, &pilot, &opts).map_err(|e| {
             eprintln!(

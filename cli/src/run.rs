@@ -23,6 +23,10 @@ use std::fs::File;
 use std::io::{self, BufWriter};
 use std::path::PathBuf;
 
+/// The default wall-time budget of all pilot runs of `daec run`, in seconds
+/// (`--pilot-budget`).
+const PILOT_BUDGET: f64 = 10.0;
+
 /// Most rows written to `--csv` (and kept for `--plot`) before steps are decimated.
 const MAX_ROWS: u64 = 200_000;
 
@@ -330,7 +334,9 @@ pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
                     Some(k[0])
                 }
             };
-            let a = args.pilot_args.auto_design(model, &pilot_base, mu, fixed)?;
+            let a =
+                args.pilot_args
+                    .auto_design(model, &pilot_base, mu, fixed, Some(PILOT_BUDGET))?;
             settings.layers.mu = a.design.constraints.iter().map(|c| c.mu).collect();
             settings.layers.gains = a.design.constraints.iter().map(|c| c.k).collect();
             if fixed.is_some() && settings.alpha == AlphaChoice::Cheap {

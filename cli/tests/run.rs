@@ -248,6 +248,9 @@ fn automatic_design_run_keeps_its_guarantees() {
         "auto",
         "--design",
         "pilot",
+        // The budget is for interactive use; a loaded test machine must not hit it.
+        "--pilot-budget",
+        "600",
         "--gains",
         "relaxed",
         "--bound",
@@ -329,6 +332,29 @@ fn a_model_at_rest_runs_from_t_end_and_eps_alone() {
     );
 }
 
+/// `--design pilot` stops its pilots at `--pilot-budget` and says what to give instead.
+#[test]
+fn pilots_past_their_budget_are_stopped_with_the_way_out() {
+    let o = daec(&[
+        "run",
+        &pendulum(),
+        "--t-end",
+        "10",
+        "--eps",
+        "0.2",
+        "--design",
+        "pilot",
+        "--pilot-budget",
+        "0.001",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("--pilot-budget") && err.contains("--design online"),
+        "{err}"
+    );
+}
+
 /// `--mu LIST --gain auto`: the gains follow from the pilot's bounds at the given mu.
 #[test]
 fn gains_for_given_mu_come_from_the_pilot() {
@@ -343,6 +369,8 @@ fn gains_for_given_mu_come_from_the_pilot() {
         "0.076,0.066",
         "--gain",
         "auto",
+        "--pilot-budget",
+        "600",
         "--gains",
         "relaxed",
         "--pilot",

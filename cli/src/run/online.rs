@@ -56,6 +56,7 @@ fn pilot_option_given(p: &PilotArgs) -> Option<&'static str> {
         ("--pilot-gain", p.pilot_gain.is_some()),
         ("--safety", p.safety != 1.0),
         ("--pilot-retries", p.pilot_retries != 4),
+        ("--pilot-budget", p.pilot_budget.is_some()),
     ]
     .into_iter()
     .find(|o| o.1)

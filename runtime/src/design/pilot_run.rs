@@ -11,6 +11,7 @@
 
 use std::cmp::Ordering;
 use std::io;
+use std::time::{Duration, Instant};
 
 use super::{
     ConstraintSpec, Design, DesignError, GainChoice, LayerBound, MuSearch, PilotError,
@@ -35,6 +36,18 @@ pub enum PilotRunError {
     /// The arguments do not fit the model.
     #[error("{0}")]
     Mismatch(String),
+    /// The pilots took more wall time than [`AutoDesignOptions::budget`].
+    #[error(
+        "the pilot runs took more than their budget of {budget:?}: pass {pass} was at t = {t} of its pilot"
+    )]
+    OverBudget {
+        /// The budget.
+        budget: Duration,
+        /// The pass whose pilot was stopped (from 1).
+        pass: usize,
+        /// How far that pilot had come.
+        t: f64,
+    },
     /// The pilot left a layer after reaching: its gains were too weak for the model's
     /// drift, and the motion it measured is not the one a design is for. The pilot was
     /// stopped there.
@@ -89,7 +102,7 @@ pub fn pilot_run<M: Model + ?Sized>(
     model: &M,
     settings: &Settings,
 ) -> Result<PilotRun, PilotRunError> {
-    match pilot_run_until_lost(model, settings)? {
+    match pilot_run_until_lost(model, settings, None)? {
         PilotOutcome::Held(run) => Ok(run),
         PilotOutcome::Lost { error, .. } => Err(error),
     }
@@ -100,6 +113,7 @@ pub fn pilot_run<M: Model + ?Sized>(
 fn pilot_run_until_lost<M: Model + ?Sized>(
     model: &M,
     settings: &Settings,
+    deadline: Option<Instant>,
 ) -> Result<PilotOutcome, PilotRunError> {
     if settings.law == crate::settings::Law::Spsm {
         return Err(PilotRunError::Mismatch(
@@ -108,6 +122,7 @@ fn pilot_run_until_lost<M: Model + ?Sized>(
     }
     let mut sink = PilotSink::new(model, settings);
     let mut sim = Simulator::new(model, settings.clone())?;
+    sim.set_deadline(deadline);
     let result = sim.run(&mut sink);
     let Some((constraint, t, ratio)) = sink.lost else {
         let summary = result?;
@@ -374,11 +389,15 @@ pub struct AutoDesignOptions {
     /// How many times the first pilot may run again with ten times its gains when it
     /// leaves a layer ([`PilotRunError::LayerLost`]).
     pub pilot_retries: usize,
+    /// The most wall time all pilots together may take; beyond it the design stops with
+    /// [`PilotRunError::OverBudget`]. `None`: no limit.
+    pub budget: Option<Duration>,
 }
 
 impl Default for AutoDesignOptions {
     /// Relaxed gains with the general (T 3.14) bound, two passes, no safety factor, `mu`
-    /// searched, up to 4 retries of the first pilot (gains up to 10^4 times the given).
+    /// searched, up to 4 retries of the first pilot (gains up to 10^4 times the given),
+    /// no time budget.
     fn default() -> Self {
         AutoDesignOptions {
             gain: GainChoice::Relaxed,
@@ -387,6 +406,7 @@ impl Default for AutoDesignOptions {
             safety: 1.0,
             mu: MuChoice::default(),
             pilot_retries: 4,
+            budget: None,
         }
     }
 }
@@ -478,13 +498,25 @@ pub fn auto_design<M: Model + ?Sized>(
         }
         settings.layers.mu = mu.clone();
     }
+    let started = Instant::now();
+    let deadline = options.budget.map(|b| started + b);
     let mut passes: Vec<DesignPass> = Vec::with_capacity(options.passes.min(8));
     let (mut beta_max, mut m_max) = (vec![0.0f64; m], vec![0.0f64; m]);
     for pass in 0..options.passes {
         // Only the first pilot runs again: its gains are a guess, the later ones designed.
         let mut retries = if pass == 0 { options.pilot_retries } else { 0 };
         let (run, left) = loop {
-            match pilot_run_until_lost(model, &settings)? {
+            let outcome = match pilot_run_until_lost(model, &settings, deadline) {
+                Err(PilotRunError::Sim(SimError::Deadline { t })) => {
+                    return Err(PilotRunError::OverBudget {
+                        budget: options.budget.unwrap_or_default(),
+                        pass: pass + 1,
+                        t,
+                    });
+                }
+                other => other?,
+            };
+            match outcome {
                 PilotOutcome::Held(run) => break (run, false),
                 // The first pilot's gains are below the drift: ten times them.
                 PilotOutcome::Lost { .. } if retries > 0 => {

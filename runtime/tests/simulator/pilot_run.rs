@@ -208,3 +208,26 @@ fn a_pilot_that_leaves_its_layer_stops_there_with_the_loss() {
         other => panic!("expected the weak pilot to leave its layer, got {other:?}"),
     }
 }
+
+/// A budget stops the pilots where it runs out, with the pass and how far its pilot came;
+/// the same design without a budget finishes.
+#[test]
+fn pilots_over_their_budget_stop_with_where_they_were() {
+    let pilot = Settings::new(vec![0.2; 2], vec![0.1; 2], vec![40.0; 2])
+        .step(1e-4)
+        .law(StepEnd::default())
+        .t_end(10.0)
+        .settle(1.0);
+    let opts = AutoDesignOptions {
+        budget: Some(std::time::Duration::from_millis(1)),
+        ..Default::default()
+    };
+    match auto_design(&Pendulum::default(), &[0.2, 0.2], &pilot, &opts) {
+        Err(PilotRunError::OverBudget { budget, pass, t }) => {
+            assert_eq!(budget, std::time::Duration::from_millis(1));
+            assert_eq!(pass, 1);
+            assert!(t > 0.0 && t < 10.0, "{t}");
+        }
+        other => panic!("{other:?}"),
+    }
+}
