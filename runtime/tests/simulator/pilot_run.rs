@@ -78,14 +78,19 @@ fn spsm_cannot_be_a_pilot() {
 /// T_min = 0.0062 / 0.0053. Two passes from mu = 0.1, k = 40 (exact alpha) over 10 s must
 /// land within a factor of 3 of those bounds and within 0.01 of those mu (the motion is
 /// chaotic, so the bounds depend on the trajectory the pilot happens to take).
-#[test]
-fn auto_design_of_the_pendulum_is_of_the_thesis_order() {
-    // The thesis's rule: crossings noticed at the ends of RK4 steps of 1e-4 s.
-    let pilot = Settings::new(vec![0.2; 2], vec![0.1; 2], vec![40.0; 2])
+/// The thesis's pilot of the 3-D double pendulum: crossings noticed at the ends of RK4
+/// steps of 1e-4 s, over 10 s, bounds from t = 1 s on.
+fn thesis_pilot() -> Settings {
+    Settings::new(vec![0.2; 2], vec![0.1; 2], vec![40.0; 2])
         .step(1e-4)
         .law(StepEnd::default())
         .t_end(10.0)
-        .settle(1.0);
+        .settle(1.0)
+}
+
+#[test]
+fn auto_design_of_the_pendulum_is_of_the_thesis_order() {
+    let pilot = thesis_pilot();
     let opts = AutoDesignOptions {
         gain: GainChoice::Relaxed,
         layer: LayerBound::TightIndex3,
@@ -213,11 +218,7 @@ fn a_pilot_that_leaves_its_layer_stops_there_with_the_loss() {
 /// the same design without a budget finishes.
 #[test]
 fn pilots_over_their_budget_stop_with_where_they_were() {
-    let pilot = Settings::new(vec![0.2; 2], vec![0.1; 2], vec![40.0; 2])
-        .step(1e-4)
-        .law(StepEnd::default())
-        .t_end(10.0)
-        .settle(1.0);
+    let pilot = thesis_pilot();
     let opts = AutoDesignOptions {
         budget: Some(std::time::Duration::from_millis(1)),
         ..Default::default()
