@@ -205,7 +205,7 @@ fn from_pilot(args: &Args, file: &std::path::Path) -> Result<(), Reported> {
         println!("model {}", model.name());
         // The constraints that set the period first: all of them for a small model, the
         // ones with the shortest T_i^min for a large one.
-        let listed = crate::bounded::listed_by(m, |i| -a.design.constraints[i].t_min);
+        let listed = dae_runtime::summary::listed_by(m, |i| -a.design.constraints[i].t_min);
         if listed.len() < m {
             println!(
                 "  (the {} of {m} constraints with the shortest t_min; --json for all)",

@@ -333,7 +333,7 @@ fn warn_uncovered_beta(
         if settings.layers.gains[i] <= need {
             uncovered += 1;
             // A large model gets the first few by name and a count, not a line each.
-            if uncovered <= crate::bounded::TEXT_LINES_MAX {
+            if uncovered <= dae_runtime::summary::TEXT_LINES_MAX {
                 eprintln!(
                     "warning: gain {} of `{}` does not cover mu^(r-1) |beta| = {need:.4} neglected by the cheap alpha_hat; use --alpha exact or a larger gain",
                     settings.layers.gains[i],
@@ -342,7 +342,7 @@ fn warn_uncovered_beta(
             }
         }
     }
-    if uncovered > crate::bounded::TEXT_LINES_MAX {
+    if uncovered > dae_runtime::summary::TEXT_LINES_MAX {
         eprintln!(
             "warning: ... {uncovered} constraints in all whose gain does not cover mu^(r-1) |beta|"
         );
