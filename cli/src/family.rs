@@ -322,7 +322,7 @@ impl Topology {
 
 /// The construction spec of `--set` values and a topology: sizes (whole numbers) and
 /// scalar parameters by name; anything else is an error naming what can be set.
-fn spec_for(
+pub(crate) fn spec_for(
     c: &Construction,
     sets: &[(String, f64)],
     topology: Option<&Topology>,
@@ -487,6 +487,8 @@ fn scalar_with_params(
 pub(crate) struct DefaultSizes {
     /// `N = 10, ...`.
     pub sizes: String,
+    /// Whether the sizes or the topology were given (`daec check --set`, `--topology`).
+    pub given: bool,
     pub states: usize,
     pub constraints: usize,
     pub entries: usize,
@@ -524,25 +526,40 @@ pub(crate) fn template_lines(derive_text: &str) -> (Vec<String>, Vec<(String, Ve
 /// Builds the model at its default sizes and checks `J_Omega` there (see
 /// [`DefaultSizes`]); `None` when sets or maps are given at run time. A singular
 /// `J_Omega` is an error naming the dependent constraints.
-pub(crate) fn at_default_sizes(compiled: CompiledModel) -> Result<Option<DefaultSizes>, Reported> {
+///
+/// With a topology, the sets and maps it gives are used (and the model is built even when
+/// it is not self-contained); `given` says that the sizes or the topology came from the
+/// command line (`daec check --set`, `--topology`).
+pub(crate) fn at_default_sizes(
+    compiled: CompiledModel,
+    topology: Option<&Topology>,
+    given: bool,
+) -> Result<Option<DefaultSizes>, Reported> {
     use dae_runtime::{solve::LinearSolver, solve::Solver, solve::SolverChoice};
     let name = compiled.name.clone();
     let Some(kernels) = Interpreter::new(compiled) else {
         return Ok(None);
     };
     let c = kernels.construction();
-    if !c.self_contained() {
+    if !c.self_contained() && topology.is_none() {
         return Ok(None);
     }
+    let spec = spec_for(c, &[], topology)?;
     let sizes = c
         .sizes
         .iter()
         .map(|s| format!("{} = {}", s.name, s.default))
         .collect::<Vec<_>>()
         .join(", ");
-    let model = FamilyInstance::interpreted(kernels, &Spec::default()).map_err(|e| {
-        // The checker built the model at these sizes already; kept for completeness.
-        eprintln!("error: `{name}` at its default sizes: {e}");
+    let model = FamilyInstance::interpreted(kernels, &spec).map_err(|e| {
+        match topology {
+            Some(t) => eprintln!(
+                "error: `{name}` with the sets and maps of `{}`: {e}\n  hint: check the topology file against the model's sets and maps (docs/language.md, \"Topology files\")",
+                t.name
+            ),
+            // The checker built the model at these sizes already; kept for completeness.
+            None => eprintln!("error: `{name}` at its sizes: {e}"),
+        }
         Reported
     })?;
     let (n, m) = (model.n_states(), model.n_constraints());
@@ -600,6 +617,7 @@ pub(crate) fn at_default_sizes(compiled: CompiledModel) -> Result<Option<Default
     match outcome {
         Ok(()) => Ok(Some(DefaultSizes {
             sizes,
+            given,
             states: n,
             constraints: m,
             entries: pattern.len(),

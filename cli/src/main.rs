@@ -22,6 +22,7 @@ macro_rules! println {
 mod bounded;
 mod check;
 mod check_family;
+mod check_set;
 mod derive;
 mod design;
 mod emit;
