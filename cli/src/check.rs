@@ -13,8 +13,8 @@ use std::path::PathBuf;
 ///
 /// Besides the front-end checks, runs the index analysis: a constraint without an index,
 /// a singular or ill-conditioned J_Omega (condition number above 1e12) at the initial
-/// point, or a non-finite value there is an error (rendered on stderr, exit status 1,
-/// nothing on stdout). So a successful check always reports a nonsingular J_Omega.
+/// point, or a non-finite value there is an error (rendered on stderr, exit status 1;
+/// with `--json` also a JSON failure object on stdout). So a successful check always reports a nonsingular J_Omega.
 #[derive(clap::Args)]
 #[command(
     after_help = "A singular J_Omega at the initial point is an error (exit status 1): it names the \
@@ -40,7 +40,7 @@ pub(crate) struct Args {
     /// Print the result as JSON (one object per model; an array if the file holds
     /// several models).
     #[arg(long)]
-    json: bool,
+    pub(crate) json: bool,
 }
 
 /// Reads, parses, checks and analyses the file; prints the summary on stdout or every
@@ -57,8 +57,8 @@ pub(crate) fn run(args: &Args) -> Result<(), Reported> {
         None => None,
         Some(path) => {
             if let Some((m, _)) = analysed.iter().find(|(m, _)| !m.is_family()) {
-                eprintln!(
-                    "error: --topology {}: `{}` has no sets (a version-1 model); a topology gives the sets and maps of a family model",
+                error!(
+                    "--topology {}: `{}` has no sets (a version-1 model); a topology gives the sets and maps of a family model",
                     path.display(),
                     m.name
                 );

@@ -26,13 +26,10 @@ pub(crate) fn analysed(
     };
     let Some(i) = pick else {
         match wanted {
-            Some(w) => eprintln!(
-                "error: `{name}` has no model `{w}` (it has: {})",
-                names.join(", ")
-            ),
-            None if names.is_empty() => eprintln!("error: `{name}` holds no model"),
-            None => eprintln!(
-                "error: `{name}` holds {} models ({}); --set and --topology apply to one: choose it with --model",
+            Some(w) => error!("`{name}` has no model `{w}` (it has: {})", names.join(", ")),
+            None if names.is_empty() => error!("`{name}` holds no model"),
+            None => error!(
+                "`{name}` holds {} models ({}); --set and --topology apply to one: choose it with --model",
                 names.len(),
                 names.join(", ")
             ),
@@ -63,8 +60,8 @@ fn assign(ast: &mut ModelAst, family: bool, what: &str, value: f64) -> Result<()
         match item {
             Item::Size { name, value: e, .. } if name.name == what => {
                 if value.fract() != 0.0 || value < 0.0 || value > i64::MAX as f64 / 2.0 {
-                    eprintln!(
-                        "error: --set {what}={value}: `{what}` is a size, a whole number >= 0\n  hint: e.g. --set {what}=1000"
+                    error!(
+                        "--set {what}={value}: `{what}` is a size, a whole number >= 0\n  hint: e.g. --set {what}=1000"
                     );
                     return Err(Reported);
                 }
@@ -74,8 +71,8 @@ fn assign(ast: &mut ModelAst, family: bool, what: &str, value: f64) -> Result<()
             Item::Param(decls, _) => {
                 if let Some(d) = decls.iter_mut().find(|d| d.name.name == what) {
                     if d.binder.is_some() || d.ty.is_some() {
-                        eprintln!(
-                            "error: --set {what}={value}: `{what}` is a per-element or vector parameter, not a scalar\n  hint: change the formula of its declaration"
+                        error!(
+                            "--set {what}={value}: `{what}` is a per-element or vector parameter, not a scalar\n  hint: change the formula of its declaration"
                         );
                         return Err(Reported);
                     }
@@ -113,15 +110,15 @@ fn assign(ast: &mut ModelAst, family: bool, what: &str, value: f64) -> Result<()
         }
     };
     if family {
-        eprintln!(
-            "error: --set {what}={value}: the model `{}` has no size or scalar parameter `{what}`\n  hint: --set takes the sizes ({}) and the scalar parameters ({})",
+        error!(
+            "--set {what}={value}: the model `{}` has no size or scalar parameter `{what}`\n  hint: --set takes the sizes ({}) and the scalar parameters ({})",
             ast.name.name,
             list(&sizes),
             list(&params)
         );
     } else {
-        eprintln!(
-            "error: --set {what}={value}: `{}` has no parameter `{what}` (a version-1 model has no sizes)\n  hint: its parameters: {}",
+        error!(
+            "--set {what}={value}: `{}` has no parameter `{what}` (a version-1 model has no sizes)\n  hint: its parameters: {}",
             ast.name.name,
             list(&params)
         );

@@ -75,7 +75,7 @@ struct Block {
 }
 
 fn topo_error(file: &str, line: usize, what: &str, hint: &str) -> Reported {
-    eprintln!("error: {file}:{line}: {what}\n  hint: {hint}");
+    error!("{file}:{line}: {what}\n  hint: {hint}");
     Reported
 }
 
@@ -83,7 +83,7 @@ fn topo_error(file: &str, line: usize, what: &str, hint: &str) -> Reported {
 pub(crate) fn read_topology(path: &Path) -> Result<Topology, Reported> {
     let name = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| {
-        eprintln!("error: cannot read the topology file `{name}`: {e}");
+        error!("cannot read the topology file `{name}`: {e}");
         Reported
     })?;
     let mut t = Topology {
@@ -331,8 +331,8 @@ pub(crate) fn spec_for(
     for (name, value) in sets {
         if c.sizes.iter().any(|s| &s.name == name) {
             if value.fract() != 0.0 || *value < 0.0 || *value > i64::MAX as f64 / 2.0 {
-                eprintln!(
-                    "error: --set {name}={value}: `{name}` is a size, a whole number >= 0\n  hint: e.g. --set {name}=1000"
+                error!(
+                    "--set {name}={value}: `{name}` is a size, a whole number >= 0\n  hint: e.g. --set {name}=1000"
                 );
                 return Err(Reported);
             }
@@ -348,15 +348,15 @@ pub(crate) fn spec_for(
             .iter()
             .find(|p| p.name.split('.').next() == Some(name.split('[').next().unwrap_or("")))
         {
-            eprintln!(
-                "error: --set {name}={value}: `{}` is a per-element parameter (one value per element of its set)\n  hint: change the formula of its declaration, or set its elements through the runtime API (`set_param_named(\"{}[3]\", ..)`)",
+            error!(
+                "--set {name}={value}: `{}` is a per-element parameter (one value per element of its set)\n  hint: change the formula of its declaration, or set its elements through the runtime API (`set_param_named(\"{}[3]\", ..)`)",
                 p.name.split('.').next().unwrap_or(&p.name),
                 p.name.split('.').next().unwrap_or(&p.name),
             );
             return Err(Reported);
         } else {
-            eprintln!(
-                "error: --set {name}={value}: the model has no size or scalar parameter `{name}`\n  hint: {}",
+            error!(
+                "--set {name}={value}: the model has no size or scalar parameter `{name}`\n  hint: {}",
                 settable(c)
             );
             return Err(Reported);
@@ -404,8 +404,8 @@ pub(crate) fn runnable(
     let (name, src, compiled) = source::compiled(path, wanted)?;
     if !compiled.is_family() {
         if let Some(t) = topology {
-            eprintln!(
-                "error: --topology {}: `{}` has no sets (a version-1 model); a topology gives the sets and maps of a family model",
+            error!(
+                "--topology {}: `{}` has no sets (a version-1 model); a topology gives the sets and maps of a family model",
                 t.display(),
                 compiled.name
             );
@@ -436,12 +436,12 @@ pub(crate) fn runnable(
         Err(e) => {
             let r = source::report(&name, &src, &[e.to_diagnostic()]);
             match &topology {
-                Some(t) => eprintln!(
-                    "  note: the sets and maps given at construction come from `{}`",
+                Some(t) => note!(
+                    "the sets and maps given at construction come from `{}`",
                     t.name
                 ),
-                None if !c_given.is_empty() => eprintln!(
-                    "  note: `{}` {} given at construction: run the model with --topology FILE (the format is in docs/language.md, \"Topology files\")",
+                None if !c_given.is_empty() => note!(
+                    "`{}` {} given at construction: run the model with --topology FILE (the format is in docs/language.md, \"Topology files\")",
                     c_given.join("`, `"),
                     if c_given.len() == 1 { "is" } else { "are" }
                 ),
@@ -463,8 +463,8 @@ fn scalar_with_params(
             Some(i) => m.set_param(i, *value),
             None => {
                 let params: Vec<&str> = (0..m.n_params()).map(|i| m.param_name(i)).collect();
-                eprintln!(
-                    "error: --set {name}={value}: `{}` has no parameter `{name}` (a version-1 model has no sizes)\n  hint: its parameters: {}",
+                error!(
+                    "--set {name}={value}: `{}` has no parameter `{name}` (a version-1 model has no sizes)\n  hint: its parameters: {}",
                     m.name(),
                     if params.is_empty() {
                         "none".to_string()
@@ -553,12 +553,12 @@ pub(crate) fn at_default_sizes(
         .join(", ");
     let model = FamilyInstance::interpreted(kernels, &spec).map_err(|e| {
         match topology {
-            Some(t) => eprintln!(
-                "error: `{name}` with the sets and maps of `{}`: {e}\n  hint: check the topology file against the model's sets and maps (docs/language.md, \"Topology files\")",
+            Some(t) => error!(
+                "`{name}` with the sets and maps of `{}`: {e}\n  hint: check the topology file against the model's sets and maps (docs/language.md, \"Topology files\")",
                 t.name
             ),
             // The checker built the model at these sizes already; kept for completeness.
-            None => eprintln!("error: `{name}` at its sizes: {e}"),
+            None => error!("`{name}` at its sizes: {e}"),
         }
         Reported
     })?;
@@ -583,8 +583,8 @@ pub(crate) fn at_default_sizes(
         )
     };
     if rank.rank < m {
-        eprintln!(
-            "error: J_Omega of `{name}` is structurally singular at the default sizes ({sizes}): structural rank {} of {m}; no algebraic unknown is left for {}\n  hint: each constraint needs its own algebraic unknown in its Omega (check the maps and the sums)",
+        error!(
+            "J_Omega of `{name}` is structurally singular at the default sizes ({sizes}): structural rank {} of {m}; no algebraic unknown is left for {}\n  hint: each constraint needs its own algebraic unknown in its Omega (check the maps and the sums)",
             rank.rank,
             names(&rank.unmatched_rows)
         );
@@ -600,7 +600,7 @@ pub(crate) fn at_default_sizes(
     let mut outcome = Err(dae_runtime::solve::SolveError::Pattern(String::new()));
     for choice in [SolverChoice::Auto, SolverChoice::Dense] {
         let mut solver = Solver::new(m, pattern, choice).map_err(|e| {
-            eprintln!("error: J_Omega of `{name}`: {e}");
+            error!("J_Omega of `{name}`: {e}");
             Reported
         })?;
         outcome = solver.factor(&values, &vec![1.0; m]);
@@ -626,14 +626,14 @@ pub(crate) fn at_default_sizes(
             solver: solver_name,
         })),
         Err(dae_runtime::solve::SolveError::Singular { constraints }) => {
-            eprintln!(
-                "error: J_Omega of `{name}` is singular at t = 0 with the default sizes ({sizes}): the rows of {} are dependent\n  hint: the algebraic unknowns do not determine these constraints at the initial point (a link of length zero? two links along one line at a particle with no other support?)",
+            error!(
+                "J_Omega of `{name}` is singular at t = 0 with the default sizes ({sizes}): the rows of {} are dependent\n  hint: the algebraic unknowns do not determine these constraints at the initial point (a link of length zero? two links along one line at a particle with no other support?)",
                 names(&constraints)
             );
             Err(Reported)
         }
         Err(e) => {
-            eprintln!("error: J_Omega of `{name}` at t = 0 with the default sizes ({sizes}): {e}");
+            error!("J_Omega of `{name}` at t = 0 with the default sizes ({sizes}): {e}");
             Err(Reported)
         }
     }

@@ -139,7 +139,7 @@ pub(crate) struct Args {
     plot: Option<PathBuf>,
     /// Print the summary as JSON.
     #[arg(long)]
-    json: bool,
+    pub(crate) json: bool,
     /// Solver of J_s at the control updates: `auto` (exact: dense up to 16 constraints,
     /// `tree` when the Jacobian pattern's graph is a forest, `sparse` otherwise),
     /// `dense`, `sparse`, `tree`, or an approximate inverse checked by (T 3.22):
@@ -276,7 +276,7 @@ pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
                 Some(k) => {
                     let k = per_constraint("--gain", &k, m)?;
                     if k.iter().any(|v| *v != k[0]) {
-                        eprintln!("error: with --mu auto, give one --gain value (or `auto`)");
+                        error!("with --mu auto, give one --gain value (or `auto`)");
                         return Err(Reported);
                     }
                     Some(k[0])
@@ -373,7 +373,7 @@ fn simulate(
         Some(path) => match File::create(path) {
             Ok(f) => Some(Decimate::new(CsvSink::new(BufWriter::new(f))).every(every)),
             Err(e) => {
-                eprintln!("error: cannot create `{}`: {e}", path.display());
+                error!("cannot create `{}`: {e}", path.display());
                 return Err(Reported);
             }
         },
@@ -387,9 +387,10 @@ fn simulate(
     let mut sim = Simulator::new(model, settings.clone()).map_err(|e| {
         match &e {
             SimError::Settings { field, reason } => {
-                eprintln!("error: {}: {reason}", flag(field))
+                error!("{}: {reason}", flag(field));
+                crate::failure::field("setting", flag(field).into());
             }
-            e => eprintln!("error: {e}"),
+            e => error!("{e}"),
         }
         Reported
     })?;
@@ -400,7 +401,7 @@ fn simulate(
             if let Some(c) = sink.0.take() {
                 // The rows up to the failure stay in the file.
                 if let Err(e) = io::Write::flush(&mut c.into_inner().into_inner()) {
-                    eprintln!("error: writing the CSV: {e}");
+                    error!("writing the CSV: {e}");
                 }
             }
             return Err(Reported);
@@ -416,7 +417,7 @@ fn simulate(
             t_min,
         )
         .map_err(|e| {
-            eprintln!("error: charts in `{}`: {e}", dir.display());
+            error!("charts in `{}`: {e}", dir.display());
             Reported
         })?;
     }
@@ -424,7 +425,7 @@ fn simulate(
 }
 
 fn report_failure(model: &dyn Model, settings: &Settings, fixed_step: bool, e: &SimError) {
-    eprintln!("error: simulation of `{}` failed: {e}", model.name());
+    error!("simulation of `{}` failed: {e}", model.name());
     let hint = match e {
         SimError::NonFinite {
             value, kind, name, ..
@@ -471,6 +472,7 @@ fn report_failure(model: &dyn Model, settings: &Settings, fixed_step: bool, e: &
         _ => String::new(),
     };
     if !hint.is_empty() {
-        eprintln!("  hint: {hint}");
+        hint!("{hint}");
     }
+    crate::messages::sim_error_fields(e);
 }
