@@ -42,6 +42,11 @@ pub(crate) fn start(command: &'static str, json: bool) {
     });
 }
 
+/// Whether the command's output is JSON (`--json`).
+pub(crate) fn json() -> bool {
+    with(|f| f.json)
+}
+
 /// Reports an error: `error: MESSAGE` on stderr, kept for the JSON object. A message
 /// whose lines after the first start with `hint:` gives the hint (the first one kept).
 pub(crate) fn error(message: &str) {

@@ -42,6 +42,7 @@ mod failure;
 mod family;
 mod messages;
 mod pilot;
+mod progress;
 mod run;
 mod source;
 

@@ -180,7 +180,10 @@ impl PilotArgs {
             mu: mu.map_or_else(MuChoice::default, MuChoice::Given),
             pilot_retries: self.pilot_retries,
         };
-        let a = auto_design(model, &base.layers.eps, &pilot, &opts).map_err(|e| {
+        let spinner = crate::progress::spinner("designing mu and the gains (pilot runs)");
+        let designed = auto_design(model, &base.layers.eps, &pilot, &opts);
+        drop(spinner);
+        let a = designed.map_err(|e| {
             error!(
                 "automatic design of `{}`: {}",
                 model.name(),

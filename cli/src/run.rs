@@ -13,6 +13,7 @@ use self::args::{auto_or_list, check_args, check_number, flag, integration, laws
 use self::report::Report;
 use crate::Reported;
 use crate::pilot::{PilotArgs, design_json, per_constraint};
+use crate::progress::Progress;
 use dae_runtime::{
     Model, Settings, SimError, Simulator, Summary, Trace, charts::plot_run, error::Quantity,
     settings::AlphaChoice, solve::SolverChoice, trace::CsvSink, trace::Decimate, trace::Tee,
@@ -382,8 +383,14 @@ fn simulate(
         .plot
         .as_ref()
         .map(|_| Decimate::new(Trace::new()).every(every));
-    // Each output keeps its own decimation (both are `None` without --csv and --plot).
-    let mut sink = Tee(csv, trace);
+    // Each output keeps its own decimation (both are `None` without --csv and --plot);
+    // the progress bar on a terminal asks for no samples of its own.
+    let mut sink = Progress::new(
+        Tee(csv, trace),
+        settings.window.t_start,
+        settings.window.t_end,
+        crate::progress::enabled(),
+    );
     let mut sim = Simulator::new(model, settings.clone()).map_err(|e| {
         match &e {
             SimError::Settings { field, reason } => {
@@ -394,7 +401,10 @@ fn simulate(
         }
         Reported
     })?;
-    let summary = match sim.run(&mut sink) {
+    let result = sim.run(&mut sink);
+    sink.clear();
+    let sink = sink.inner_mut();
+    let summary = match result {
         Ok(s) => s,
         Err(e) => {
             report_failure(model, &settings, args.step.is_some(), &e);

@@ -1,5 +1,6 @@
 //! The text `daec run` prints is the runtime's `Summary` text followed by the settings
-//! of the run: the same run through the runtime gives the same lines.
+//! of the run: the same run through the runtime gives the same lines. Off a terminal
+//! nothing else is written (no progress bar).
 
 mod common;
 
@@ -36,6 +37,12 @@ fn daec_run_prints_the_summary_text_of_the_runtime() {
         "1e-4",
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // stderr is not a terminal here: no progress bar, nothing at all on stderr.
+    assert!(
+        o.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     let stdout = String::from_utf8(o.stdout).unwrap();
 
     // The same run through the runtime: what `daec run` sets up for these flags.
