@@ -1,7 +1,8 @@
-//! `daec check FILE [--json]`: parse, check and analyse the models of a file.
+//! `daec check FILE [--json] [--set NAME=VALUE] [--topology FILE]`: parse, check and
+//! analyse the models of a file (at the given sizes and parameters).
 
 use crate::check_family::{self, FamilyCheck};
-use crate::{Reported, source};
+use crate::{Reported, check_set, source};
 use dae_lang::Analysis;
 use dae_lang::model::Model;
 use serde::Serialize;
@@ -12,8 +13,8 @@ use std::path::PathBuf;
 ///
 /// Besides the front-end checks, runs the index analysis: a constraint without an index,
 /// a singular or ill-conditioned J_Omega (condition number above 1e12) at the initial
-/// point, or a non-finite value there is an error (rendered on stderr, exit status 1,
-/// nothing on stdout). So a successful check always reports a nonsingular J_Omega.
+/// point, or a non-finite value there is an error (rendered on stderr, exit status 1;
+/// with `--json` also a JSON failure object on stdout). So a successful check always reports a nonsingular J_Omega.
 #[derive(clap::Args)]
 #[command(
     after_help = "A singular J_Omega at the initial point is an error (exit status 1): it names the \
@@ -23,20 +24,56 @@ use std::path::PathBuf;
 pub(crate) struct Args {
     /// The `.dae` file to check.
     file: PathBuf,
+    /// The model to check when the file holds several [default: every model].
+    #[arg(long)]
+    model: Option<String>,
+    /// A size or a scalar parameter of the model, checked at this value instead of the
+    /// one declared: `--set N=1000 --set m_end=10` (repeatable; for a version-1 model,
+    /// its parameters).
+    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = crate::family::parse_assignment)]
+    set: Vec<(String, f64)>,
+    /// The sets and maps of a family model given at construction, as for `daec run`
+    /// (docs/language.md, "Topology files"): `J_Omega` is checked on the model built
+    /// with them.
+    #[arg(long, value_name = "FILE")]
+    topology: Option<PathBuf>,
     /// Print the result as JSON (one object per model; an array if the file holds
     /// several models).
     #[arg(long)]
-    json: bool,
+    pub(crate) json: bool,
 }
 
 /// Reads, parses, checks and analyses the file; prints the summary on stdout or every
 /// error on stderr.
 pub(crate) fn run(args: &Args) -> Result<(), Reported> {
     let (name, src) = source::read(&args.file)?;
-    let analysed = dae_lang::analyze_source(&src).map_err(|d| source::report(&name, &src, &d))?;
+    let given = !args.set.is_empty() || args.topology.is_some();
+    let analysed = if given || args.model.is_some() {
+        check_set::analysed(&name, &src, args.model.as_deref(), &args.set)?
+    } else {
+        dae_lang::analyze_source(&src).map_err(|d| source::report(&name, &src, &d))?
+    };
+    let topology = match &args.topology {
+        None => None,
+        Some(path) => {
+            if let Some((m, _)) = analysed.iter().find(|(m, _)| !m.is_family()) {
+                error!(
+                    "--topology {}: `{}` has no sets (a version-1 model); a topology gives the sets and maps of a family model",
+                    path.display(),
+                    m.name
+                );
+                return Err(Reported);
+            }
+            Some(crate::family::read_topology(path)?)
+        }
+    };
     let families = analysed
         .iter()
-        .map(|(m, a)| m.is_family().then(|| check_family::check(a)).transpose())
+        .map(|(m, a)| {
+            m.is_family()
+                .then(|| check_family::check(a, topology.as_ref(), given))
+                .transpose()
+        })
         .collect::<Result<Vec<_>, Reported>>()?;
     if args.json {
         println!("{}", json(&analysed, &families));

@@ -5,7 +5,7 @@
 //! the default sizes, which is linear in them.
 
 use crate::Reported;
-use crate::family::{DefaultSizes, at_default_sizes, template_lines};
+use crate::family::{DefaultSizes, Topology, at_default_sizes, template_lines};
 use dae_lang::Analysis;
 use dae_lang::model::{Family, Model};
 use serde_json::{Value, json};
@@ -19,9 +19,13 @@ pub(crate) struct FamilyCheck {
 
 /// Checks a family model (see the module documentation); a singular `J_Omega` at the
 /// default sizes is an error.
-pub(crate) fn check(a: &Analysis) -> Result<FamilyCheck, Reported> {
+pub(crate) fn check(
+    a: &Analysis,
+    topology: Option<&Topology>,
+    given: bool,
+) -> Result<FamilyCheck, Reported> {
     let (header, kernels) = template_lines(&a.derive_text());
-    let default = at_default_sizes(dae_lang::compile(a))?;
+    let default = at_default_sizes(dae_lang::compile(a), topology, given)?;
     Ok(FamilyCheck {
         header,
         kernels,
@@ -166,7 +170,8 @@ pub(crate) fn text(m: &Model, a: &Analysis, c: &FamilyCheck) -> String {
     }
     match &c.default {
         Some(d) => out.push_str(&format!(
-            "  at the default sizes{}: {} states, {} constraints; J_Omega with {} entries, structural rank {}, nonsingular at t = 0 ({} solver)\n",
+            "  at the {} sizes{}: {} states, {} constraints; J_Omega with {} entries, structural rank {}, nonsingular at t = 0 ({} solver)\n",
+            if d.given { "given" } else { "default" },
             if d.sizes.is_empty() {
                 String::new()
             } else {
@@ -176,7 +181,7 @@ pub(crate) fn text(m: &Model, a: &Analysis, c: &FamilyCheck) -> String {
             d.constraints, d.entries, d.structural_rank, d.solver
         )),
         None => out.push_str(
-            "  sets or maps given at run time: J_Omega is checked when the model is built (daec run --topology)\n",
+            "  sets or maps given at run time: J_Omega is checked when the model is built (--topology FILE, of daec check or daec run)\n",
         ),
     }
     out

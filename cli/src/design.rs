@@ -54,7 +54,7 @@ pub(crate) struct Args {
     pilot_args: PilotArgs,
     /// Print JSON.
     #[arg(long)]
-    json: bool,
+    pub(crate) json: bool,
 }
 
 pub(crate) fn run(args: &Args) -> Result<(), Reported> {
@@ -66,7 +66,7 @@ pub(crate) fn run(args: &Args) -> Result<(), Reported> {
 
 fn from_bounds(args: &Args) -> Result<(), Reported> {
     if !args.set.is_empty() || args.topology.is_some() {
-        eprintln!("error: --set and --topology are for a model file");
+        error!("--set and --topology are for a model file");
         return Err(Reported);
     }
     let missing: Vec<&str> = [
@@ -79,14 +79,14 @@ fn from_bounds(args: &Args) -> Result<(), Reported> {
     .map(|(n, _)| *n)
     .collect();
     if !missing.is_empty() {
-        eprintln!(
-            "error: without a model file, `daec design` needs {}",
+        error!(
+            "without a model file, `daec design` needs {}",
             missing.join(", ")
         );
         return Err(Reported);
     }
     let [eps] = args.eps[..] else {
-        eprintln!("error: without a model file, give one --eps value");
+        error!("without a model file, give one --eps value");
         return Err(Reported);
     };
     let (index, beta, m) = (
@@ -121,7 +121,7 @@ fn from_bounds(args: &Args) -> Result<(), Reported> {
             ),
             _ => messages::design_error(&e, None),
         };
-        eprintln!("error: {message}");
+        error!("{message}");
         Reported
     })?;
     if args.json {
@@ -134,11 +134,11 @@ fn from_bounds(args: &Args) -> Result<(), Reported> {
 
 fn from_pilot(args: &Args, file: &std::path::Path) -> Result<(), Reported> {
     let Some(duration) = args.pilot else {
-        eprintln!("error: with a model file, `daec design` needs --pilot SECONDS");
+        error!("with a model file, `daec design` needs --pilot SECONDS");
         return Err(Reported);
     };
     if args.index.is_some() || args.beta.is_some() || args.m.is_some() {
-        eprintln!("error: --index, --beta and --m are for a single constraint without a file");
+        error!("--index, --beta and --m are for a single constraint without a file");
         return Err(Reported);
     }
     // Every value checked before the model is read and any pilot runs.
@@ -179,7 +179,7 @@ fn from_pilot(args: &Args, file: &std::path::Path) -> Result<(), Reported> {
         return Ok(());
     }
     if !(duration.is_finite() && duration > 0.0) {
-        eprintln!("error: --pilot {duration}: must be a finite number > 0");
+        error!("--pilot {duration}: must be a finite number > 0");
         return Err(Reported);
     }
     // The default pilot gain is 2 eps / (100 h) with this h (1e-4 for error control).
@@ -207,7 +207,7 @@ fn from_pilot(args: &Args, file: &std::path::Path) -> Result<(), Reported> {
         println!("model {}", model.name());
         // The constraints that set the period first: all of them for a small model, the
         // ones with the shortest T_i^min for a large one.
-        let listed = crate::bounded::listed_by(m, |i| -a.design.constraints[i].t_min);
+        let listed = dae_runtime::summary::listed_by(m, |i| -a.design.constraints[i].t_min);
         if listed.len() < m {
             println!(
                 "  (the {} of {m} constraints with the shortest t_min; --json for all)",

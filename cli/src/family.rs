@@ -75,7 +75,7 @@ struct Block {
 }
 
 fn topo_error(file: &str, line: usize, what: &str, hint: &str) -> Reported {
-    eprintln!("error: {file}:{line}: {what}\n  hint: {hint}");
+    error!("{file}:{line}: {what}\n  hint: {hint}");
     Reported
 }
 
@@ -83,7 +83,7 @@ fn topo_error(file: &str, line: usize, what: &str, hint: &str) -> Reported {
 pub(crate) fn read_topology(path: &Path) -> Result<Topology, Reported> {
     let name = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| {
-        eprintln!("error: cannot read the topology file `{name}`: {e}");
+        error!("cannot read the topology file `{name}`: {e}");
         Reported
     })?;
     let mut t = Topology {
@@ -322,7 +322,7 @@ impl Topology {
 
 /// The construction spec of `--set` values and a topology: sizes (whole numbers) and
 /// scalar parameters by name; anything else is an error naming what can be set.
-fn spec_for(
+pub(crate) fn spec_for(
     c: &Construction,
     sets: &[(String, f64)],
     topology: Option<&Topology>,
@@ -331,8 +331,8 @@ fn spec_for(
     for (name, value) in sets {
         if c.sizes.iter().any(|s| &s.name == name) {
             if value.fract() != 0.0 || *value < 0.0 || *value > i64::MAX as f64 / 2.0 {
-                eprintln!(
-                    "error: --set {name}={value}: `{name}` is a size, a whole number >= 0\n  hint: e.g. --set {name}=1000"
+                error!(
+                    "--set {name}={value}: `{name}` is a size, a whole number >= 0\n  hint: e.g. --set {name}=1000"
                 );
                 return Err(Reported);
             }
@@ -348,15 +348,15 @@ fn spec_for(
             .iter()
             .find(|p| p.name.split('.').next() == Some(name.split('[').next().unwrap_or("")))
         {
-            eprintln!(
-                "error: --set {name}={value}: `{}` is a per-element parameter (one value per element of its set)\n  hint: change the formula of its declaration, or set its elements through the runtime API (`set_param_named(\"{}[3]\", ..)`)",
+            error!(
+                "--set {name}={value}: `{}` is a per-element parameter (one value per element of its set)\n  hint: change the formula of its declaration, or set its elements through the runtime API (`set_param_named(\"{}[3]\", ..)`)",
                 p.name.split('.').next().unwrap_or(&p.name),
                 p.name.split('.').next().unwrap_or(&p.name),
             );
             return Err(Reported);
         } else {
-            eprintln!(
-                "error: --set {name}={value}: the model has no size or scalar parameter `{name}`\n  hint: {}",
+            error!(
+                "--set {name}={value}: the model has no size or scalar parameter `{name}`\n  hint: {}",
                 settable(c)
             );
             return Err(Reported);
@@ -404,8 +404,8 @@ pub(crate) fn runnable(
     let (name, src, compiled) = source::compiled(path, wanted)?;
     if !compiled.is_family() {
         if let Some(t) = topology {
-            eprintln!(
-                "error: --topology {}: `{}` has no sets (a version-1 model); a topology gives the sets and maps of a family model",
+            error!(
+                "--topology {}: `{}` has no sets (a version-1 model); a topology gives the sets and maps of a family model",
                 t.display(),
                 compiled.name
             );
@@ -436,12 +436,12 @@ pub(crate) fn runnable(
         Err(e) => {
             let r = source::report(&name, &src, &[e.to_diagnostic()]);
             match &topology {
-                Some(t) => eprintln!(
-                    "  note: the sets and maps given at construction come from `{}`",
+                Some(t) => note!(
+                    "the sets and maps given at construction come from `{}`",
                     t.name
                 ),
-                None if !c_given.is_empty() => eprintln!(
-                    "  note: `{}` {} given at construction: run the model with --topology FILE (the format is in docs/language.md, \"Topology files\")",
+                None if !c_given.is_empty() => note!(
+                    "`{}` {} given at construction: run the model with --topology FILE (the format is in docs/language.md, \"Topology files\")",
                     c_given.join("`, `"),
                     if c_given.len() == 1 { "is" } else { "are" }
                 ),
@@ -463,8 +463,8 @@ fn scalar_with_params(
             Some(i) => m.set_param(i, *value),
             None => {
                 let params: Vec<&str> = (0..m.n_params()).map(|i| m.param_name(i)).collect();
-                eprintln!(
-                    "error: --set {name}={value}: `{}` has no parameter `{name}` (a version-1 model has no sizes)\n  hint: its parameters: {}",
+                error!(
+                    "--set {name}={value}: `{}` has no parameter `{name}` (a version-1 model has no sizes)\n  hint: its parameters: {}",
                     m.name(),
                     if params.is_empty() {
                         "none".to_string()
@@ -487,6 +487,8 @@ fn scalar_with_params(
 pub(crate) struct DefaultSizes {
     /// `N = 10, ...`.
     pub sizes: String,
+    /// Whether the sizes or the topology were given (`daec check --set`, `--topology`).
+    pub given: bool,
     pub states: usize,
     pub constraints: usize,
     pub entries: usize,
@@ -524,25 +526,40 @@ pub(crate) fn template_lines(derive_text: &str) -> (Vec<String>, Vec<(String, Ve
 /// Builds the model at its default sizes and checks `J_Omega` there (see
 /// [`DefaultSizes`]); `None` when sets or maps are given at run time. A singular
 /// `J_Omega` is an error naming the dependent constraints.
-pub(crate) fn at_default_sizes(compiled: CompiledModel) -> Result<Option<DefaultSizes>, Reported> {
+///
+/// With a topology, the sets and maps it gives are used (and the model is built even when
+/// it is not self-contained); `given` says that the sizes or the topology came from the
+/// command line (`daec check --set`, `--topology`).
+pub(crate) fn at_default_sizes(
+    compiled: CompiledModel,
+    topology: Option<&Topology>,
+    given: bool,
+) -> Result<Option<DefaultSizes>, Reported> {
     use dae_runtime::{solve::LinearSolver, solve::Solver, solve::SolverChoice};
     let name = compiled.name.clone();
     let Some(kernels) = Interpreter::new(compiled) else {
         return Ok(None);
     };
     let c = kernels.construction();
-    if !c.self_contained() {
+    if !c.self_contained() && topology.is_none() {
         return Ok(None);
     }
+    let spec = spec_for(c, &[], topology)?;
     let sizes = c
         .sizes
         .iter()
         .map(|s| format!("{} = {}", s.name, s.default))
         .collect::<Vec<_>>()
         .join(", ");
-    let model = FamilyInstance::interpreted(kernels, &Spec::default()).map_err(|e| {
-        // The checker built the model at these sizes already; kept for completeness.
-        eprintln!("error: `{name}` at its default sizes: {e}");
+    let model = FamilyInstance::interpreted(kernels, &spec).map_err(|e| {
+        match topology {
+            Some(t) => error!(
+                "`{name}` with the sets and maps of `{}`: {e}\n  hint: check the topology file against the model's sets and maps (docs/language.md, \"Topology files\")",
+                t.name
+            ),
+            // The checker built the model at these sizes already; kept for completeness.
+            None => error!("`{name}` at its sizes: {e}"),
+        }
         Reported
     })?;
     let (n, m) = (model.n_states(), model.n_constraints());
@@ -566,8 +583,8 @@ pub(crate) fn at_default_sizes(compiled: CompiledModel) -> Result<Option<Default
         )
     };
     if rank.rank < m {
-        eprintln!(
-            "error: J_Omega of `{name}` is structurally singular at the default sizes ({sizes}): structural rank {} of {m}; no algebraic unknown is left for {}\n  hint: each constraint needs its own algebraic unknown in its Omega (check the maps and the sums)",
+        error!(
+            "J_Omega of `{name}` is structurally singular at the default sizes ({sizes}): structural rank {} of {m}; no algebraic unknown is left for {}\n  hint: each constraint needs its own algebraic unknown in its Omega (check the maps and the sums)",
             rank.rank,
             names(&rank.unmatched_rows)
         );
@@ -583,7 +600,7 @@ pub(crate) fn at_default_sizes(compiled: CompiledModel) -> Result<Option<Default
     let mut outcome = Err(dae_runtime::solve::SolveError::Pattern(String::new()));
     for choice in [SolverChoice::Auto, SolverChoice::Dense] {
         let mut solver = Solver::new(m, pattern, choice).map_err(|e| {
-            eprintln!("error: J_Omega of `{name}`: {e}");
+            error!("J_Omega of `{name}`: {e}");
             Reported
         })?;
         outcome = solver.factor(&values, &vec![1.0; m]);
@@ -600,6 +617,7 @@ pub(crate) fn at_default_sizes(compiled: CompiledModel) -> Result<Option<Default
     match outcome {
         Ok(()) => Ok(Some(DefaultSizes {
             sizes,
+            given,
             states: n,
             constraints: m,
             entries: pattern.len(),
@@ -608,14 +626,14 @@ pub(crate) fn at_default_sizes(compiled: CompiledModel) -> Result<Option<Default
             solver: solver_name,
         })),
         Err(dae_runtime::solve::SolveError::Singular { constraints }) => {
-            eprintln!(
-                "error: J_Omega of `{name}` is singular at t = 0 with the default sizes ({sizes}): the rows of {} are dependent\n  hint: the algebraic unknowns do not determine these constraints at the initial point (a link of length zero? two links along one line at a particle with no other support?)",
+            error!(
+                "J_Omega of `{name}` is singular at t = 0 with the default sizes ({sizes}): the rows of {} are dependent\n  hint: the algebraic unknowns do not determine these constraints at the initial point (a link of length zero? two links along one line at a particle with no other support?)",
                 names(&constraints)
             );
             Err(Reported)
         }
         Err(e) => {
-            eprintln!("error: J_Omega of `{name}` at t = 0 with the default sizes ({sizes}): {e}");
+            error!("J_Omega of `{name}` at t = 0 with the default sizes ({sizes}): {e}");
             Err(Reported)
         }
     }

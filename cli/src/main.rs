@@ -19,15 +19,30 @@ macro_rules! println {
     ($($arg:tt)*) => { $crate::write_stdout(format_args!($($arg)*), true) };
 }
 
+// `error!`, `hint!` and `note!`: a line on stderr, kept for the JSON object of a failure
+// (`failure`).
+macro_rules! error {
+    ($($arg:tt)*) => { $crate::failure::error(&format!($($arg)*)) };
+}
+macro_rules! hint {
+    ($($arg:tt)*) => { $crate::failure::hint(&format!($($arg)*)) };
+}
+macro_rules! note {
+    ($($arg:tt)*) => { $crate::failure::note(&format!($($arg)*)) };
+}
+
 mod bounded;
 mod check;
 mod check_family;
+mod check_set;
 mod derive;
 mod design;
 mod emit;
+mod failure;
 mod family;
 mod messages;
 mod pilot;
+mod progress;
 mod run;
 mod source;
 
@@ -61,24 +76,33 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
-        Command::Check(args) => check::run(&args),
-        Command::Run(args) => {
-            return match run::run(&args) {
-                Ok(o) => ExitCode::from(o.code()),
-                Err(Reported) => ExitCode::FAILURE,
-            };
+        Command::Check(args) => {
+            failure::start("check", args.json);
+            check::run(&args).map(|()| 0)
         }
-        Command::Design(args) => design::run(&args),
-        Command::Derive(args) => derive::run(&args),
-        Command::Emit(args) => emit::run(&args),
+        Command::Run(args) => {
+            failure::start("run", args.json);
+            run::run(&args).map(run::Outcome::code)
+        }
+        Command::Design(args) => {
+            failure::start("design", args.json);
+            design::run(&args).map(|()| 0)
+        }
+        Command::Derive(args) => derive::run(&args).map(|()| 0),
+        Command::Emit(args) => emit::run(&args).map(|()| 0),
     };
     match outcome {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(Reported) => ExitCode::FAILURE,
+        Ok(code) => ExitCode::from(code),
+        Err(Reported) => {
+            // With --json, the failure is also one JSON object on stdout.
+            failure::print_json();
+            ExitCode::FAILURE
+        }
     }
 }
 
-/// A user error that has already been written to stderr.
+/// A user error that has already been written to stderr (and kept by `failure` for
+/// the JSON object of `--json`).
 #[derive(Debug)]
 struct Reported;
 

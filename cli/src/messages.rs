@@ -5,7 +5,86 @@
 use crate::Reported;
 use dae_runtime::{
     Model, SimError, design::DesignError, design::PilotError, design::PilotRunError,
+    error::Quantity,
 };
+
+/// What a failed simulation carries besides its message, as fields of the JSON object of
+/// the failure: `kind` (`non_finite`, `singular_jacobian`, `solver_failed`,
+/// `reaching_timeout`, `step_limit`, `step_underflow`, `deadline`, `settings`, ...), `t`
+/// (when), and which variable or constraints.
+pub(crate) fn sim_error_fields(e: &SimError) {
+    use crate::failure::{field, names, number};
+    use serde_json::json;
+    let kind = match e {
+        SimError::Settings { field: f, .. } => {
+            field("setting", json!(f));
+            "settings"
+        }
+        SimError::NonFinite {
+            kind,
+            index,
+            name,
+            value,
+            t,
+        } => {
+            field("t", number(*t));
+            field("quantity", json!(kind.to_string()));
+            field("index", json!(index));
+            field("value", number(*value));
+            match kind {
+                Quantity::Sliding | Quantity::Residual => field("constraint", json!(name)),
+                _ => field("variable", json!(name)),
+            }
+            "non_finite"
+        }
+        SimError::SingularJacobian { t, names: n, .. } => {
+            field("t", number(*t));
+            names("constraints", n);
+            "singular_jacobian"
+        }
+        SimError::SolverFailed { t, solver, .. } => {
+            field("t", number(*t));
+            field("solver", json!(solver));
+            "solver_failed"
+        }
+        SimError::ReachingTimeout {
+            limit, t, names: n, ..
+        } => {
+            field("t", number(*t));
+            field("limit", number(*limit));
+            names("constraints", n);
+            "reaching_timeout"
+        }
+        SimError::StepLimit { limit, t } => {
+            field("t", number(*t));
+            field("limit", json!(limit));
+            "step_limit"
+        }
+        SimError::StepUnderflow {
+            t,
+            h,
+            near_singular,
+        } => {
+            field("t", number(*t));
+            field("h", number(*h));
+            field(
+                "near_singular",
+                near_singular.map_or(
+                    json!(null),
+                    |ns| json!({"t": number(ns.t), "ratio": number(ns.pivot_ratio)}),
+                ),
+            );
+            "step_underflow"
+        }
+        SimError::Deadline { t } => {
+            field("t", number(*t));
+            "deadline"
+        }
+        SimError::Backwards { .. } => "backwards",
+        SimError::Sink(_) => "trace",
+    };
+    field("kind", json!(kind));
+}
 
 /// A number as a person writes it: `1e300` rather than 301 digits, `0.5` as it is.
 pub(crate) fn number(v: f64) -> String {
@@ -48,7 +127,7 @@ pub(crate) fn check(ok: bool, message: impl FnOnce() -> String) -> Result<(), Re
     if ok {
         Ok(())
     } else {
-        eprintln!("error: {}", message());
+        error!("{}", message());
         Err(Reported)
     }
 }
@@ -92,6 +171,35 @@ pub(crate) fn design_error(e: &DesignError, name: Option<&str>) -> String {
              no drift was measured); give --mu and let the gains be designed"
         ),
         other => other.to_string(),
+    }
+}
+
+/// What a failed automatic design carries besides its message, as fields of the JSON
+/// object of the failure: `stage` (`pilot` or `design`), and for a pilot that failed or
+/// left its layers when and which constraint.
+pub(crate) fn pilot_run_error_fields(model: &dyn Model, e: &PilotRunError) {
+    use crate::failure::{field, number};
+    use serde_json::json;
+    let name = |i: usize| (i < model.n_constraints()).then(|| model.constraint_name(i).to_string());
+    match e {
+        PilotRunError::Sim(sim) => {
+            field("stage", json!("pilot"));
+            sim_error_fields(sim);
+        }
+        PilotRunError::LayerLost {
+            constraint,
+            t,
+            ratio,
+            ..
+        } => {
+            field("stage", json!("pilot"));
+            field("kind", json!("layer_lost"));
+            field("t", number(*t));
+            field("constraint", json!(name(*constraint)));
+            field("ratio", number(*ratio));
+        }
+        PilotRunError::Pilot(_) => field("stage", json!("pilot")),
+        _ => field("stage", json!("design")),
     }
 }
 

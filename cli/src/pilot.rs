@@ -121,8 +121,8 @@ impl PilotArgs {
         max_steps: f64,
     ) -> Result<(), Reported> {
         if self.passes == 0 || self.passes > MAX_PASSES {
-            eprintln!(
-                "error: --passes {}: give 1 to {MAX_PASSES} (each pass is a pilot run of the whole --pilot duration; two or three settle the design)",
+            error!(
+                "--passes {}: give 1 to {MAX_PASSES} (each pass is a pilot run of the whole --pilot duration; two or three settle the design)",
                 self.passes
             );
             return Err(Reported);
@@ -132,13 +132,11 @@ impl PilotArgs {
         };
         let steps = self.passes as f64 * duration / step;
         if steps > max_steps {
-            eprintln!(
-                "error: {} pilot runs of {duration} s at a step of {step:e} are {steps:.3e} steps, more than the {max_steps:e} this command takes",
+            error!(
+                "{} pilot runs of {duration} s at a step of {step:e} are {steps:.3e} steps, more than the {max_steps:e} this command takes",
                 self.passes
             );
-            eprintln!(
-                "  hint: a shorter --pilot, fewer --passes, or a larger --step for the pilots"
-            );
+            hint!("a shorter --pilot, fewer --passes, or a larger --step for the pilots");
             return Err(Reported);
         }
         Ok(())
@@ -194,12 +192,16 @@ impl PilotArgs {
                 .or(default_budget)
                 .map(std::time::Duration::from_secs_f64),
         };
-        let a = auto_design(model, &base.layers.eps, &pilot, &opts).map_err(|e| {
-            eprintln!(
-                "error: automatic design of `{}`: {}",
+        let spinner = crate::progress::spinner("designing mu and the gains (pilot runs)");
+        let designed = auto_design(model, &base.layers.eps, &pilot, &opts);
+        drop(spinner);
+        let a = designed.map_err(|e| {
+            error!(
+                "automatic design of `{}`: {}",
                 model.name(),
                 crate::messages::pilot_run_error(model, &e)
             );
+            crate::messages::pilot_run_error_fields(model, &e);
             Reported
         })?;
         if let Some(p) = a.passes.iter().find(|p| p.pilot_left_layer) {
@@ -227,7 +229,7 @@ pub(crate) fn per_constraint(what: &str, values: &[f64], m: usize) -> Result<Vec
             } else {
                 (format!("{m} constraints"), format!("1 or {m} values"))
             };
-            eprintln!("error: {what} has {n} values, the model has {constraints} (give {give})");
+            error!("{what} has {n} values, the model has {constraints} (give {give})");
             Err(Reported)
         }
     }

@@ -14,6 +14,7 @@ use self::args::{auto_or_list, check_args, check_number, flag, integration, laws
 use self::report::Report;
 use crate::Reported;
 use crate::pilot::{PilotArgs, design_json, per_constraint};
+use crate::progress::Progress;
 use dae_runtime::{
     Model, Settings, SimError, Simulator, Summary, Trace, charts::plot_run, design,
     design::ConsistentStart, error::Quantity, settings::AlphaChoice, solve::SolverChoice,
@@ -161,7 +162,7 @@ pub(crate) struct Args {
     plot: Option<PathBuf>,
     /// Print the summary as JSON.
     #[arg(long)]
-    json: bool,
+    pub(crate) json: bool,
     /// Solver of J_s at the control updates: `auto` (exact: dense up to 16 constraints,
     /// `tree` when the Jacobian pattern's graph is a forest, `sparse` otherwise),
     /// `dense`, `sparse`, `tree`, or an approximate inverse checked by (T 3.22):
@@ -328,7 +329,7 @@ pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
                 Some(k) => {
                     let k = per_constraint("--gain", &k, m)?;
                     if k.iter().any(|v| *v != k[0]) {
-                        eprintln!("error: with --mu auto, give one --gain value (or `auto`)");
+                        error!("with --mu auto, give one --gain value (or `auto`)");
                         return Err(Reported);
                     }
                     Some(k[0])
@@ -463,7 +464,7 @@ fn warn_uncovered_beta(
         if settings.layers.gains[i] <= need {
             uncovered += 1;
             // A large model gets the first few by name and a count, not a line each.
-            if uncovered <= crate::bounded::TEXT_LINES_MAX {
+            if uncovered <= dae_runtime::summary::TEXT_LINES_MAX {
                 eprintln!(
                     "warning: gain {} of `{}` does not cover mu^(r-1) |beta| = {need:.4} neglected by the cheap alpha_hat; use --alpha exact or a larger gain",
                     settings.layers.gains[i],
@@ -472,7 +473,7 @@ fn warn_uncovered_beta(
             }
         }
     }
-    if uncovered > crate::bounded::TEXT_LINES_MAX {
+    if uncovered > dae_runtime::summary::TEXT_LINES_MAX {
         eprintln!(
             "warning: ... {uncovered} constraints in all whose gain does not cover mu^(r-1) |beta|"
         );
@@ -503,7 +504,7 @@ fn simulate(
         Some(path) => match File::create(path) {
             Ok(f) => Some(Decimate::new(CsvSink::new(BufWriter::new(f))).every(every)),
             Err(e) => {
-                eprintln!("error: cannot create `{}`: {e}", path.display());
+                error!("cannot create `{}`: {e}", path.display());
                 return Err(Reported);
             }
         },
@@ -512,25 +513,35 @@ fn simulate(
         .plot
         .as_ref()
         .map(|_| Decimate::new(Trace::new()).every(every));
-    // Each output keeps its own decimation (both are `None` without --csv and --plot).
-    let mut sink = Tee(csv, trace);
+    // Each output keeps its own decimation (both are `None` without --csv and --plot);
+    // the progress bar on a terminal asks for no samples of its own.
+    let mut sink = Progress::new(
+        Tee(csv, trace),
+        settings.window.t_start,
+        settings.window.t_end,
+        crate::progress::enabled(),
+    );
     let mut sim = Simulator::new(model, settings.clone()).map_err(|e| {
         match &e {
             SimError::Settings { field, reason } => {
-                eprintln!("error: {}: {reason}", flag(field))
+                error!("{}: {reason}", flag(field));
+                crate::failure::field("setting", flag(field).into());
             }
-            e => eprintln!("error: {e}"),
+            e => error!("{e}"),
         }
         Reported
     })?;
-    let summary = match sim.run(&mut sink) {
+    let result = sim.run(&mut sink);
+    sink.clear();
+    let sink = sink.inner_mut();
+    let summary = match result {
         Ok(s) => s,
         Err(e) => {
             report_failure(model, &settings, args.step.is_some(), &e);
             if let Some(c) = sink.0.take() {
                 // The rows up to the failure stay in the file.
                 if let Err(e) = io::Write::flush(&mut c.into_inner().into_inner()) {
-                    eprintln!("error: writing the CSV: {e}");
+                    error!("writing the CSV: {e}");
                 }
             }
             return Err(Reported);
@@ -546,7 +557,7 @@ fn simulate(
             t_min,
         )
         .map_err(|e| {
-            eprintln!("error: charts in `{}`: {e}", dir.display());
+            error!("charts in `{}`: {e}", dir.display());
             Reported
         })?;
     }
@@ -554,7 +565,7 @@ fn simulate(
 }
 
 fn report_failure(model: &dyn Model, settings: &Settings, fixed_step: bool, e: &SimError) {
-    eprintln!("error: simulation of `{}` failed: {e}", model.name());
+    error!("simulation of `{}` failed: {e}", model.name());
     let hint = match e {
         SimError::NonFinite {
             value, kind, name, ..
@@ -601,6 +612,7 @@ fn report_failure(model: &dyn Model, settings: &Settings, fixed_step: bool, e: &
         _ => String::new(),
     };
     if !hint.is_empty() {
-        eprintln!("  hint: {hint}");
+        hint!("{hint}");
     }
+    crate::messages::sim_error_fields(e);
 }

@@ -1,6 +1,6 @@
 //! Reading a `.dae` file and reporting its diagnostics, shared by the subcommands.
 
-use crate::Reported;
+use crate::{Reported, failure};
 use dae_lang::Diagnostic;
 use std::io::IsTerminal;
 use std::path::Path;
@@ -19,12 +19,12 @@ pub(crate) fn read(path: &Path) -> Result<(String, String), Reported> {
     let read =
         std::fs::File::open(path).and_then(|f| f.take(limit as u64 + 1).read_to_end(&mut bytes));
     if let Err(e) = read {
-        eprintln!("error: cannot read `{name}`: {e}");
+        error!("cannot read `{name}`: {e}");
         return Err(Reported);
     }
     if bytes.len() > limit {
-        eprintln!(
-            "error: `{name}` is longer than 16 MiB ({limit} bytes), the limit for a `.dae` file\n  \
+        error!(
+            "`{name}` is longer than 16 MiB ({limit} bytes), the limit for a `.dae` file\n  \
              hint: split the models over several files"
         );
         return Err(Reported);
@@ -32,7 +32,7 @@ pub(crate) fn read(path: &Path) -> Result<(String, String), Reported> {
     match String::from_utf8(bytes) {
         Ok(s) => Ok((name, s)),
         Err(e) => {
-            eprint!("{}", not_utf8(&name, e.as_bytes(), e.utf8_error()));
+            error!("{}", not_utf8(&name, e.as_bytes(), e.utf8_error()));
             Err(Reported)
         }
     }
@@ -47,15 +47,16 @@ fn not_utf8(name: &str, bytes: &[u8], e: std::str::Utf8Error) -> String {
     let (line, col) = dae_lang::line_col(before, dae_lang::ast::Span::new(at, at));
     let byte = bytes.get(at).copied().unwrap_or_default();
     format!(
-        "error: `{name}` is not UTF-8 text: byte 0x{byte:02X} at {name}:{line}:{col} \
+        "`{name}` is not UTF-8 text: byte 0x{byte:02X} at {name}:{line}:{col} \
          (byte offset {at}) is not valid UTF-8\n  \
          hint: save the file as UTF-8 (the language is ASCII; other characters may appear \
-         in comments)\n"
+         in comments)"
     )
 }
 
 /// Renders every diagnostic with source context on stderr (coloured on a terminal
-/// unless `NO_COLOR` is set), then a count line.
+/// unless `NO_COLOR` is set), then a count line; keeps them for the JSON object of
+/// `--json` (`failure::diagnostics`).
 pub(crate) fn report(name: &str, source: &str, diags: &[Diagnostic]) -> Reported {
     let color = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();
     let renderer = dae_lang::Renderer::new(name, source, color);
@@ -67,6 +68,7 @@ pub(crate) fn report(name: &str, source: &str, diags: &[Diagnostic]) -> Reported
         "error: {n} error{} in `{name}`",
         if n == 1 { "" } else { "s" }
     );
+    failure::diagnostics(name, source, diags);
     Reported
 }
 
@@ -91,13 +93,10 @@ pub(crate) fn compiled(
         }
         None => {
             match wanted {
-                Some(w) => eprintln!(
-                    "error: `{name}` has no model `{w}` (it has: {})",
-                    names.join(", ")
-                ),
-                None if names.is_empty() => eprintln!("error: `{name}` holds no model"),
-                None => eprintln!(
-                    "error: `{name}` holds {} models ({}); choose one with --model",
+                Some(w) => error!("`{name}` has no model `{w}` (it has: {})", names.join(", ")),
+                None if names.is_empty() => error!("`{name}` holds no model"),
+                None => error!(
+                    "`{name}` holds {} models ({}); choose one with --model",
                     names.len(),
                     names.join(", ")
                 ),

@@ -137,7 +137,20 @@ fn errors_are_all_rendered_on_stderr_with_exit_status_1() {
     ] {
         let o = daec(&args);
         assert_eq!(o.status.code(), Some(1));
-        assert!(o.stdout.is_empty(), "nothing on stdout: {}", stdout(&o));
+        if args.contains(&"--json") {
+            // The failure as JSON on stdout, every diagnostic with its place.
+            let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+            assert_eq!(v["status"], "error");
+            let d = v["diagnostics"].as_array().unwrap();
+            assert_eq!(d.len(), 3, "{v}");
+            assert!(
+                d.iter().any(|d| d["message"] == "unknown name `vv`"
+                    && (d["line"].as_u64(), d["column"].as_u64()) == (Some(3), Some(12))),
+                "{v}"
+            );
+        } else {
+            assert!(o.stdout.is_empty(), "nothing on stdout: {}", stdout(&o));
+        }
         let err = stderr(&o);
         assert!(err.contains(&format!("{name}:3:12")), "{err}");
         assert!(err.contains("unknown name `vv`"), "{err}");

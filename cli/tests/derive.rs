@@ -148,7 +148,14 @@ fn analysis_errors_are_rendered_with_exit_status_1() {
             args.push(path.to_str().unwrap());
             let o = daec(&args);
             assert_eq!(o.status.code(), Some(1), "{args:?}");
-            assert!(o.stdout.is_empty(), "{}", text(&o.stdout));
+            if args.contains(&"--json") {
+                // The failure as JSON on stdout.
+                let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+                assert_eq!(v["status"], "error");
+                assert!(v["error"].as_str().unwrap().contains(what), "{v}");
+            } else {
+                assert!(o.stdout.is_empty(), "{}", text(&o.stdout));
+            }
             let err = text(&o.stderr);
             assert!(err.contains(place), "{err}");
             assert!(err.contains(what), "{err}");

@@ -79,7 +79,9 @@ fn check_of_a_model_with_given_sets_says_where_j_is_checked() {
         out.contains("  sets: P given (element p), L given (element l)"),
         "{out}"
     );
-    assert!(out.contains("J_Omega is checked when the model is built (daec run --topology)"));
+    assert!(out.contains(
+        "J_Omega is checked when the model is built (--topology FILE, of daec check or daec run)"
+    ));
 }
 
 #[test]

@@ -76,7 +76,8 @@
 //!   on trees, approximate inverses checked by the robustness condition T 3.22).
 //! * [`trace`]: where samples go (in memory, streamed to CSV, decimated).
 //! * [`summary`], [`error`], [`model`]: what a run reports, how it fails, the model
-//!   seam.
+//!   seam. A [`Summary`] prints (`Display`, `summary.to_string()`) as the text `daec
+//!   run` shows for the run: a few dozen lines whatever the size of the model.
 //!
 //! # How a run works
 //!

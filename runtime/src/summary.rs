@@ -1,6 +1,10 @@
-//! The statistics of a finished run.
+//! The statistics of a finished run, and their text ([`Summary`]'s `Display`).
 
 use serde::{Deserialize, Serialize};
+
+mod text;
+
+pub use text::{TEXT_LINES_MAX, listed_by, values_text};
 
 use crate::solve::SolverChoice;
 
@@ -99,12 +103,18 @@ pub const NEAR_SINGULAR: f64 = 1e-3;
 /// the window was never entered (the reaching phase did not finish, or the settle time
 /// reaches past the end) the window statistics are `None`, and `seen_max_abs_s`,
 /// `seen_max_abs_w` and the final `s`, `w` say what the run did.
+///
+/// Its `Display` is the text `daec run` prints for the run's results, a few dozen lines
+/// at most whatever the size of the model (see the `impl Display` below).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Summary {
     /// Model name.
     pub model: String,
     /// Constraint names (index of the per-constraint vectors below).
     pub constraints: Vec<String>,
+    /// The layer half-widths `eps_i` of the run, per constraint.
+    #[serde(default)]
+    pub eps: Vec<f64>,
     /// Final time reached.
     pub t_end: f64,
     /// Number of accepted integration steps (a step cut at a crossing counts once).

@@ -20,9 +20,7 @@ pub(super) fn auto_or_list(what: &str, text: &str) -> Result<Option<Vec<f64>>, R
         .collect::<Result<Vec<_>, _>>()
         .map(Some)
         .map_err(|e| {
-            eprintln!(
-                "error: {what} `{text}`: expected `auto` or numbers separated by commas ({e})"
-            );
+            error!("{what} `{text}`: expected `auto` or numbers separated by commas ({e})");
             Reported
         })
 }
@@ -35,8 +33,8 @@ fn parse_scope(text: &str) -> Result<Scope, Reported> {
     match text.strip_prefix("blocks:").map(str::parse::<usize>) {
         Some(Ok(size)) if size >= 1 => Ok(Scope::Blocks { size }),
         _ => {
-            eprintln!(
-                "error: --scope `{text}`: expected `global` or `blocks:N` with N >= 1 constraints per block"
+            error!(
+                "--scope `{text}`: expected `global` or `blocks:N` with N >= 1 constraints per block"
             );
             Err(Reported)
         }
@@ -51,11 +49,11 @@ fn parse_policy(text: &str, reaching: Reaching, scope: Scope) -> Result<Option<U
         _ => match text.strip_prefix("fixed:").map(str::parse::<f64>) {
             Some(Ok(p)) if p > 0.0 && p.is_finite() => Ok(Some(Update::Fixed { period: p })),
             Some(Ok(p)) => {
-                eprintln!("error: --policy fixed:{p}: the period must be finite and > 0");
+                error!("--policy fixed:{p}: the period must be finite and > 0");
                 Err(Reported)
             }
             _ => {
-                eprintln!("error: --policy `{text}`: expected `monitor`, `fixed:PERIOD` or `spsm`");
+                error!("--policy `{text}`: expected `monitor`, `fixed:PERIOD` or `spsm`");
                 Err(Reported)
             }
         },
@@ -80,8 +78,8 @@ pub(super) fn laws(args: &Args) -> Result<Laws, Reported> {
     let scope = parse_scope(&args.scope)?;
     let update = parse_policy(&args.policy, reaching, scope)?;
     if let (Scope::Blocks { .. }, false) = (scope, matches!(update, Some(Update::Monitor { .. }))) {
-        eprintln!(
-            "error: --scope {}: block updates answer the rows that ask, which needs --policy monitor",
+        error!(
+            "--scope {}: block updates answer the rows that ask, which needs --policy monitor",
             args.scope
         );
         return Err(Reported);
@@ -94,21 +92,21 @@ pub(super) fn laws(args: &Args) -> Result<Laws, Reported> {
     ];
     let given = || extensions.iter().filter(|e| e.1).map(|e| e.0);
     if let (None, Some(flag)) = (update, given().next()) {
-        eprintln!(
-            "error: {flag} changes the DBSMC law; --policy spsm saturates at every stage and takes none of --follow-drift, --ramp, --saturate"
+        error!(
+            "{flag} changes the DBSMC law; --policy spsm saturates at every stage and takes none of --follow-drift, --ramp, --saturate"
         );
         return Err(Reported);
     }
     let needs_rates = given().find(|f| *f != "--saturate");
     if let (true, Some(flag)) = (step_end, needs_rates) {
-        eprintln!(
-            "error: {flag} needs the rates s' at the step ends, which only located crossings give: drop --crossing step-end"
+        error!(
+            "{flag} needs the rates s' at the step ends, which only located crossings give: drop --crossing step-end"
         );
         return Err(Reported);
     }
     if let (Scope::Blocks { .. }, Some(flag)) = (scope, needs_rates) {
-        eprintln!(
-            "error: {flag} computes over every constraint at each update; --scope {} updates blocks: drop one of them",
+        error!(
+            "{flag} computes over every constraint at each update; --scope {} updates blocks: drop one of them",
             args.scope
         );
         return Err(Reported);
@@ -181,7 +179,7 @@ pub(super) fn check_number(flag: &str, value: f64, zero_ok: bool) -> Result<(), 
         return Ok(());
     }
     let need = if zero_ok { ">= 0" } else { "> 0" };
-    eprintln!("error: {flag} {value}: must be a finite number {need}");
+    error!("{flag} {value}: must be a finite number {need}");
     Err(Reported)
 }
 
@@ -261,30 +259,30 @@ pub(super) fn check_args(args: &Args, integration: &Integration, m: usize) -> Re
         }
     }
     if args.graze.is_some() && args.follow_drift.is_none() {
-        eprintln!("error: --graze limits the gains that follow the drift: give --follow-drift too");
+        error!("--graze limits the gains that follow the drift: give --follow-drift too");
         return Err(Reported);
     }
     if integration.fixed && (args.tol.is_some() || args.max_step.is_some()) {
-        eprintln!(
-            "error: --tol and --max-step are for the error-controlled steps (--integrator dopri5 or bs3), not a fixed --step"
+        error!(
+            "--tol and --max-step are for the error-controlled steps (--integrator dopri5 or bs3), not a fixed --step"
         );
         return Err(Reported);
     }
     if !integration.fixed && args.step.is_some() {
-        eprintln!(
-            "error: --step is a fixed step; the error-controlled integrators take --tol and --max-step"
+        error!(
+            "--step is a fixed step; the error-controlled integrators take --tol and --max-step"
         );
         return Err(Reported);
     }
     if integration.fixed {
         let steps = args.t_end / integration.step;
         if steps > MAX_STEPS {
-            eprintln!(
-                "error: --t-end {} with --step {:e} is {steps:.3e} steps, more than the {MAX_STEPS:e} this command takes (some minutes of work)",
+            error!(
+                "--t-end {} with --step {:e} is {steps:.3e} steps, more than the {MAX_STEPS:e} this command takes (some minutes of work)",
                 args.t_end, integration.step
             );
-            eprintln!(
-                "  hint: leave out --step (the step is then chosen by error control), or give a larger one"
+            hint!(
+                "leave out --step (the step is then chosen by error control), or give a larger one"
             );
             return Err(Reported);
         }
@@ -312,14 +310,14 @@ pub(super) fn check_outputs(csv: Option<&Path>, plot: Option<&Path>) -> Result<(
         let written = std::fs::create_dir_all(dir).and_then(|()| std::fs::write(&probe, b""));
         let _ = std::fs::remove_file(&probe);
         if let Err(e) = written {
-            eprintln!("error: --plot `{}` cannot be written: {e}", dir.display());
+            error!("--plot `{}` cannot be written: {e}", dir.display());
             return Err(Reported);
         }
     }
     if let Some(path) = csv {
         // Created again (truncated) by the run; this only finds the error early.
         if let Err(e) = File::create(path) {
-            eprintln!("error: cannot create `{}`: {e}", path.display());
+            error!("cannot create `{}`: {e}", path.display());
             return Err(Reported);
         }
     }

@@ -2,9 +2,9 @@
 
 use super::args::Integration;
 use super::{Args, DesignInfo, Outcome};
-use crate::bounded::{listed_constraints, triggered_text, values_text};
 use dae_runtime::{
     Model, Settings, Summary, settings::Integrator, settings::Law, summary::NEAR_SINGULAR,
+    summary::values_text,
 };
 use serde_json::json;
 
@@ -205,40 +205,14 @@ impl Report<'_> {
         v
     }
 
+    /// The loud line (if any), the summary's text, then the settings the run used.
     fn text(&self) {
         let (s, st) = (self.summary, self.settings);
         if let Some(line) = self.loud_line() {
             println!("{line}");
         }
-        let opt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.6}"));
-        println!(
-            "model {} to t = {}: {} steps ({} rejected, {} cut at a crossing), {} updates ({} while reaching), {} f evaluations ({:.1} per update)",
-            s.model,
-            s.t_end,
-            s.steps,
-            s.rejected_steps,
-            s.located_crossings,
-            s.updates,
-            s.reaching_updates,
-            s.f_evals,
-            s.f_evals as f64 / s.updates.max(1) as f64
-        );
-        if let Some(b) = s.blocks {
-            println!(
-                "  updates by blocks ({} blocks of at most {} constraints): {} block solves, {} updates of every row",
-                b.blocks, b.largest, b.block_solves, b.global_updates
-            );
-        }
-        if s.unlocated_steps > 0 {
-            println!(
-                "  {} steps taken whole by the progress guard (no progress in the steps before them): crossings were not located inside them",
-                s.unlocated_steps
-            );
-        }
-        let m = self.model.n_constraints();
-        if m == 0 {
-            println!("  no constraints: integrated as an ODE");
-        } else {
+        println!("{s}");
+        if !s.constraints.is_empty() {
             let how = |text: &str| {
                 if text.trim() == "auto" {
                     "designed"
@@ -271,68 +245,6 @@ impl Report<'_> {
         if let Some(d) = self.design {
             println!("{}", d.line);
         }
-        let window = match (s.reaching_time, s.stats_from) {
-            _ if m == 0 => "none (no constraints)".to_string(),
-            (None, _) => "not reached".to_string(),
-            (Some(r), None) => format!(
-                "reached at {r:.6}; statistics window not entered (--settle {} reaches past the end)",
-                self.args.settle
-            ),
-            (Some(r), Some(f)) => format!("reached at {r:.6}, statistics from {f:.6}"),
-        };
-        println!("  layers {window}");
-        println!(
-            "  update period min {}, average {}",
-            opt(s.min_period),
-            opt(s.mean_period)
-        );
-        if let Some(line) = triggered_text(&s.triggered_updates, &s.constraints) {
-            println!("{line}");
-        }
-        let listed = listed_constraints(
-            s.max_abs_s.as_ref().unwrap_or(&s.seen_max_abs_s),
-            &st.layers.eps,
-        );
-        if listed.len() < m {
-            println!(
-                "  {m} constraints; the {} with the largest max |s| / eps:",
-                listed.len()
-            );
-        }
-        for (i, c) in listed.iter().map(|&i| (i, &s.constraints[i])) {
-            match (&s.max_abs_s, &s.max_abs_w) {
-                (Some(ms), Some(mw)) => println!(
-                    "  {c}: max |s| = {:.6} ({:.4} eps), max |w| = {:.6}",
-                    ms[i],
-                    ms[i] / st.layers.eps[i],
-                    mw[i]
-                ),
-                _ => println!(
-                    "  {c}: no statistics (window not entered); seen max |s| = {:.6}, max |w| = {:.6}; at the end s = {:.6}, w = {:.6}",
-                    s.seen_max_abs_s[i], s.seen_max_abs_w[i], s.s[i], s.w[i]
-                ),
-            }
-        }
-        if m == 0 {
-            println!("  final x = {}", values_text(&s.x));
-        } else {
-            println!(
-                "  final z = {}, z_eq = {}, z* = {}",
-                values_text(&s.z),
-                values_text(&s.z_eq),
-                values_text(&s.z_star)
-            );
-            println!(
-                "  solver {}: {} factorisations, {} solves, {} iterations, {} robustness failures",
-                s.solver.name,
-                s.solver.factorisations,
-                s.solver.solves,
-                s.solver.iterations,
-                s.robustness_violations
-                    .map_or("unchecked".to_string(), |v| v.to_string())
-            );
-        }
-        println!("  wall time {:.3} s", s.wall_time);
     }
 }
 

@@ -123,6 +123,7 @@ impl<M: Model> Simulator<M> {
             gains: self.ctl.gains.clone(),
             model: self.model.name().to_string(),
             constraints: self.layout.constraints.clone(),
+            eps: self.set.layers.eps.clone(),
             t_end: self.pt.t,
             steps: st.steps,
             rejected_steps: st.rejected,

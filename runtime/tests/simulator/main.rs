@@ -2,6 +2,7 @@
 
 mod common;
 
+mod display;
 mod errors;
 mod exact;
 mod follow;
