@@ -388,13 +388,13 @@ fn consistent_start(model: &dyn Model, settings: &Settings) -> Result<Start, Rep
     match design::consistent_start(model, settings.window.t_start, &x0, &z0) {
         Ok(found) => Ok(Start { x0, found }),
         Err(e) => {
-            eprintln!(
-                "error: no consistent algebraic start values for `{}`: {}",
+            error!(
+                "no consistent algebraic start values for `{}`: {}",
                 model.name(),
                 start_error(model, &e)
             );
-            eprintln!(
-                "  hint: --start given runs from the model's own values (the reaching phase then starts from them)"
+            hint!(
+                "--start given runs from the model's own values (the reaching phase then starts from them)"
             );
             Err(Reported)
         }
@@ -407,7 +407,7 @@ fn start_error(model: &dyn Model, e: &design::StartError) -> String {
     let names = |rows: &[usize]| {
         let listed: Vec<String> = rows
             .iter()
-            .take(crate::bounded::TEXT_LINES_MAX)
+            .take(dae_runtime::summary::TEXT_LINES_MAX)
             .map(|&i| format!("`{}`", model.constraint_name(i)))
             .collect();
         let more = rows.len().saturating_sub(listed.len());

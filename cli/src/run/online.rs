@@ -68,10 +68,10 @@ fn pilot_option_given(p: &PilotArgs) -> Option<&'static str> {
 /// and `--max-step`.
 pub(super) fn apply(args: &Args, settings: &mut Settings) -> Result<DesignInfo, Reported> {
     if let Some((flag, sets)) = conflicts(args) {
-        eprintln!(
-            "error: {flag}: the online design (--design online, the default with --mu auto --gain auto) chooses {sets}"
+        error!(
+            "{flag}: the online design (--design online, the default with --mu auto --gain auto) chooses {sets}"
         );
-        eprintln!("  hint: --design pilot designs from pilot runs, or give --mu and --gain");
+        hint!("--design pilot designs from pilot runs, or give --mu and --gain");
         return Err(Reported);
     }
     let online = Online::frame(args.frame);
@@ -83,7 +83,7 @@ pub(super) fn apply(args: &Args, settings: &mut Settings) -> Result<DesignInfo, 
             }
             e => e.to_string(),
         };
-        eprintln!("error: online design: {message}");
+        error!("online design: {message}");
         Reported
     })?;
     let reaching = match args.reaching {
