@@ -466,8 +466,9 @@ pub const RELAXED_STEP_PER_MU: f64 = 0.5;
 pub const RELAXED_TOLERANCE_PER_EPS: f64 = 0.1;
 
 /// Safety factor of the relaxed design's gains over the drift of `s'` measured online
-/// ([`GainRule::FollowDrift`]): 1 kept the layer on every scene of `relaxed_design`,
-/// 2 cost 1.5-3.8x more per frame there and kept nothing more (one run of
+/// ([`GainRule::FollowDrift`](dae_runtime::settings::GainRule::FollowDrift)): 1 kept
+/// the layer on every scene of `relaxed_design`, 2 cost 1.5-3.8x more per frame there
+/// and kept nothing more (one run of
 /// `cargo run --release -p dae-bench --example relaxed_design`).
 pub const RELAXED_DRIFT_SAFETY: f64 = 1.0;
 
