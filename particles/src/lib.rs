@@ -31,23 +31,16 @@
 //!
 //! A chain of ten links hanging from the origin, released horizontal, simulated by
 //! DBSMC with every link held within 0.1 % of its length; after a quarter of a second
-//! its end is grabbed, lifted by 10 cm over 0.2 s, then released.
+//! its end is grabbed, lifted by 10 cm over 0.2 s, then released. [`Dbsmc::online`]
+//! designs the run from the strain bound alone ([`online_settings`]: the frame-tied
+//! design of `dae_runtime::design::Online`, no pilot run).
 //!
 //! ```
-//! use dae_particles::{Backend, Dbsmc, FRAME, ParticleDae, ParticleModel, Scene, chain};
-//! use dae_runtime::{settings::AlphaChoice, Model, Settings};
+//! use dae_particles::{Backend, Dbsmc, ParticleModel, Scene, chain};
 //!
 //! let system = chain(10, 1.0)?;
 //! let model = ParticleModel::new(&system)?;
-//! let m = model.n_constraints();
-//! // Layers of 0.1 % of each link; mu and the gain as the design toolkit gives them for
-//! // this chain (sufficient gains with the exact alpha, see dae-bench's
-//! // `dbsmc_settings`); a step that divides the frame and is small against eps / k.
-//! let eps: Vec<f64> = (0..m).map(|i| 1e-3 * model.rest_length(i)).collect();
-//! let settings = Settings::new(eps, vec![2e-3; m], vec![1.0; m])
-//!     .alpha(AlphaChoice::Exact)
-//!     .step(FRAME / 1000.0);
-//! let backend = Dbsmc::new(model, settings, "dbsmc eps=1e-3")?;
+//! let backend = Dbsmc::online(model, 1e-3, "dbsmc eps=1e-3")?;
 //! let mut scene = Scene::new(&system, backend)?;
 //! for _ in 0..15 {
 //!     scene.step()?;
@@ -66,6 +59,10 @@
 //! println!("end at {:?}, {} control updates", scene.positions()[end], scene.backend().counters().updates());
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
+//!
+//! [`Dbsmc::new`] takes hand-made [`Settings`](dae_runtime::Settings) instead (layers,
+//! `mu`, gains, step and solver of one's own, or a design from a pilot run:
+//! `dae_runtime::design`).
 //!
 //! # Plugging in another model
 //!
@@ -98,7 +95,7 @@ pub use builders::{
     FAR_EDGE_SLACK, GridPins, HEAD_RADIUS, STRAND_LENGTH, STRAND_PARTICLE_MASS, chain, grid,
     grid_index, grid_with_slack, strands,
 };
-pub use dbsmc::Dbsmc;
+pub use dbsmc::{Dbsmc, online_settings};
 pub use model::{ModelError, ParticleDae, ParticleModel, check_pin_change};
 pub use motion::{GrabPath, Kinematics, Motion, Pin, Sway, smoothstep7};
 pub use scene::{FRAME, Frame, Scene, SceneError, WorstStrain};
