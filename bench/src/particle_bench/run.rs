@@ -34,7 +34,7 @@ pub enum MethodSpec {
     /// DBSMC designed as [`MethodSpec::Dbsmc`] (automatic solver), run on the scene's
     /// generated family model (C1: `examples/models/chain.dae`, C2:
     /// `bench/models/c2_hair.dae`, C3 and C4: `bench/models/c3_cloth.dae`; see
-    /// [`crate::particle_methods::FamilyParticles`]).
+    /// [`dae_particles::FamilyParticles`]).
     DbsmcGenerated {
         /// Relative layer (strain bound).
         eps: f64,
