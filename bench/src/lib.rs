@@ -40,11 +40,11 @@
 //!   one ran out of its budget or held the tightest level), charts and pictures;
 //!   `cargo run --release -p dae-bench --example particles` regenerates
 //!   `docs/results/particles.csv` and everything beside it.
-//! * **Scenes from generated family models** ([`FamilyParticles`](particle_methods::FamilyParticles), [`generated_chain`](particle_methods::generated_chain),
+//! * **Scenes from generated family models** ([`generated_chain`](particle_methods::generated_chain),
 //!   [`generated_strands`](particle_methods::generated_strands), [`generated_grid`](particle_methods::generated_grid)): C1 on `examples/models/chain.dae`, C2 on
 //!   `bench/models/c2_hair.dae`, C3 and C4 on `bench/models/c3_cloth.dae`, compiled by
 //!   `dae_file!`, sized at run time and run by the DBSMC backend as the particle model of
-//!   the scene (method `dbsmc-generated`); pins, grabs and releases become the models'
+//!   the scene behind [`dae_particles::FamilyParticles`] (method `dbsmc-generated`); pins, grabs and releases become the models'
 //!   parameter `free[p]` and input `pin[p]` (its position and three derivatives).
 //! * **Work-precision harness** ([`Scene`](harness::Scene), [`Method`](harness::Method), [`run_method`](harness::run_method), [`Record`](harness::Record),
 //!   [`write_csv`](harness::write_csv), [`chart`](harness::chart)): one run per knob value, position error at `t_end`

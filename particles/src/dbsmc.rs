@@ -12,7 +12,8 @@ use std::cell::{Cell, RefCell};
 use std::io;
 
 use dae_runtime::{
-    Model, ModelInfo, Settings, SimError, Simulator, trace::Layout, trace::Sample, trace::Sink,
+    Model, ModelInfo, Settings, SimError, Simulator, design::DesignError, design::Online,
+    trace::Layout, trace::Sample, trace::Sink,
 };
 
 use crate::adaptive_mu::{AdaptiveMu, Searcher};
@@ -135,7 +136,48 @@ impl<M: ParticleDae> std::fmt::Debug for Dbsmc<M> {
     }
 }
 
+/// The frame-tied design ([`Online`] at a frame of [`FRAME`]) for `model` with every
+/// link held within the relative layer (strain bound) `eps`: `eps_i = eps L0_i` for the
+/// constraint of a link of rest length `L0_i`; `mu` a quarter of the frame, gains that
+/// follow the drift of `s'` the run measures, Dormand-Prince steps of at most `mu / 2`.
+/// No pilot run is needed: this is the design of [`Dbsmc::online`].
+///
+/// An error if `eps` is not positive and finite.
+pub fn online_settings<M: ParticleDae + ?Sized>(
+    model: &M,
+    eps: f64,
+) -> Result<Settings, DesignError> {
+    if !(eps.is_finite() && eps > 0.0) {
+        return Err(DesignError::NotPositive {
+            name: "eps",
+            value: eps,
+        });
+    }
+    let layers = (0..model.n_constraints())
+        .map(|i| eps * model.rest_length(i))
+        .collect();
+    Online::frame(FRAME).settings(layers)
+}
+
 impl<M: ParticleDae> Dbsmc<M> {
+    /// DBSMC on `model` in one call: the frame-tied design of [`online_settings`] with
+    /// every link within the relative layer `eps` (a strain bound, e.g. `1e-3` for
+    /// 0.1 % of each link's length); `name` labels reports. An error if `eps` is not
+    /// positive and finite, or as [`Dbsmc::new`].
+    ///
+    /// The design asks for no pilot and no bounds on the motion: its gains follow the
+    /// drift the run measures, and a layer it could not hold is reported (the frame
+    /// fails with a [`BackendError`]), never silently.
+    pub fn online(model: M, eps: f64, name: &str) -> Result<Self, BackendError> {
+        let settings = online_settings(&model, eps).map_err(|e| BackendError {
+            method: name.to_string(),
+            t: 0.0,
+            reason: format!("the online design at eps = {eps}: {e}"),
+            deadline: false,
+        })?;
+        Self::new(model, settings, name)
+    }
+
     /// Start DBSMC on `model` with `settings`; `name` labels reports.
     pub fn new(model: M, settings: Settings, name: &str) -> Result<Self, BackendError> {
         let fail = |t: f64, reason: String| BackendError {

@@ -34,7 +34,7 @@ pub enum MethodSpec {
     /// DBSMC designed as [`MethodSpec::Dbsmc`] (automatic solver), run on the scene's
     /// generated family model (C1: `examples/models/chain.dae`, C2:
     /// `bench/models/c2_hair.dae`, C3 and C4: `bench/models/c3_cloth.dae`; see
-    /// [`crate::particle_methods::FamilyParticles`]).
+    /// [`dae_particles::FamilyParticles`]).
     DbsmcGenerated {
         /// Relative layer (strain bound).
         eps: f64,
@@ -466,8 +466,9 @@ pub const RELAXED_STEP_PER_MU: f64 = 0.5;
 pub const RELAXED_TOLERANCE_PER_EPS: f64 = 0.1;
 
 /// Safety factor of the relaxed design's gains over the drift of `s'` measured online
-/// ([`GainRule::FollowDrift`]): 1 kept the layer on every scene of `relaxed_design`,
-/// 2 cost 1.5-3.8x more per frame there and kept nothing more (one run of
+/// ([`GainRule::FollowDrift`](dae_runtime::settings::GainRule::FollowDrift)): 1 kept
+/// the layer on every scene of `relaxed_design`, 2 cost 1.5-3.8x more per frame there
+/// and kept nothing more (one run of
 /// `cargo run --release -p dae-bench --example relaxed_design`).
 pub const RELAXED_DRIFT_SAFETY: f64 = 1.0;
 

@@ -14,10 +14,8 @@
 //! `bench/tests/suite/generated_particles.rs` checks `f`, `w`, `s`, `alpha_hat`, `J_Omega` and `beta`
 //! against the hand-written [`dae_particles::ParticleModel`].
 
-use dae_particles::{GridPins, System};
+use dae_particles::{FamilyParticles, GridPins, System};
 use dae_runtime::family::Spec;
-
-use super::family::FamilyParticles;
 
 mod chain {
     dae_runtime::dae_file!("../examples/models/chain.dae");
@@ -56,7 +54,7 @@ pub fn generated_chain(
         ..Spec::default()
     };
     let model = ChainKernels::new(&spec).map_err(|e| e.to_string())?;
-    FamilyParticles::new(model, system)
+    FamilyParticles::new(model, system).map_err(|e| e.to_string())
 }
 
 /// `c2_hair.dae` at `strands` strands of `links` links, as the particle model of
@@ -72,7 +70,7 @@ pub fn generated_strands(
         ..Spec::default()
     };
     let model = HairKernels::new(&spec).map_err(|e| e.to_string())?;
-    FamilyParticles::new(model, system)
+    FamilyParticles::new(model, system).map_err(|e| e.to_string())
 }
 
 /// `c3_cloth.dae` at `w x w` particles held as `pins` says, with rigid diagonals if
@@ -97,5 +95,5 @@ pub fn generated_grid(
         ..Spec::default()
     };
     let model = ClothKernels::new(&spec).map_err(|e| e.to_string())?;
-    FamilyParticles::new(model, system)
+    FamilyParticles::new(model, system).map_err(|e| e.to_string())
 }

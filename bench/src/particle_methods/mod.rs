@@ -3,12 +3,10 @@
 //! with an exact solve at every stage; and the scenes' generated family models as
 //! particle models for DBSMC.
 
-mod family;
 mod family_models;
 mod index1;
 mod xpbd;
 
-pub use family::FamilyParticles;
 pub use family_models::{
     ChainKernels, ClothKernels, HairKernels, generated_chain, generated_grid, generated_strands,
 };

@@ -1,6 +1,6 @@
 //! A family model as the particle model of a [`System`]: the seam ([`ParticleDae`])
-//! through which the DBSMC backend runs a model generated from a `.dae` family exactly
-//! as it runs the hand-written [`dae_particles::ParticleModel`].
+//! through which the DBSMC backend runs a model written as a `.dae` family, generated
+//! or interpreted, exactly as it runs the hand-written [`ParticleModel`](crate::ParticleModel).
 //!
 //! The family model must be written over particles and links as the models of
 //! `examples/models` and `bench/models` are: states `x[p]`, `v[p]` (`vec3`), one
@@ -14,7 +14,7 @@
 //! **Pins.** A pin of the system, and every pin change during a run
 //! ([`ParticleDae::set_pin`]: a grab, a release), becomes `free[p]` and the input
 //! `pin[p]`. A fixed pin is one `set_input` (its position, derivatives 0). A moving pin
-//! ([`dae_particles::Motion`]) is evaluated where the hand-written model evaluates it:
+//! ([`Motion`](crate::Motion)) is evaluated where the hand-written model evaluates it:
 //! at the time of every evaluation. An evaluation at a new time first gives each moving
 //! pin's input its position and three derivatives there (`set_input(i, t, [x, x', x'',
 //! x'''])`), so that `w''` reads the pin's acceleration and `beta` its jerk exactly,
@@ -34,9 +34,133 @@
 
 use std::cell::{Cell, OnceCell, RefCell};
 
-use dae_particles::{ModelError, ParticleDae, Pin, System, check_pin_change, distance};
-use dae_runtime::family::{FamilyInstance, Kernels};
+use dae_runtime::family::{FamilyInstance, InputError, Kernels, UnknownName};
 use dae_runtime::{Model, ModelInfo, solve::LinearSolver, solve::Solver, solve::SolverChoice};
+
+use crate::model::{ModelError, ParticleDae, check_pin_change};
+use crate::motion::Pin;
+use crate::system::{System, distance};
+
+/// Why a family model is not the particle model of a [`System`]
+/// ([`FamilyParticles::new`]): what differs, and where.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FamilyParticlesError {
+    /// The model's state count is not 6 per particle of the system.
+    #[error(
+        "the family model `{model}` has {states} states; the system's {particles} particles need 6 each (x[p], v[p])"
+    )]
+    States {
+        /// The family model's name.
+        model: String,
+        /// Its state count.
+        states: usize,
+        /// The system's particle count.
+        particles: usize,
+    },
+    /// A state `x[p]`, `v[p]`, parameter `free[p]` or input `pin[p]` the adapter
+    /// needs is not in the model.
+    #[error("the family model `{model}`: {source}")]
+    Name {
+        /// The family model's name.
+        model: String,
+        /// The lookup that failed.
+        source: UnknownName,
+    },
+    /// The components of a particle's `x` or `v` are not consecutive states.
+    #[error("the components of `{family}[{particle}]` are not consecutive states")]
+    Components {
+        /// `x` or `v`.
+        family: &'static str,
+        /// The particle.
+        particle: usize,
+    },
+    /// An input `pin[p]` carries fewer than the 3 time derivatives the index-3 links
+    /// at a pinned particle read.
+    #[error(
+        "input `{input}` carries {order} time derivatives; the index-3 links at a pinned particle read 3"
+    )]
+    PinDerivatives {
+        /// The input's name.
+        input: String,
+        /// The derivatives it carries.
+        order: usize,
+    },
+    /// A particle starts elsewhere (or moving otherwise) in the model than in the system.
+    #[error(
+        "particle {particle} starts at {:?} with velocity {:?} in the family model, at {:?} with {:?} in the system: is it the model of this scene, at these sizes?",
+        model_start.0, model_start.1, system_start.0, system_start.1
+    )]
+    Start {
+        /// The particle.
+        particle: usize,
+        /// Its position and velocity in the model.
+        model_start: ([f64; 3], [f64; 3]),
+        /// Its position and velocity in the system.
+        system_start: ([f64; 3], [f64; 3]),
+    },
+    /// The model's constraint count is not the system's count of links with a free end.
+    #[error(
+        "the family model `{model}` has {constraints} constraints; the system has {links} links with a free end"
+    )]
+    Constraints {
+        /// The family model's name.
+        model: String,
+        /// Its constraint count.
+        constraints: usize,
+        /// The system's links with a free end.
+        links: usize,
+    },
+    /// A constraint is not the link of the system it stands for (other ends or rest
+    /// length): `w` and `w'` at a perturbed state differ.
+    #[error(
+        "constraint {constraint} (`{name}`) is not link {link} between particles {} and {} of rest length {rest}: w = {}, w' = {} where the link gives {}, {}",
+        ends.0, ends.1, model_w.0, model_w.1, link_w.0, link_w.1
+    )]
+    Link {
+        /// The model's constraint.
+        constraint: usize,
+        /// Its name.
+        name: String,
+        /// The system's link.
+        link: usize,
+        /// The link's particles.
+        ends: (usize, usize),
+        /// The link's rest length.
+        rest: f64,
+        /// `w` and `w'` of the constraint.
+        model_w: (f64, f64),
+        /// `w` and `w'` of the link.
+        link_w: (f64, f64),
+    },
+    /// A particle accelerates otherwise in the model than in the system (another
+    /// mass, gravity or pin) at a perturbed state.
+    #[error(
+        "particle {particle} accelerates at {model_acc:?} in the family model, at {system_acc:?} in the system (mass {mass}, pinned: {pinned}): is it the model of this scene?"
+    )]
+    Acceleration {
+        /// The particle.
+        particle: usize,
+        /// Its acceleration in the model.
+        model_acc: [f64; 3],
+        /// Its acceleration in the system.
+        system_acc: [f64; 3],
+        /// Its mass in the system.
+        mass: f64,
+        /// Whether it is pinned.
+        pinned: bool,
+    },
+    /// A pin's position could not be given to the model's input (not finite).
+    #[error("particle {particle}: {source}")]
+    Pin {
+        /// The pinned particle.
+        particle: usize,
+        /// The input's refusal.
+        source: InputError,
+    },
+    /// The scene cannot start as the hand-written model's cannot (a singular `J_Omega`).
+    #[error(transparent)]
+    Model(#[from] ModelError),
+}
 
 /// A family model (any back end `K`: generated kernels or the interpreter) as the
 /// particle model of a [`System`] (module docs).
@@ -86,24 +210,32 @@ impl<K: Kernels> FamilyParticles<K> {
     /// `model` as the particle model of `system`: the particles' states, `free` and `pin`
     /// found by name, the system's pins applied, and the model checked against the
     /// system (module docs). The error says what differs, where.
-    pub fn new(model: FamilyInstance<K>, system: &System) -> Result<Self, String> {
+    pub fn new(model: FamilyInstance<K>, system: &System) -> Result<Self, FamilyParticlesError> {
         let n = system.n_particles();
         if model.n_states() != 6 * n {
-            return Err(format!(
-                "the family model `{}` has {} states; the system's {n} particles need 6 each (x[p], v[p])",
-                model.name(),
-                model.n_states()
-            ));
+            return Err(FamilyParticlesError::States {
+                model: model.name().to_string(),
+                states: model.n_states(),
+                particles: n,
+            });
         }
-        let state = |fam: &str, k: usize| -> Result<usize, String> {
-            let i = model.state_index_at(fam, k).map_err(|e| e.to_string())?;
-            for c in 1..3 {
-                let next = format!("{}.{}", &fam[..1], ["x", "y", "z"][c]);
-                if model.state_index_at(&next, k).map_err(|e| e.to_string())? != i + c {
-                    return Err(format!(
-                        "the components of `{}[{k}]` are not consecutive states",
-                        &fam[..1]
-                    ));
+        let unknown = |source: UnknownName| FamilyParticlesError::Name {
+            model: model.name().to_string(),
+            source,
+        };
+        let state = |family: &'static str, k: usize| -> Result<usize, FamilyParticlesError> {
+            let i = model
+                .state_index_at(&format!("{family}.x"), k)
+                .map_err(unknown)?;
+            for (c, axis) in ["y", "z"].iter().enumerate() {
+                let next = model
+                    .state_index_at(&format!("{family}.{axis}"), k)
+                    .map_err(unknown)?;
+                if next != i + c + 1 {
+                    return Err(FamilyParticlesError::Components {
+                        family,
+                        particle: k,
+                    });
                 }
             }
             Ok(i)
@@ -112,17 +244,16 @@ impl<K: Kernels> FamilyParticles<K> {
         let mut free = Vec::with_capacity(n);
         let mut pin_inputs = Vec::with_capacity(n);
         for k in 0..n {
-            slots.push((state("x.x", k)?, state("v.x", k)?));
-            free.push(model.param_index_at("free", k).map_err(|e| e.to_string())?);
+            slots.push((state("x", k)?, state("v", k)?));
+            free.push(model.param_index_at("free", k).map_err(unknown)?);
             let mut pin = [0; 3];
             for (c, i) in ["pin.x", "pin.y", "pin.z"].iter().zip(&mut pin) {
-                *i = model.input_index_at(c, k).map_err(|e| e.to_string())?;
+                *i = model.input_index_at(c, k).map_err(unknown)?;
                 if model.input_order(*i) < 3 {
-                    return Err(format!(
-                        "input `{}` carries {} time derivatives; the index-3 links at a pinned particle read 3",
-                        model.input_name(*i),
-                        model.input_order(*i)
-                    ));
+                    return Err(FamilyParticlesError::PinDerivatives {
+                        input: model.input_name(*i).to_string(),
+                        order: model.input_order(*i),
+                    });
                 }
             }
             pin_inputs.push(pin);
@@ -134,10 +265,11 @@ impl<K: Kernels> FamilyParticles<K> {
             let (pm, vm) = (get3(&x0, p), get3(&x0, v));
             let (ps, vs) = (system.positions()[k], system.velocities()[k]);
             if distance(pm, ps) > 1e-12 * (1.0 + norm(ps)) || distance(vm, vs) > 1e-12 {
-                return Err(format!(
-                    "particle {k} starts at {pm:?} with velocity {vm:?} in the family model `{}`, at {ps:?} with {vs:?} in the system: is it the model of this scene, at these sizes?",
-                    model.name()
-                ));
+                return Err(FamilyParticlesError::Start {
+                    particle: k,
+                    model_start: (pm, vm),
+                    system_start: (ps, vs),
+                });
             }
         }
         // The constraints: the system's links with a free end, in order (as the
@@ -154,12 +286,11 @@ impl<K: Kernels> FamilyParticles<K> {
             }
         }
         if rest.len() != model.n_constraints() {
-            return Err(format!(
-                "the family model `{}` has {} constraints; the system has {} links with a free end",
-                model.name(),
-                model.n_constraints(),
-                rest.len()
-            ));
+            return Err(FamilyParticlesError::Constraints {
+                model: model.name().to_string(),
+                constraints: model.n_constraints(),
+                links: rest.len(),
+            });
         }
         let m = rest.len();
         let mut this = Self {
@@ -191,10 +322,10 @@ impl<K: Kernels> FamilyParticles<K> {
     /// The tensions that make `w'' = 0` on every link at the start: one solve with
     /// `J_Omega` (`w''` is affine in `z`), so that the run starts as the hand-written
     /// model's does (the model's own initial guess is 0).
-    fn consistent_tensions(&self) -> Result<Vec<f64>, String> {
+    fn consistent_tensions(&self) -> Result<Vec<f64>, FamilyParticlesError> {
         let m = self.rest.len();
         // The hand-written model's words for it.
-        let singular = |e: String| ModelError::Singular(e).to_string();
+        let singular = |e: String| FamilyParticlesError::Model(ModelError::Singular(e));
         let mut solver = Solver::new(m, &self.pattern, SolverChoice::Auto)
             .map_err(|e| singular(e.to_string()))?;
         let mut x0 = vec![0.0; self.n_states()];
@@ -213,7 +344,7 @@ impl<K: Kernels> FamilyParticles<K> {
     }
 
     /// Makes particle `k` free or pinned to `pin` (no checks of the links).
-    fn apply_pin(&mut self, k: usize, pin: Option<Pin>) -> Result<(), String> {
+    fn apply_pin(&mut self, k: usize, pin: Option<Pin>) -> Result<(), FamilyParticlesError> {
         let model = self.model.get_mut();
         model.set_param(self.free[k], if pin.is_some() { 0.0 } else { 1.0 });
         self.moving.retain(|&j| j != k);
@@ -221,7 +352,10 @@ impl<K: Kernels> FamilyParticles<K> {
             for (c, &i) in self.pin_inputs[k].iter().enumerate() {
                 model
                     .set_input(i, 0.0, &[p[c]])
-                    .map_err(|e| format!("particle {k}: {e}"))?;
+                    .map_err(|source| FamilyParticlesError::Pin {
+                        particle: k,
+                        source,
+                    })?;
             }
         }
         if let Some(Pin::Moving(_)) = &pin {
@@ -268,7 +402,7 @@ impl<K: Kernels> FamilyParticles<K> {
     /// Checks `f` and `w` of the model against the system's physics at a perturbed
     /// state (off the manifold, moving, with tensions): every link's ends and rest
     /// length, every particle's mass, gravity and pin.
-    fn check_physics(&self, system: &System, m: usize) -> Result<(), String> {
+    fn check_physics(&self, system: &System, m: usize) -> Result<(), FamilyParticlesError> {
         let n = self.slots.len();
         let scale = self.rest.iter().copied().fold(f64::INFINITY, f64::min);
         let mut x = vec![0.0; 6 * n];
@@ -310,13 +444,15 @@ impl<K: Kernels> FamilyParticles<K> {
             let u = [d[0] / len, d[1] / len, d[2] / len];
             let (w0, w1) = (len - self.rest[i], dot(u, sub(vel[b], vel[a])));
             if (w[3 * i] - w0).abs() > 1e-9 * scale || (w[3 * i + 1] - w1).abs() > 1e-9 {
-                return Err(format!(
-                    "constraint {i} (`{}`) is not link {l} between particles {a} and {b} of rest length {}: w = {}, w' = {} where the link gives {w0}, {w1}",
-                    self.constraint_name(i),
-                    self.rest[i],
-                    w[3 * i],
-                    w[3 * i + 1]
-                ));
+                return Err(FamilyParticlesError::Link {
+                    constraint: i,
+                    name: self.constraint_name(i).to_string(),
+                    link: l,
+                    ends: (a, b),
+                    rest: self.rest[i],
+                    model_w: (w[3 * i], w[3 * i + 1]),
+                    link_w: (w0, w1),
+                });
             }
             for c in 0..3 {
                 if self.pins[a].is_none() {
@@ -332,12 +468,13 @@ impl<K: Kernels> FamilyParticles<K> {
         for (k, &(_, v)) in self.slots.iter().enumerate() {
             let got = get3(&f, v);
             if distance(got, acc[k]) > 1e-9 * (1.0 + norm(acc[k])) {
-                return Err(format!(
-                    "particle {k} accelerates at {got:?} in the family model, at {:?} in the system (mass {}, pinned: {}): is it the model of this scene?",
-                    acc[k],
-                    system.masses()[k],
-                    self.pins[k].is_some()
-                ));
+                return Err(FamilyParticlesError::Acceleration {
+                    particle: k,
+                    model_acc: got,
+                    system_acc: acc[k],
+                    mass: system.masses()[k],
+                    pinned: self.pins[k].is_some(),
+                });
             }
         }
         Ok(())
@@ -457,6 +594,7 @@ impl<K: Kernels> ParticleDae for FamilyParticles<K> {
             k,
             pin.is_some(),
         )?;
-        self.apply_pin(k, pin).map_err(ModelError::Unsupported)
+        self.apply_pin(k, pin)
+            .map_err(|e| ModelError::Unsupported(e.to_string()))
     }
 }
