@@ -30,3 +30,4 @@ row "double pendulum 3-D, 10 s, eps 0.2" $M/double_pendulum_3d.dae --t-end 10 --
 row "double pendulum 3-D, 10 s, eps 1e-3" $M/double_pendulum_3d.dae --t-end 10 --eps 1e-3
 row "hair S=4 N=8, 1 s, eps 1e-3" $M/hair.dae --set S=4 --set N=8 --t-end 1 --eps 1e-3
 row "cloth W=16, 1 s, eps 6.67e-4" $M/cloth.dae --set W=16 --t-end 1 --eps 6.67e-4
+row "hair of unequal strands (12 x 16), 1 s, eps 1e-4" $H/unequal_hair.dae --t-end 1 --eps 1e-4
