@@ -55,6 +55,16 @@ pub(crate) fn default_pilot_gain(eps: f64, step: f64) -> f64 {
     2.0 * eps / (100.0 * step)
 }
 
+/// The defaults of [`PilotArgs`]' numbers (the online design of `daec run` refuses any
+/// other value, which it would leave unused).
+pub(crate) const PASSES: usize = 2;
+/// See [`PASSES`].
+pub(crate) const PILOT_MU: f64 = 0.1;
+/// See [`PASSES`].
+pub(crate) const SAFETY: f64 = 1.0;
+/// See [`PASSES`].
+pub(crate) const PILOT_RETRIES: usize = 4;
+
 /// Options of the pilot runs, shared by `daec design FILE` and `daec run --mu auto` /
 /// `--gain auto`.
 #[derive(clap::Args, Clone, Debug)]
@@ -67,22 +77,22 @@ pub(crate) struct PilotArgs {
     pub(crate) bound: BoundArg,
     /// Number of pilot -> design passes (the first pilot uses --pilot-mu, --pilot-gain and
     /// the exact alpha; later ones the previous design with the cheap alpha).
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, default_value_t = PASSES)]
     pub(crate) passes: usize,
     /// mu of every constraint in the first pilot (when mu is designed; given mu are used
     /// by every pilot).
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(long, default_value_t = PILOT_MU)]
     pub(crate) pilot_mu: f64,
     /// Gain of every constraint in the first pilot [default: 2 eps / (100 h), so that a
     /// layer is crossed in about 100 steps].
     #[arg(long)]
     pub(crate) pilot_gain: Option<f64>,
     /// Factor (>= 1) on the pilot bounds before designing.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = SAFETY)]
     pub(crate) safety: f64,
     /// How many times the first pilot runs again, with ten times its gains, when it
     /// leaves a layer (its gains were below the model's drift).
-    #[arg(long, default_value_t = 4)]
+    #[arg(long, default_value_t = PILOT_RETRIES)]
     pub(crate) pilot_retries: usize,
     /// The most wall time, in seconds, all pilot runs together may take [default: 10 for
     /// `daec run`, no limit for `daec design`].

@@ -3,7 +3,7 @@
 
 use super::{AlphaArg, Args, CrossingArg, DesignInfo, IntegratorArg, ReachingArg};
 use crate::Reported;
-use crate::pilot::{BoundArg, GainsArg, PilotArgs};
+use crate::pilot::{self, BoundArg, GainsArg, PilotArgs};
 use dae_runtime::design::Online;
 use dae_runtime::settings::{AlphaChoice, Hold, Reaching, Scope, Update};
 use dae_runtime::{Settings, design::DesignError};
@@ -51,11 +51,11 @@ fn pilot_option_given(p: &PilotArgs) -> Option<&'static str> {
     [
         ("--gains", !matches!(p.gains, GainsArg::Sufficient)),
         ("--bound", !matches!(p.bound, BoundArg::General)),
-        ("--passes", p.passes != 2),
-        ("--pilot-mu", p.pilot_mu != 0.1),
+        ("--passes", p.passes != pilot::PASSES),
+        ("--pilot-mu", p.pilot_mu != pilot::PILOT_MU),
         ("--pilot-gain", p.pilot_gain.is_some()),
-        ("--safety", p.safety != 1.0),
-        ("--pilot-retries", p.pilot_retries != 4),
+        ("--safety", p.safety != pilot::SAFETY),
+        ("--pilot-retries", p.pilot_retries != pilot::PILOT_RETRIES),
         ("--pilot-budget", p.pilot_budget.is_some()),
     ]
     .into_iter()

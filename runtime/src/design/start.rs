@@ -240,9 +240,10 @@ impl<'a, M: Model + ?Sized> Newton<'a, M> {
         Ok((worst, at))
     }
 
-    /// The Newton step `J_Omega^{-1} Omega` at `z` into `step`.
+    /// The Newton step `J_Omega^{-1} Omega` at `z` into `step`. `self.s` holds `Omega(z)`:
+    /// the last point [`residual`](Self::residual) evaluated is always the current `z`
+    /// (the start, or the trial just accepted).
     fn step(&mut self, z: &[f64], step: &mut [f64], iteration: usize) -> Result<(), StartError> {
-        self.residual(z, iteration)?;
         self.model.jacobian(self.t, self.x, z, &mut self.jvals);
         self.solver
             .factor(&self.jvals, &self.ones)
