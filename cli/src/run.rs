@@ -136,6 +136,12 @@ pub(crate) struct Args {
     /// is looked at (a frame); mu is a quarter of it.
     #[arg(long, default_value_t = 1.0 / 60.0)]
     frame: f64,
+    /// With the online design: `on` searches, frame by frame, for the scale of mu at
+    /// which the run costs least (from 1/16 to 64 times a quarter of --frame,
+    /// dae_runtime::settings::AdaptiveMu); `off` keeps mu a quarter of --frame
+    /// [default: on with the online design].
+    #[arg(long, value_enum)]
+    mu_search: Option<OnOff>,
     /// Algebraic start values: `consistent` (the z at which every constraint's highest
     /// w-derivative vanishes, found by Newton's method from the model's values before
     /// anything else runs), or `given` (the model's `alg` values as written).
@@ -230,6 +236,12 @@ pub(crate) enum DesignArg {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum OnOff {
+    On,
+    Off,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub(crate) enum StartArg {
     /// Solved for from the states (the run and its pilots start on the surfaces as far
     /// as z can put them there).
@@ -310,11 +322,15 @@ pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
         .t_end(args.pilot.unwrap_or(args.t_end))
         .law(laws.pilot)
         .alpha(AlphaChoice::Cheap);
+    let online = m > 0 && mu.is_none() && gain.is_none() && args.design == DesignArg::Online;
+    if args.mu_search.is_some() && !online {
+        error!("--mu-search: only the online design searches for mu during the run");
+        hint!("drop --mu-search, or use --design online with --mu auto --gain auto");
+        return Err(Reported);
+    }
     let design = match (mu, gain) {
         _ if m == 0 => None,
-        (None, None) if args.design == DesignArg::Online => {
-            Some(online::apply(args, &mut settings)?)
-        }
+        (None, None) if online => Some(online::apply(args, &mut settings)?),
         (Some(mu), Some(k)) => {
             settings.layers.mu = per_constraint("--mu", &mu, m)?;
             settings.layers.gains = per_constraint("--gain", &k, m)?;

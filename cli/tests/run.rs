@@ -549,3 +549,51 @@ fn block_updates_from_the_command_line() {
         );
     }
 }
+
+/// The online design searches for `mu` frame by frame unless told not to, and says so;
+/// the flag is refused where no search runs.
+#[test]
+fn the_online_design_searches_for_mu_unless_told_not_to() {
+    let file = pendulum();
+    let run = |extra: &[&str]| {
+        let mut args = vec!["run", &file, "--t-end", "2", "--eps", "0.2", "--json"];
+        args.extend_from_slice(extra);
+        json(&daec(&args))
+    };
+    let searched = run(&[]);
+    assert_eq!(searched["status"], "held", "{searched}");
+    let a = &searched["mu_search"];
+    assert_eq!(num(&a["frames"]), 120.0, "{a}");
+    assert!(
+        num(&a["scale"]) > 1.0,
+        "a slow motion at a loose layer: {a}"
+    );
+    assert_eq!(num(&searched["design"]["mu_search"]["max_scale"]), 64.0);
+    let fixed = run(&["--mu-search", "off"]);
+    assert_eq!(fixed["status"], "held", "{fixed}");
+    assert!(fixed["mu_search"].is_null(), "{fixed}");
+    assert!(fixed["design"]["mu_search"].is_null(), "{fixed}");
+    assert!(
+        num(&searched["f_evals"]) < num(&fixed["f_evals"]),
+        "{} against {}",
+        searched["f_evals"],
+        fixed["f_evals"]
+    );
+    let o = daec(&[
+        "run",
+        &file,
+        "--t-end",
+        "2",
+        "--eps",
+        "0.2",
+        "--mu",
+        "0.076,0.066",
+        "--gain",
+        "1",
+        "--mu-search",
+        "on",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("--mu-search"), "{err}");
+}

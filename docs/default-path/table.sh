@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The table of docs/cli.md ("daec run FILE --t-end T --eps E"): the online design (the
-# default) against the pilot design, each from --t-end and --eps alone.
+# default, mu searched for during the run), the same with --mu-search off, and the
+# pilot design, each from --t-end and --eps alone.
 # Run from the repository root after `cargo build --release -p daec`.
 set -u
 D=target/release/daec
@@ -9,10 +10,11 @@ H=docs/default-path
 row() {
     local name=$1
     shift
-    for design in online pilot; do
+    for design in "online" "online --mu-search off" "pilot"; do
         local start end out code
         start=$(date +%s.%N)
-        out=$(timeout 120 "$D" run "$@" --design "$design" 2>&1)
+        # shellcheck disable=SC2086 # the design's words are flags
+        out=$(timeout 120 "$D" run "$@" --design $design 2>&1)
         code=$?
         end=$(date +%s.%N)
         printf '%s | %s | exit %s | %.2f s | %s | max |s|/eps %s\n' "$name" "$design" "$code" \
@@ -31,3 +33,4 @@ row "double pendulum 3-D, 10 s, eps 1e-3" $M/double_pendulum_3d.dae --t-end 10 -
 row "hair S=4 N=8, 1 s, eps 1e-3" $M/hair.dae --set S=4 --set N=8 --t-end 1 --eps 1e-3
 row "cloth W=16, 1 s, eps 6.67e-4" $M/cloth.dae --set W=16 --t-end 1 --eps 6.67e-4
 row "hair of unequal strands (12 x 16), 1 s, eps 1e-4" $H/unequal_hair.dae --t-end 1 --eps 1e-4
+row "triangle ribbon N=20 (80 links), 1 s, eps 1e-3" $H/triangle_ribbon.dae --t-end 1 --eps 1e-3

@@ -16,13 +16,14 @@ use dae_runtime::{
     trace::Layout, trace::Sample, trace::Sink,
 };
 
-use crate::adaptive_mu::{AdaptiveMu, Searcher};
 use crate::backend::{
     Backend, BackendError, BlockCounters, Counters, MuSearchCounters, SlidingCounters,
 };
 use crate::model::ParticleDae;
 use crate::motion::{Kinematics, Pin};
 use crate::scene::FRAME;
+use dae_runtime::design::MuSearcher;
+use dae_runtime::settings::AdaptiveMu;
 
 /// The model with call counters (the work a frame cost).
 struct Counted<M> {
@@ -123,7 +124,7 @@ pub struct Dbsmc<M: ParticleDae> {
     layer_lost_at: Option<f64>,
     /// The search for `mu` ([`Dbsmc::adapt_mu`]), and the work counted up to the end
     /// of the last frame.
-    search: Option<Searcher>,
+    search: Option<MuSearcher>,
     work_before: u64,
 }
 
@@ -156,7 +157,11 @@ pub fn online_settings<M: ParticleDae + ?Sized>(
     let layers = (0..model.n_constraints())
         .map(|i| eps * model.rest_length(i))
         .collect();
-    Online::frame(FRAME).settings(layers)
+    Online {
+        search: None,
+        ..Online::frame(FRAME)
+    }
+    .settings(layers)
 }
 
 impl<M: ParticleDae> Dbsmc<M> {
@@ -243,28 +248,39 @@ impl<M: ParticleDae> Dbsmc<M> {
     /// from which the filter would leave the layer), and the gains, the longest step
     /// and the grazing return tied to it move with it. A window counts calls of
     /// [`Backend::advance_to`], one per frame as [`crate::Scene`] and the benchmark's
-    /// runner drive it. An error if `how` cannot search.
+    /// runner drive it, so `how.frame` must be [`FRAME`]. An error if `how` cannot
+    /// search.
     pub fn adapt_mu(mut self, how: AdaptiveMu) -> Result<Self, BackendError> {
-        how.check().map_err(|reason| BackendError {
+        let checked = how.check().and_then(|()| {
+            if how.frame == FRAME {
+                Ok(())
+            } else {
+                Err(format!(
+                    "mu search: frame {} is not the scene's frame {FRAME} (one call of advance_to is one frame)",
+                    how.frame
+                ))
+            }
+        });
+        checked.map_err(|reason| BackendError {
             method: self.name.clone(),
             t: self.sim.time(),
             reason,
             deadline: false,
         })?;
-        self.search = Some(Searcher::new(how));
+        self.search = Some(MuSearcher::new(how));
         self.work_before = self.work();
         Ok(self)
     }
 
     /// `mu` now as a multiple of the one the run started with (1 without a search).
     pub fn mu_scale(&self) -> f64 {
-        self.search.as_ref().map_or(1.0, Searcher::scale)
+        self.search.as_ref().map_or(1.0, MuSearcher::scale)
     }
 
     /// The moves of `mu` the search made so far, and those the simulator refused (a
     /// growth from which the filter would have left the layer).
     pub fn mu_moves(&self) -> (u64, u64) {
-        self.search.as_ref().map_or((0, 0), Searcher::moves)
+        self.search.as_ref().map_or((0, 0), MuSearcher::moves)
     }
 
     /// The work the search weighs: right-hand side evaluations and factorisations.

@@ -121,7 +121,6 @@
 )]
 #![warn(missing_docs)]
 
-mod adaptive_mu;
 mod backend;
 mod builders;
 mod dbsmc;
@@ -132,7 +131,6 @@ mod motion;
 mod scene;
 mod system;
 
-pub use adaptive_mu::AdaptiveMu;
 pub use backend::{
     Backend, BackendError, BlockCounters, Counters, MuSearchCounters, SlidingCounters,
 };
@@ -140,6 +138,7 @@ pub use builders::{
     FAR_EDGE_SLACK, GridPins, HEAD_RADIUS, STRAND_LENGTH, STRAND_PARTICLE_MASS, chain, grid,
     grid_index, grid_with_slack, strands,
 };
+pub use dae_runtime::settings::AdaptiveMu;
 pub use dbsmc::{Dbsmc, online_settings};
 #[cfg(feature = "families")]
 pub use family::{FamilyParticles, FamilyParticlesError};

@@ -45,6 +45,25 @@ pub struct BlockSummary {
     pub global_updates: u64,
 }
 
+/// What the search for `mu` during a run
+/// ([`Layers::adapt_mu`](crate::settings::Layers::adapt_mu)) did.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct MuSearchSummary {
+    /// `mu` at the end, as a multiple of the one the run started with.
+    pub scale: f64,
+    /// Moves of `mu` made.
+    pub moves: u64,
+    /// Moves the simulator refused (a growth from which the filter would have left the
+    /// layer).
+    pub refused: u64,
+    /// Of the moves, those made at once after a frame that cost more than
+    /// [`AdaptiveMu::surge`](crate::settings::AdaptiveMu::surge) times the last window's.
+    #[serde(default)]
+    pub surges: u64,
+    /// Frames the search weighed.
+    pub frames: u64,
+}
+
 /// A layer left after the reaching phase: some `|s_i|` exceeded `(1 + tol) eps_i`
 /// ([`Settings::bound_tol`](crate::Settings::bound_tol)) after all `|s_i| <= eps_i`
 /// had held. The run continues to its end (the trace keeps everything); this record
@@ -138,6 +157,9 @@ pub struct Summary {
     /// With block-local updates, their counts (`None`: every update was of every row).
     #[serde(default)]
     pub blocks: Option<BlockSummary>,
+    /// With a search of `mu` during the run, what it did (`None`: `mu` as configured).
+    #[serde(default)]
+    pub mu_search: Option<MuSearchSummary>,
     /// Per constraint, the updates of the monitoring policy that its own `s_i` asked
     /// for (on its layer boundary moving outward, or in the reaching phase arrived at
     /// its surface). An update several rows asked for at once counts for each of them;

@@ -525,6 +525,7 @@ pub fn relaxed_settings_at<M: ParticleDae>(
         tolerance_per_eps: RELAXED_TOLERANCE_PER_EPS,
         drift_safety: RELAXED_DRIFT_SAFETY,
         graze_per_mu: RELAXED_GRAZE_PER_MU,
+        search: None,
     }
     .settings(e)
     .expect("the frame-tied design's constants and layers are positive")

@@ -1,7 +1,7 @@
 //! `--design online` (the default of `--mu auto --gain auto`): the runtime's
 //! [`Online`] design from the layers and `--frame`, with the flags it leaves open.
 
-use super::{AlphaArg, Args, CrossingArg, DesignInfo, IntegratorArg, ReachingArg};
+use super::{AlphaArg, Args, CrossingArg, DesignInfo, IntegratorArg, OnOff, ReachingArg};
 use crate::Reported;
 use crate::pilot::{self, BoundArg, GainsArg, PilotArgs};
 use dae_runtime::design::Online;
@@ -74,7 +74,10 @@ pub(super) fn apply(args: &Args, settings: &mut Settings) -> Result<DesignInfo, 
         hint!("--design pilot designs from pilot runs, or give --mu and --gain");
         return Err(Reported);
     }
-    let online = Online::frame(args.frame);
+    let mut online = Online::frame(args.frame);
+    if args.mu_search == Some(OnOff::Off) {
+        online.search = None;
+    }
     let designed = online.settings(settings.layers.eps.clone()).map_err(|e| {
         let message = match e {
             DesignError::NotPositive { name: "frame", .. }
@@ -102,6 +105,7 @@ pub(super) fn apply(args: &Args, settings: &mut Settings) -> Result<DesignInfo, 
     }
     settings.layers.mu = designed.layers.mu;
     settings.layers.gains = designed.layers.gains;
+    settings.layers.adapt_mu = designed.layers.adapt_mu;
     settings.law = law;
     if args.alpha.is_none() {
         settings.alpha = AlphaChoice::Exact;
@@ -125,11 +129,23 @@ pub(super) fn apply(args: &Args, settings: &mut Settings) -> Result<DesignInfo, 
             "gain_floor": online.floor,
             "graze": online.graze_per_mu * mu,
             "drift_safety": online.drift_safety,
+            "mu_search": designed.layers.adapt_mu.map(|a| json!({
+                "frame": a.frame,
+                "window": a.window,
+                "step": a.step,
+                "min_scale": a.min_scale,
+                "max_scale": a.max_scale,
+            })),
         }),
         t_min: None,
         line: format!(
-            "  design online (no pilot): frame {} s, mu = frame/4, gains from {} eps/mu following the drift (grazing returns mu/8 apart), rate -k s/eps inside the layer, {alpha}{}",
+            "  design online (no pilot): frame {} s, mu = frame/4{}, gains from {} eps/mu following the drift (grazing returns mu/8 apart), rate -k s/eps inside the layer, {alpha}{}",
             online.frame,
+            if online.search.is_some() {
+                " at the start, then searched for frame by frame"
+            } else {
+                ""
+            },
             online.floor,
             if args.ramp { ", v ramped" } else { "" }
         ),

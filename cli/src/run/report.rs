@@ -202,6 +202,7 @@ impl Report<'_> {
             "wall_seconds": s.wall_time,
         });
         v["start"] = self.start_json();
+        v["mu_search"] = serde_json::to_value(s.mu_search).unwrap_or_default();
         v
     }
 

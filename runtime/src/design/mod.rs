@@ -27,6 +27,7 @@
 mod approx;
 mod bounds;
 mod gains;
+mod mu_searcher;
 mod online;
 mod optimise;
 mod pilot;
@@ -36,6 +37,7 @@ mod start;
 pub use approx::{approximate_inverse_gain, approximate_inverse_gains, jacobi_coupling};
 pub use bounds::{LayerBound, c_r, reachable_bound, t_min};
 pub use gains::{GainChoice, robust_gain, sufficient_gain};
+pub use mu_searcher::MuSearcher;
 pub use online::{Online, OnlineError};
 pub use optimise::{ConstraintDesign, Design, MuSearch, design, design_at, optimise_mu};
 pub use pilot::{PilotError, PilotEstimate, PilotEstimator, ROUNDING_FLOOR};
@@ -147,6 +149,13 @@ pub enum DesignError {
         /// The first row without a positive gain.
         row: usize,
         /// Why.
+        reason: String,
+    },
+    /// The search for `mu` during a run cannot search
+    /// ([`AdaptiveMu::check`](crate::settings::AdaptiveMu::check)).
+    #[error("{reason}")]
+    BadAdaptiveMu {
+        /// Which field, and why.
         reason: String,
     },
     /// [`design`] was given no constraints.

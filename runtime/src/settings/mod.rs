@@ -2,6 +2,7 @@
 //! gains ([`Layers`]), the integration ([`Integration`]), the time window ([`Window`])
 //! and the control law ([`Law`]), whose variants carry what each behaviour needs.
 
+mod adapt_mu;
 mod law;
 mod validate;
 
@@ -9,6 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::solve::SolverChoice;
 
+pub use adapt_mu::AdaptiveMu;
 pub use law::{
     CROSSING_TOL, Dbsmc, GainRule, Hold, InLayer, Law, Reaching, Scope, StepEnd, Update,
 };
@@ -96,6 +98,11 @@ pub struct Layers {
     /// Crossing margins `k_i^c >= 0` used when counting robustness violations
     /// (T 3.22); zero unless configured.
     pub crossing_margin: Vec<f64>,
+    /// Search for the common scale of `mu` at which the run costs least while it runs
+    /// ([`AdaptiveMu`]; none by default). The gains, the longest step and the grazing
+    /// return move with `mu` ([`Simulator::rescale_mu`](crate::Simulator::rescale_mu)).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub adapt_mu: Option<AdaptiveMu>,
 }
 
 /// How `x` is integrated.
@@ -210,6 +217,7 @@ impl Settings {
                 mu,
                 gains,
                 crossing_margin: vec![0.0; m],
+                adapt_mu: None,
             },
             integration: Integration {
                 integrator: Integrator::Rk4,
@@ -292,6 +300,11 @@ impl Settings {
     /// Set the maximum duration of the reaching phase.
     pub fn reaching_limit(mut self, duration: f64) -> Self {
         self.window.reaching_limit = duration;
+        self
+    }
+    /// Search for `mu` during the run ([`Layers::adapt_mu`]), or not (`None`).
+    pub fn adapt_mu(mut self, search: Option<AdaptiveMu>) -> Self {
+        self.layers.adapt_mu = search;
         self
     }
     /// Set the crossing margins `k_i^c`.

@@ -44,6 +44,15 @@ impl Settings {
                 })?;
             }
         }
+        if let Some(search) = &l.adapt_mu {
+            search.check().map_err(|reason| SimError::Settings {
+                field: "adapt_mu",
+                reason,
+            })?;
+            require(self.law != Law::Spsm, "adapt_mu", || {
+                "SPSM has no control updates whose cost a search of mu could weigh".into()
+            })?;
+        }
         let int = &self.integration;
         if !int.integrator.is_adaptive() {
             let h = int.step;

@@ -2,6 +2,7 @@
 //! a run in pieces (`start`, `advance_to`, `finish`) between which the caller may change
 //! the model.
 
+mod adapt;
 mod change;
 mod control;
 mod crossing;
@@ -116,6 +117,8 @@ pub struct Simulator<M: Model> {
     watches: Vec<crossing::Watch>,
     stats: Stats,
     run: RunState,
+    /// The search for `mu` of [`Layers::adapt_mu`](crate::settings::Layers::adapt_mu), while a run is on.
+    search: Option<adapt::SearchRun>,
 }
 
 impl<M: Model> Simulator<M> {
@@ -184,6 +187,7 @@ impl<M: Model> Simulator<M> {
             run: RunState::new(Phase::Idle, t0),
             set: settings,
             deadline: None,
+            search: None,
         })
     }
 
@@ -283,6 +287,12 @@ impl<M: Model> Simulator<M> {
     /// [`Summary::located_crossings`](crate::Summary::located_crossings) will say).
     pub fn steps_cut(&self) -> u64 {
         self.stats.cuts
+    }
+
+    /// Evaluations of `f` so far (what [`Summary::f_evals`](crate::Summary::f_evals)
+    /// will say), for a run driven in pieces.
+    pub fn f_evals(&self) -> u64 {
+        self.stats.rhs_evals
     }
 
     /// A wall-clock `deadline` (or none): once it has passed, [`advance_to`](Self::advance_to)

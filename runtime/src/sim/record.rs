@@ -132,6 +132,7 @@ impl<M: Model> Simulator<M> {
             updates: st.updates,
             reaching_updates: st.reaching_updates,
             blocks: self.blocks(),
+            mu_search: self.mu_search(),
             triggered_updates: st.triggered.clone(),
             reaching_time: st.reaching_time,
             stats_from: st.stats_from,

@@ -46,6 +46,7 @@ impl<M: Model> Simulator<M> {
         }
         self.eps_k.copy_from_slice(&self.set.layers.eps);
         self.run = RunState::new(Phase::Running, t0);
+        self.start_search();
         self.fresh = Fresh::default();
         sink.begin(&self.layout)?;
         self.eval_point(t0);
@@ -59,7 +60,26 @@ impl<M: Model> Simulator<M> {
     /// Integrate to `t` (at most `t_end`; a run not started yet is started first).
     /// Samples and updates go to `sink` as in [`run`](Self::run); the sample at `t`
     /// itself is recorded when the run continues or is finished.
+    ///
+    /// With a search of `mu` ([`Layers::adapt_mu`](crate::settings::Layers::adapt_mu)) the
+    /// run goes in pieces that end at the search's frames, where it may move `mu`.
     pub fn advance_to<S: Sink + ?Sized>(&mut self, t: f64, sink: &mut S) -> Result<(), SimError> {
+        if self.run.phase == Phase::Idle {
+            self.start(sink)?;
+        }
+        let target = t.min(self.set.window.t_end);
+        while let Some(end) = self.search.as_ref().map(|s| s.next_end()) {
+            if !(end <= target && self.run.phase == Phase::Running) {
+                break;
+            }
+            self.advance_piece(end, sink)?;
+            self.end_search_frame()?;
+        }
+        self.advance_piece(t, sink)
+    }
+
+    /// [`advance_to`](Self::advance_to) without the search's frames.
+    fn advance_piece<S: Sink + ?Sized>(&mut self, t: f64, sink: &mut S) -> Result<(), SimError> {
         match self.run.phase {
             Phase::Idle => self.start(sink)?,
             Phase::Finished => {

@@ -118,6 +118,11 @@ impl Loss {
         }
     }
 
+    /// Whether a layer has been left after reaching.
+    pub(crate) fn lost(&self) -> bool {
+        self.first.is_some()
+    }
+
     pub(crate) fn record(
         &self,
         names: &[String],

@@ -163,6 +163,13 @@ impl fmt::Display for Summary {
                 b.blocks, b.largest, b.block_solves, b.global_updates
             )?;
         }
+        if let Some(a) = s.mu_search {
+            write!(
+                f,
+                "\n  mu searched for over {} frames: {} moves ({} refused, {} down at a surge of the work), mu at the end {} times the start's",
+                a.frames, a.moves, a.refused, a.surges, a.scale
+            )?;
+        }
         if s.unlocated_steps > 0 {
             write!(
                 f,

@@ -79,3 +79,105 @@ fn one_call_runs_the_thesis_pendulum_within_its_layers() {
         .fold(0.0f64, |a, &b| a.max(b));
     assert!(worst <= 1.01 * 0.01, "{worst}");
 }
+
+/// The online design of the thesis pendulum at `eps` over `t_end`, with or without its
+/// search for `mu`.
+fn pendulum_online(eps: f64, t_end: f64, search: bool) -> dae_runtime::Summary {
+    let p = Pendulum::default();
+    let mut online = Online::default();
+    if !search {
+        online.search = None;
+    }
+    let settings = online.design(&p, &[eps], t_end).unwrap();
+    assert_eq!(settings.layers.adapt_mu.is_some(), search);
+    Simulator::new(&p, settings)
+        .unwrap()
+        .run(&mut Trace::new())
+        .unwrap()
+}
+
+#[test]
+fn the_search_moves_mu_up_on_a_slow_motion_at_a_loose_layer_and_keeps_the_layer() {
+    // At eps = 0.2 the thesis's own design has mu = 0.065, 16 times the frame-tied
+    // quarter frame: the search must find its way there, and pay less for it.
+    let searched = pendulum_online(0.2, 4.0, true);
+    let fixed = pendulum_online(0.2, 4.0, false);
+    assert!(searched.bound_held(), "{:?}", searched.bound_loss);
+    let a = searched.mu_search.expect("the search's summary");
+    assert_eq!(a.frames, 240, "one look per frame of 1/60 s over 4 s");
+    assert!(a.moves > 0 && a.scale >= 8.0, "{a:?}");
+    assert!(fixed.mu_search.is_none());
+    // The work the search weighs, counted: at most half of the frame-tied design's.
+    let work = |s: &dae_runtime::Summary| s.f_evals + s.solver.factorisations;
+    assert!(
+        2 * work(&searched) <= work(&fixed),
+        "searched {} against {}",
+        work(&searched),
+        work(&fixed)
+    );
+    // The summary's text says what the search did.
+    let text = searched.to_string();
+    assert!(text.contains("mu searched for over 240 frames"), "{text}");
+}
+
+#[test]
+fn the_search_follows_the_settings_and_a_bad_search_is_refused_by_field() {
+    let o = Online::frame(0.04);
+    let s = o.settings(vec![1e-3]).unwrap();
+    let a = s.layers.adapt_mu.expect("on by default");
+    assert_eq!(a.frame, 0.04, "the search looks at the design's frames");
+    assert_eq!((a.min_scale, a.max_scale), (1.0 / 16.0, 64.0));
+    let bad = Online {
+        search: Some(dae_runtime::settings::AdaptiveMu {
+            step: 1.0,
+            ..Default::default()
+        }),
+        ..Online::default()
+    };
+    let err = bad.settings(vec![1e-3]).unwrap_err();
+    assert!(
+        matches!(&err, DesignError::BadAdaptiveMu { reason } if reason.contains("step")),
+        "{err}"
+    );
+    // The simulator checks the settings too.
+    let p = Pendulum::default();
+    let settings = Online::default()
+        .design(&p, &[0.01], 1.0)
+        .unwrap()
+        .adapt_mu(Some(dae_runtime::settings::AdaptiveMu {
+            window: 0,
+            ..Default::default()
+        }));
+    let err = Simulator::new(&p, settings).err().expect("refused");
+    assert!(err.to_string().contains("window"), "{err}");
+}
+
+#[test]
+fn a_run_in_pieces_with_a_search_keeps_the_search_on_its_own_frames() {
+    // The search's frames are the simulator's clock, not the caller's pieces: pieces
+    // that end at frame ends give the run in one piece to the bit, and pieces that do
+    // not still give one look per frame.
+    let p = Pendulum::default();
+    let settings = Online::default().design(&p, &[0.01], 1.0).unwrap();
+    let whole = Simulator::new(&p, settings.clone())
+        .unwrap()
+        .run(&mut Trace::new())
+        .unwrap();
+    let in_pieces = |ends: &[f64]| {
+        let mut sim = Simulator::new(&p, settings.clone()).unwrap();
+        let mut trace = Trace::new();
+        sim.start(&mut trace).unwrap();
+        for &t in ends {
+            sim.advance_to(t, &mut trace).unwrap();
+        }
+        sim.finish(&mut trace).unwrap()
+    };
+    let frame_ends: Vec<f64> = (1..=12).map(|k| (5 * k) as f64 * (1.0 / 60.0)).collect();
+    let aligned = in_pieces(&frame_ends);
+    assert_eq!(aligned.mu_search, whole.mu_search);
+    assert_eq!(aligned.updates, whole.updates);
+    assert_eq!(aligned.x, whole.x);
+    let sevenths: Vec<f64> = (1..=7).map(|k| k as f64 / 7.0).collect();
+    let other = in_pieces(&sevenths);
+    assert_eq!(other.mu_search.unwrap().frames, 60);
+}

@@ -1,5 +1,7 @@
 //! `mu` that follows the motion: a search, frame by frame, for the `mu` at which a run
-//! costs least ([`Dbsmc::adapt_mu`](crate::Dbsmc::adapt_mu)).
+//! costs least ([`AdaptiveMu`]; the simulator runs it when
+//! [`Layers::adapt_mu`](crate::settings::Layers::adapt_mu) is set, and
+//! `dae_particles::Dbsmc::adapt_mu` at the frames of a scene).
 //!
 //! Why a search and not a rule: `mu` pulls two ways. The drift of `s'` between updates
 //! grows with `mu`, so the updates a frame needs grow with it; the longest step, tied
@@ -7,8 +9,7 @@
 //! and changes during it: on light and medium 100-link chains the whole scene costs
 //! 3x less at `mu` = 1/32 of the frame than at 1/4, on the 100-link chain with an end
 //! 10^4 times heavier 2.3x less at 1/2, and over the first calm frames of every scene
-//! the large `mu` is the cheaper (measured by `mu_sweep`: docs/particles.md says where the
-//! measurements are). The counts of each frame say which way the cost went after a move.
+//! the large `mu` is the cheaper (measured by dae-bench's `mu_sweep`, docs/particles.md). The counts of each frame say which way the cost went after a move.
 //!
 //! The search dithers and follows the slope it measures (extremum seeking): `mu`
 //! alternates between two values a `step` apart, `window` frames at each, and after
@@ -20,73 +21,12 @@
 //! next three windows measure again. The work is counted (right-hand side evaluations
 //! and factorisations), not timed, so that a run is the same on any machine.
 
-/// How `mu` is searched for during a run.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct AdaptiveMu {
-    /// Frames per trial of one `mu` (at least 1).
-    pub window: u32,
-    /// Factor of one move of `mu` (above 1).
-    pub step: f64,
-    /// Bounds of `mu` as multiples of the one the run started with.
-    pub min_scale: f64,
-    /// Upper bound, likewise.
-    pub max_scale: f64,
-}
+use crate::settings::AdaptiveMu;
 
-impl Default for AdaptiveMu {
-    /// Windows of 4 frames, `mu` dithered by a factor 2 and moved by 2 (a move every
-    /// 0.2 s at most), between 1/16 and 2 times the start's: with the frame-tied
-    /// design's `mu` of a quarter frame, from 1/64 to 1/2 of the frame, the range of
-    /// `mu_sweep`'s best values.
-    fn default() -> Self {
-        Self {
-            window: 4,
-            step: 2.0,
-            min_scale: 1.0 / 16.0,
-            max_scale: 2.0,
-        }
-    }
-}
-
-impl AdaptiveMu {
-    /// Whether the fields make a search (`window >= 1`, `step > 1`, `0 < min_scale <= 1
-    /// <= max_scale`, all finite): an error message naming the field otherwise.
-    pub fn check(&self) -> Result<(), String> {
-        if self.window == 0 {
-            return Err("mu search: window must be at least one frame".into());
-        }
-        if !(self.step.is_finite() && self.step > 1.0) {
-            return Err(format!(
-                "mu search: step {} must be a finite factor above 1",
-                self.step
-            ));
-        }
-        if !(self.min_scale > 0.0 && self.min_scale <= 1.0) {
-            return Err(format!(
-                "mu search: min_scale {} must be in (0, 1]",
-                self.min_scale
-            ));
-        }
-        if !(self.max_scale.is_finite() && self.max_scale >= 1.0) {
-            return Err(format!(
-                "mu search: max_scale {} must be finite and at least 1",
-                self.max_scale
-            ));
-        }
-        if self.max_scale < self.step * self.min_scale * (1.0 - 1e-9) {
-            return Err(format!(
-                "mu search: max_scale / min_scale = {} leaves no room for two values a step {} apart",
-                self.max_scale / self.min_scale,
-                self.step
-            ));
-        }
-        Ok(())
-    }
-}
-
-/// The state of a search during a run.
+/// The state of a search during a run: fed the work of each frame, it says when to
+/// move `mu` and by which factor.
 #[derive(Clone, Debug)]
-pub(crate) struct Searcher {
+pub struct MuSearcher {
     how: AdaptiveMu,
     /// The geometric middle of the two dithered values, as a multiple of the start's
     /// `mu`: they are `low * step` and `low`, with `low = middle / sqrt(step)`.
@@ -100,15 +40,18 @@ pub(crate) struct Searcher {
     /// Moves asked for, and of those refused by the simulator.
     asked: u64,
     refused: u64,
+    /// Work per frame of the last window, for [`AdaptiveMu::surge`].
+    last_rate: Option<f64>,
+    surges: u64,
 }
 
-impl Searcher {
+impl MuSearcher {
     /// A search whose first window is the start's `mu` as the upper of the pair: the
     /// second tries `mu / step` (the frame-tied design starts from a `mu` that the calm
     /// first frames favour, and the scenes that whip favour a smaller one). Where
     /// `min_scale` leaves no room below the start, the start is the lower of the pair
     /// and the second window tries `mu * step`.
-    pub(crate) fn new(how: AdaptiveMu) -> Self {
+    pub fn new(how: AdaptiveMu) -> Self {
         let below = 1.0 / how.step >= how.min_scale * (1.0 - 1e-9);
         Self {
             how,
@@ -119,22 +62,27 @@ impl Searcher {
             rates: Vec::with_capacity(3),
             asked: 0,
             refused: 0,
+            last_rate: None,
+            surges: 0,
         }
     }
 
     /// `mu` now, as a multiple of the start's.
-    pub(crate) fn scale(&self) -> f64 {
+    pub fn scale(&self) -> f64 {
         self.scale_of(self.upper)
     }
 
     /// The moves made so far, and those refused.
-    pub(crate) fn moves(&self) -> (u64, u64) {
+    pub fn moves(&self) -> (u64, u64) {
         (self.asked - self.refused, self.refused)
     }
 
     /// After a frame that cost `work`: the factor to move `mu` by, at the end of a
     /// window (none where the pair moved to put the other side where `mu` is).
-    pub(crate) fn after_frame(&mut self, work: u64) -> Option<f64> {
+    pub fn after_frame(&mut self, work: u64) -> Option<f64> {
+        if let Some(factor) = self.surged(work) {
+            return Some(factor);
+        }
         self.frames += 1;
         self.work += work;
         if self.frames < self.how.window {
@@ -144,6 +92,7 @@ impl Searcher {
         self.frames = 0;
         self.work = 0;
         self.rates.push(rate);
+        self.last_rate = Some(rate);
         let before = self.scale();
         if let [a0, b, a1] = self.rates[..] {
             // Side `a` (where `mu` is now) against side `b`, a steady trend cancelled;
@@ -177,7 +126,7 @@ impl Searcher {
 
     /// The move asked for by [`Self::after_frame`] was refused: `mu` stays where it
     /// was, and the search starts its measurement again from there.
-    pub(crate) fn refused(&mut self, factor: f64) {
+    pub fn refused(&mut self, factor: f64) {
         self.refused += 1;
         let now = self.scale() / factor;
         self.upper = (now - self.low * self.how.step).abs() < (now - self.low).abs();
@@ -188,6 +137,39 @@ impl Searcher {
             self.upper = true;
         }
         self.rates.clear();
+    }
+
+    /// [`AdaptiveMu::surge`]: a frame above `surge` times the last window's work per
+    /// frame while `mu` is above the start's moves `mu` down by one step at once (to no
+    /// less than the start's), and the search measures again from there. The trials of a
+    /// larger `mu` that a calm motion favours can cost many times more once the motion
+    /// quickens, and three windows are too slow to leave them.
+    fn surged(&mut self, work: u64) -> Option<f64> {
+        let surge = self.how.surge?;
+        let base = self.last_rate?;
+        let now = self.scale();
+        if (work as f64) <= surge * base || now <= 1.0 + 1e-9 {
+            return None;
+        }
+        let to = (now / self.how.step).max(1.0);
+        self.low = to / self.how.step;
+        self.upper = true;
+        if self.low < self.how.min_scale * (1.0 - 1e-9) {
+            self.low = to;
+            self.upper = false;
+        }
+        self.frames = 0;
+        self.work = 0;
+        self.rates.clear();
+        self.last_rate = None;
+        self.asked += 1;
+        self.surges += 1;
+        Some(self.scale() / now)
+    }
+
+    /// Moves made by [`AdaptiveMu::surge`] (counted in [`Self::moves`] too).
+    pub fn surges(&self) -> u64 {
+        self.surges
     }
 
     fn scale_of(&self, upper: bool) -> f64 {
@@ -205,17 +187,19 @@ mod tests {
 
     fn how(window: u32) -> AdaptiveMu {
         AdaptiveMu {
+            frame: 1.0 / 60.0,
             window,
             step: 2.0,
             min_scale: 0.125,
             max_scale: 2.0,
+            surge: None,
         }
     }
 
     /// Drive a search with windows of one frame against a cost per frame of `mu` and
     /// the frame's number, and return the scales it visited, one per frame.
     fn visits(cost: impl Fn(f64, usize) -> f64, frames: usize) -> Vec<f64> {
-        let mut s = Searcher::new(how(1));
+        let mut s = MuSearcher::new(how(1));
         (0..frames)
             .map(|k| {
                 s.after_frame(cost(s.scale(), k) as u64);
@@ -226,7 +210,7 @@ mod tests {
 
     #[test]
     fn the_search_dithers_once_per_window_and_moves_towards_the_cheaper_side() {
-        let mut s = Searcher::new(how(2));
+        let mut s = MuSearcher::new(how(2));
         assert_eq!(s.scale(), 1.0);
         assert_eq!(s.after_frame(10), None);
         assert_eq!(s.after_frame(10), Some(0.5), "tries the smaller mu first");
@@ -241,7 +225,7 @@ mod tests {
         assert_eq!(s.scale(), 0.25);
         // The other way: side 1.0 cheaper than 0.5. The pair moves up to (1, 2), whose
         // lower side is the mu in use: no move, and the next window tries 2.
-        let mut s = Searcher::new(how(1));
+        let mut s = MuSearcher::new(how(1));
         assert_eq!(s.after_frame(10), Some(0.5));
         assert_eq!(s.after_frame(20), Some(2.0));
         assert_eq!(s.after_frame(10), None);
@@ -276,7 +260,7 @@ mod tests {
 
     #[test]
     fn a_search_that_may_not_shrink_below_the_start_tries_a_larger_mu_first() {
-        let mut s = Searcher::new(AdaptiveMu {
+        let mut s = MuSearcher::new(AdaptiveMu {
             min_scale: 1.0,
             ..how(1)
         });
@@ -291,7 +275,7 @@ mod tests {
 
     #[test]
     fn a_refused_move_leaves_the_search_at_the_mu_the_run_kept() {
-        let mut s = Searcher::new(how(1));
+        let mut s = MuSearcher::new(how(1));
         let f = s.after_frame(10).unwrap();
         assert_eq!(f, 0.5);
         s.refused(f);
@@ -299,7 +283,7 @@ mod tests {
         // Measures again from there: the next window dithers to 0.5.
         assert_eq!(s.after_frame(10), Some(0.5));
         // A refused move of the pair: the kept mu becomes the pair's upper side.
-        let mut s = Searcher::new(how(1));
+        let mut s = MuSearcher::new(how(1));
         for w in [10, 5] {
             let f = s.after_frame(w).unwrap();
             assert!(f != 1.0);
@@ -312,58 +296,41 @@ mod tests {
     }
 
     #[test]
-    fn a_search_that_cannot_search_is_refused_with_its_field() {
-        let ok = AdaptiveMu::default();
-        assert!(ok.check().is_ok());
-        for (bad, field) in [
-            (AdaptiveMu { window: 0, ..ok }, "window"),
-            (AdaptiveMu { step: 1.0, ..ok }, "step"),
-            (
-                AdaptiveMu {
-                    step: f64::NAN,
-                    ..ok
-                },
-                "step",
-            ),
-            (
-                AdaptiveMu {
-                    min_scale: 0.0,
-                    ..ok
-                },
-                "min_scale",
-            ),
-            (
-                AdaptiveMu {
-                    min_scale: 2.0,
-                    ..ok
-                },
-                "min_scale",
-            ),
-            (
-                AdaptiveMu {
-                    max_scale: 0.5,
-                    ..ok
-                },
-                "max_scale",
-            ),
-            (
-                AdaptiveMu {
-                    max_scale: f64::INFINITY,
-                    ..ok
-                },
-                "max_scale",
-            ),
-            (
-                AdaptiveMu {
-                    min_scale: 1.0,
-                    max_scale: 1.5,
-                    ..ok
-                },
-                "no room",
-            ),
-        ] {
-            let e = bad.check().unwrap_err();
-            assert!(e.contains(field), "{e}");
+    fn a_surge_above_the_start_steps_mu_down_at_once_and_never_below_the_start() {
+        let mut s = MuSearcher::new(AdaptiveMu {
+            surge: Some(4.0),
+            min_scale: 0.125,
+            max_scale: 64.0,
+            ..how(1)
+        });
+        // Larger mu cheaper: the search climbs to 4 (pairs move up every third window).
+        let mut guard = 0;
+        while s.scale() < 4.0 {
+            s.after_frame((100.0 / s.scale()) as u64);
+            guard += 1;
+            assert!(guard < 100, "never reached 4: {}", s.scale());
         }
+        let windows = s.moves().0;
+        // A frame at ten times the last window's work (at most 50, at scale 2 or 4):
+        // down by one step at once.
+        assert_eq!(s.after_frame(500), Some(0.5));
+        assert_eq!(s.scale(), 2.0);
+        assert_eq!((s.moves().0, s.surges()), (windows + 1, 1));
+        // The next frame has no window to compare with: no surge, it measures again.
+        assert_eq!(s.after_frame(1000), Some(0.5), "dithers to the lower side");
+        assert_eq!(s.scale(), 1.0);
+        // At the start's mu (or below it) a surge moves nothing.
+        let mut at_start = MuSearcher::new(AdaptiveMu {
+            surge: Some(4.0),
+            ..how(1)
+        });
+        at_start.after_frame(10);
+        assert_eq!(at_start.scale(), 0.5);
+        assert_eq!(
+            at_start.after_frame(1000),
+            Some(2.0),
+            "the window's dither only"
+        );
+        assert_eq!(at_start.surges(), 0);
     }
 }
