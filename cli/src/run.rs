@@ -139,7 +139,7 @@ pub(crate) struct Args {
     /// With the online design: `on` searches, frame by frame, for the scale of mu at
     /// which the run costs least (from 1/16 to 64 times a quarter of --frame,
     /// dae_runtime::settings::AdaptiveMu); `off` keeps mu a quarter of --frame
-    /// [default: on with the online design].
+    /// [default: on with the online design for models of at most 256 constraints].
     #[arg(long, value_enum)]
     mu_search: Option<OnOff>,
     /// Algebraic start values: `consistent` (the z at which every constraint's highest

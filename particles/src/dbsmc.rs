@@ -159,6 +159,7 @@ pub fn online_settings<M: ParticleDae + ?Sized>(
         .collect();
     Online {
         search: None,
+        search_up_to: 0,
         ..Online::frame(FRAME)
     }
     .settings(layers)

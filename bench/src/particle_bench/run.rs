@@ -526,6 +526,7 @@ pub fn relaxed_settings_at<M: ParticleDae>(
         drift_safety: RELAXED_DRIFT_SAFETY,
         graze_per_mu: RELAXED_GRAZE_PER_MU,
         search: None,
+        search_up_to: 0,
     }
     .settings(e)
     .expect("the frame-tied design's constants and layers are positive")

@@ -75,8 +75,11 @@ pub(super) fn apply(args: &Args, settings: &mut Settings) -> Result<DesignInfo, 
         return Err(Reported);
     }
     let mut online = Online::frame(args.frame);
-    if args.mu_search == Some(OnOff::Off) {
-        online.search = None;
+    match args.mu_search {
+        Some(OnOff::Off) => online.search = None,
+        // Asked for by name: whatever the size of the model.
+        Some(OnOff::On) => online.search_up_to = usize::MAX,
+        None => {}
     }
     let designed = online.settings(settings.layers.eps.clone()).map_err(|e| {
         let message = match e {
@@ -89,6 +92,7 @@ pub(super) fn apply(args: &Args, settings: &mut Settings) -> Result<DesignInfo, 
         error!("online design: {message}");
         Reported
     })?;
+    let designed_search = designed.layers.adapt_mu.is_some();
     let reaching = match args.reaching {
         ReachingArg::Attract => Reaching::AttractingSurfaces,
         ReachingArg::Contract => Reaching::ContractingLayers,
@@ -141,7 +145,7 @@ pub(super) fn apply(args: &Args, settings: &mut Settings) -> Result<DesignInfo, 
         line: format!(
             "  design online (no pilot): frame {} s, mu = frame/4{}, gains from {} eps/mu following the drift (grazing returns mu/8 apart), rate -k s/eps inside the layer, {alpha}{}",
             online.frame,
-            if online.search.is_some() {
+            if designed_search {
                 " at the start, then searched for frame by frame"
             } else {
                 ""

@@ -58,6 +58,11 @@ impl<M: Model> Simulator<M> {
         if self.stats.loss.lost() {
             return Ok(());
         }
+        // The reaching phase is not the cost of the run, and a larger mu (its gains
+        // scaled down with it) would slow the reaching itself.
+        if self.stats.reaching_time.is_none() {
+            return Ok(());
+        }
         let Some(factor) = search.searcher.after_frame(frame_work) else {
             return Ok(());
         };

@@ -127,6 +127,9 @@ fn the_search_follows_the_settings_and_a_bad_search_is_refused_by_field() {
     let a = s.layers.adapt_mu.expect("on by default");
     assert_eq!(a.frame, 0.04, "the search looks at the design's frames");
     assert_eq!((a.min_scale, a.max_scale), (1.0 / 16.0, 64.0));
+    // Above `search_up_to` constraints mu is kept.
+    let big = o.settings(vec![1e-3; o.search_up_to + 1]).unwrap();
+    assert!(big.layers.adapt_mu.is_none());
     let bad = Online {
         search: Some(dae_runtime::settings::AdaptiveMu {
             step: 1.0,
