@@ -40,6 +40,7 @@ mod design;
 mod emit;
 mod failure;
 mod family;
+mod fmu;
 mod messages;
 mod pilot;
 mod progress;
@@ -71,6 +72,9 @@ enum Command {
     Derive(derive::Args),
     /// Print the Rust code generated for each model of a `.dae` file.
     Emit(emit::Args),
+    /// Write an FMI 2.0 co-simulation FMU of a model (Linux x86-64), run by DBSMC with
+    /// the online design of `daec run`.
+    Fmu(fmu::Args),
 }
 
 fn main() -> ExitCode {
@@ -90,6 +94,10 @@ fn main() -> ExitCode {
         }
         Command::Derive(args) => derive::run(&args).map(|()| 0),
         Command::Emit(args) => emit::run(&args).map(|()| 0),
+        Command::Fmu(args) => {
+            failure::start("fmu", false);
+            fmu::run(&args).map(|()| 0)
+        }
     };
     match outcome {
         Ok(code) => ExitCode::from(code),

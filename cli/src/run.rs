@@ -7,6 +7,7 @@
 //! ([`Outcome`]).
 
 mod args;
+mod grid;
 mod online;
 mod report;
 
@@ -151,6 +152,11 @@ pub(crate) struct Args {
     /// reaching phase [default: at the end of the reaching phase].
     #[arg(long, default_value_t = 0.0)]
     settle: f64,
+    /// Cut the run at t = H, 2H, .. and write only those samples to --csv and --plot,
+    /// as a co-simulation importer runs `daec fmu`'s FMU with communication step H
+    /// (the same cuts give the same trajectory).
+    #[arg(long, value_name = "H")]
+    every: Option<f64>,
     /// Fail if the reaching phase takes longer than this many seconds.
     #[arg(long)]
     reaching_limit: Option<f64>,
@@ -532,7 +538,7 @@ fn simulate(
     // Each output keeps its own decimation (both are `None` without --csv and --plot);
     // the progress bar on a terminal asks for no samples of its own.
     let mut sink = Progress::new(
-        Tee(csv, trace),
+        grid::OnGrid::new(Tee(csv, trace), args.every),
         settings.window.t_start,
         settings.window.t_end,
         crate::progress::enabled(),
@@ -547,9 +553,9 @@ fn simulate(
         }
         Reported
     })?;
-    let result = sim.run(&mut sink);
+    let result = grid::run(&mut sim, args.every, &mut sink);
     sink.clear();
-    let sink = sink.inner_mut();
+    let sink = &mut sink.inner_mut().inner;
     let summary = match result {
         Ok(s) => s,
         Err(e) => {

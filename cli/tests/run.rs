@@ -597,3 +597,33 @@ fn the_online_design_searches_for_mu_unless_told_not_to() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("--mu-search"), "{err}");
 }
+
+#[test]
+fn every_cuts_the_run_at_its_grid_and_writes_only_those_samples() {
+    let csv = temp_dir().join("every.csv");
+    let p = pendulum();
+    let c = csv.display().to_string();
+    let args = ["run", &p, "--t-end", "1", "--eps", "0.2", "--json"];
+    let o = daec(&[&args[..], &["--every", "0.05", "--csv", &c]].concat());
+    let cut = json(&o);
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let times: Vec<f64> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').next().unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(times.len(), 21, "t = 0, 0.05, .., 1: {times:?}");
+    for (k, t) in times.iter().enumerate() {
+        assert!((t - k as f64 * 0.05).abs() < 1e-12, "row {k} at t = {t}");
+    }
+    // The cuts end steps only: the run holds its layers as the run in one piece does.
+    let whole = json(&daec(&args));
+    assert_eq!(cut["exit_status"], 0);
+    assert_eq!(whole["exit_status"], 0);
+    for s in cut["max_abs_s"].as_array().unwrap() {
+        assert!(num(s) <= 1.01 * 0.2, "{}", cut["max_abs_s"]);
+    }
+    let bad = daec(&[&args[..], &["--every", "-1"]].concat());
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--every"));
+}

@@ -253,6 +253,7 @@ pub(super) fn check_args(args: &Args, integration: &Integration, m: usize) -> Re
         ("--pilot", args.pilot),
         ("--follow-drift", args.follow_drift),
         ("--graze", args.graze),
+        ("--every", args.every),
     ] {
         if let Some(v) = v {
             check_number(flag, v, false)?;

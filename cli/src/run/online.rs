@@ -120,6 +120,9 @@ pub(super) fn apply(args: &Args, settings: &mut Settings) -> Result<DesignInfo, 
     if args.max_step.is_none() {
         settings.integration.max_step = designed.integration.max_step;
     }
+    // The design's own step (a frame; `--step` is refused above), so that a run here is
+    // the run of `Online::settings` from Rust and of `daec fmu`'s FMU.
+    settings.integration.step = designed.integration.step;
     let mu = online.mu();
     let alpha = match args.alpha {
         Some(AlphaArg::Cheap) => "the cheap alpha_hat (given)",

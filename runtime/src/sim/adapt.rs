@@ -34,6 +34,19 @@ impl SearchRun {
     pub(super) fn next_end(&self) -> f64 {
         self.origin + (self.frames + 1) as f64 * self.frame
     }
+
+    /// The end of the frame the run is in as a run to `target` meets it: `target`
+    /// itself when the two differ by rounding only (a caller's cuts that sum one frame
+    /// after another drift from `origin + k frame` by a few units of the last place a
+    /// frame), so that no piece of a few ulps is stepped.
+    pub(super) fn end_toward(&self, target: f64) -> f64 {
+        let end = self.next_end();
+        if (end - target).abs() <= 1e-9 * self.frame {
+            target
+        } else {
+            end
+        }
+    }
 }
 
 impl<M: Model> Simulator<M> {

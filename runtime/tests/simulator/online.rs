@@ -184,3 +184,29 @@ fn a_run_in_pieces_with_a_search_keeps_the_search_on_its_own_frames() {
     let other = in_pieces(&sevenths);
     assert_eq!(other.mu_search.unwrap().frames, 60);
 }
+
+#[test]
+fn cuts_that_drift_from_the_search_frames_by_rounding_step_no_sliver() {
+    // An importer that sums its communication steps (t += 1/60) meets the search's frame
+    // ends (origin + k/60) a few ulps away: those pieces must not be stepped (a step
+    // of 1e-17 s underflows the error control).
+    let p = Pendulum::default();
+    let settings = Online::default().design(&p, &[1e-3], 2.0).unwrap();
+    let mut sim = Simulator::new(&p, settings).unwrap();
+    let mut trace = Trace::new();
+    sim.start(&mut trace).unwrap();
+    let (h, mut t) = (1.0 / 60.0, 0.0);
+    let mut off_frame = 0;
+    for k in 1..120 {
+        t += h;
+        off_frame += usize::from(t != k as f64 * h);
+        sim.advance_to(t, &mut trace).unwrap();
+        assert_eq!(sim.time(), t);
+    }
+    assert!(
+        off_frame > 10,
+        "the cuts drifted from the frames at {off_frame} points"
+    );
+    let summary = sim.finish(&mut trace).unwrap();
+    assert!(summary.bound_held(), "{summary}");
+}
