@@ -254,18 +254,13 @@ fn declare<'a>(m: &'a ModelAst, diags: &mut Vec<Diagnostic>) -> (Scope<'a>, Decl
                 diags.push(Diagnostic::new(message, d.name.span, "reserved word").hint(hint));
             }
             if let Some(first) = scope.names.get(name) {
-                diags.push(
-                    Diagnostic::new(
-                        format!("`{name}` is declared twice"),
-                        d.name.span,
-                        format!("declared again here, as {}", kind.words()),
-                    )
-                    .related(
-                        first.span,
-                        format!("first declared here, as {}", first.kind.words()),
-                    )
-                    .hint("rename one of them: each name in a model means one thing"),
-                );
+                diags.push(names::declared_twice(
+                    name,
+                    d.name.span,
+                    kind.words(),
+                    first.span,
+                    first.kind.words(),
+                ));
                 scope.duplicated.insert(name);
                 continue;
             }
