@@ -280,6 +280,28 @@ pub enum ExprKind {
     If(Box<Expr>, Box<Expr>, Box<Expr>),
 }
 
+impl ExprKind {
+    /// Whether this form is version 2's alone (element access, components, sums and the
+    /// construction-time forms): the version-1 checker never sees one.
+    pub(crate) fn is_version_2(&self) -> bool {
+        match self {
+            ExprKind::Num(_)
+            | ExprKind::Time
+            | ExprKind::Name(_)
+            | ExprKind::Neg(_)
+            | ExprKind::Binary(..)
+            | ExprKind::Call(..) => false,
+            ExprKind::Index(..)
+            | ExprKind::Field(..)
+            | ExprKind::Sum { .. }
+            | ExprKind::Compare(..)
+            | ExprKind::Logic(..)
+            | ExprKind::Not(_)
+            | ExprKind::If(..) => true,
+        }
+    }
+}
+
 impl File {
     /// Set every span in the tree to `0..0` (for comparing the two front ends).
     pub fn erase_spans(&mut self) {

@@ -20,7 +20,6 @@ mod lower;
 #[cfg(test)]
 mod tests;
 mod text;
-mod text_family;
 
 use crate::ast::Span;
 use crate::compiled::CompiledModel;

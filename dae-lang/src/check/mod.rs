@@ -12,7 +12,7 @@ mod lets;
 mod names;
 mod resolve;
 
-use crate::ast::{Decl, File, Item, ModelAst, Span};
+use crate::ast::{Binder, Decl, Expr, File, Item, ModelAst, Span};
 use crate::diag::Diagnostic;
 use crate::model::{ConstraintDef, DerDef, Family, LetDef, Model, ParamDef, RExpr, VarDef};
 use resolve::{Ctx, Entry, Kind, Scope};
@@ -254,18 +254,13 @@ fn declare<'a>(m: &'a ModelAst, diags: &mut Vec<Diagnostic>) -> (Scope<'a>, Decl
                 diags.push(Diagnostic::new(message, d.name.span, "reserved word").hint(hint));
             }
             if let Some(first) = scope.names.get(name) {
-                diags.push(
-                    Diagnostic::new(
-                        format!("`{name}` is declared twice"),
-                        d.name.span,
-                        format!("declared again here, as {}", kind.words()),
-                    )
-                    .related(
-                        first.span,
-                        format!("first declared here, as {}", first.kind.words()),
-                    )
-                    .hint("rename one of them: each name in a model means one thing"),
-                );
+                diags.push(names::declared_twice(
+                    name,
+                    d.name.span,
+                    kind.words(),
+                    first.span,
+                    first.kind.words(),
+                ));
                 scope.duplicated.insert(name);
                 continue;
             }
@@ -395,11 +390,54 @@ fn ders(
     out
 }
 
-/// The constraints in order, named; reports duplicate names.
-///
-/// An unnamed constraint is named `c<k>`, `k` being its position among all the
-/// constraints of the model (1-based): the third constraint is `c3` whether or not the
-/// first two have names. A generated name equal to a written one is reported.
+/// A constraint item with its name: the written one, or `c<k>`, `k` being its position
+/// among all the constraints of the model (1-based): the third constraint is `c3`
+/// whether or not the first two have names.
+struct NamedConstraint<'a> {
+    name: String,
+    /// Where the name is written (the whole constraint for a generated name).
+    name_span: Span,
+    written: bool,
+    binder: Option<&'a Binder>,
+    lhs: &'a Expr,
+    rhs: &'a Expr,
+    /// The whole constraint.
+    span: Span,
+}
+
+/// The constraints of a model in order, named.
+fn named_constraints(m: &ModelAst) -> impl Iterator<Item = NamedConstraint<'_>> {
+    let items = m.items.iter().filter_map(|item| match item {
+        Item::Constraint {
+            name,
+            binder,
+            lhs,
+            rhs,
+            span,
+        } => Some((name, binder, lhs, rhs, *span)),
+        _ => None,
+    });
+    items
+        .enumerate()
+        .map(|(i, (name, binder, lhs, rhs, span))| {
+            let (name, name_span, written) = match name {
+                Some(n) => (n.name.clone(), n.span, true),
+                None => (format!("c{}", i + 1), span, false),
+            };
+            NamedConstraint {
+                name,
+                name_span,
+                written,
+                binder: binder.as_ref(),
+                lhs,
+                rhs,
+                span,
+            }
+        })
+}
+
+/// The constraints in order, named ([`named_constraints`]); reports duplicate names,
+/// a generated name equal to a written one included.
 fn constraints(
     m: &ModelAst,
     scope: &Scope<'_>,
@@ -408,22 +446,16 @@ fn constraints(
     let mut out = Vec::new();
     // name -> (span, written by the user)
     let mut seen: HashMap<String, (Span, bool)> = HashMap::new();
-    for item in &m.items {
-        let Item::Constraint {
-            name,
+    for constraint in named_constraints(m) {
+        let NamedConstraint {
+            name: cname,
+            name_span: cspan,
+            written,
             lhs,
             rhs,
             span,
             ..
-        } = item
-        else {
-            continue;
-        };
-        let k = out.len() + 1;
-        let (cname, cspan, written) = match name {
-            Some(n) => (n.name.clone(), n.span, true),
-            None => (format!("c{k}"), *span, false),
-        };
+        } = constraint;
         if written && names::is_reserved(&cname) {
             let (message, hint) = names::reserved_message(&cname);
             diags.push(Diagnostic::new(message, cspan, "reserved word").hint(hint));
@@ -463,7 +495,7 @@ fn constraints(
         out.push(residual.map(|residual| ConstraintDef {
             name: cname,
             residual,
-            span: *span,
+            span,
             over: None,
         }));
     }

@@ -1,6 +1,8 @@
 //! Reserved words and "did you mean" suggestions.
 
 use crate::Func;
+use crate::ast::Span;
+use crate::diag::Diagnostic;
 use std::collections::HashMap;
 
 /// The keywords of the language (function names are reserved as well).
@@ -33,6 +35,24 @@ pub(super) fn reserved_message(name: &str) -> (String, String) {
         format!("reserved word `{name}` cannot be used as a name ({what})"),
         format!("choose another name, e.g. `{name}_` or `{name}1`"),
     )
+}
+
+/// A name declared a second time; `kind` and `first_kind` are what each declaration
+/// makes of it, in words (`a parameter`).
+pub(super) fn declared_twice(
+    name: &str,
+    span: Span,
+    kind: &str,
+    first: Span,
+    first_kind: &str,
+) -> Diagnostic {
+    Diagnostic::new(
+        format!("`{name}` is declared twice"),
+        span,
+        format!("declared again here, as {kind}"),
+    )
+    .related(first, format!("first declared here, as {first_kind}"))
+    .hint("rename one of them: each name in a model means one thing")
 }
 
 /// Longest name whose misspellings are searched: a longer name only gets a suggestion

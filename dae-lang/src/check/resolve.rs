@@ -92,14 +92,6 @@ impl Scope<'_> {
                 let b = self.resolve(b, ctx, diags);
                 Some(RExpr::Binary(*op, Box::new(a?), Box::new(b?)))
             }
-            // Version-2 forms never reach the version-1 checker (`uses_version_2`).
-            ExprKind::Index(..)
-            | ExprKind::Field(..)
-            | ExprKind::Sum { .. }
-            | ExprKind::Compare(..)
-            | ExprKind::Logic(..)
-            | ExprKind::Not(_)
-            | ExprKind::If(..) => None,
             ExprKind::Call(f, args) => {
                 let resolved: Vec<Option<RExpr>> =
                     args.iter().map(|a| self.resolve(a, ctx, diags)).collect();
@@ -109,6 +101,9 @@ impl Scope<'_> {
                     .collect::<Option<Vec<_>>>()
                     .map(|a| RExpr::Call(func, a))
             }
+            // Version-2 forms (`ExprKind::is_version_2`) never reach the version-1
+            // checker (`uses_version_2`).
+            _ => None,
         }
     }
 

@@ -151,18 +151,13 @@ impl<'a> Checker<'a> {
                 .push(Diagnostic::new(message, name.span, "reserved word").hint(hint));
         }
         if let Some(first_decl) = self.names.get(n) {
-            self.diags.push(
-                Diagnostic::new(
-                    format!("`{n}` is declared twice"),
-                    name.span,
-                    format!("declared again here, as {}", kind.words()),
-                )
-                .related(
-                    first_decl.span,
-                    format!("first declared here, as {}", first_decl.kind.words()),
-                )
-                .hint("rename one of them: each name in a model means one thing"),
-            );
+            self.diags.push(names::declared_twice(
+                n,
+                name.span,
+                kind.words(),
+                first_decl.span,
+                first_decl.kind.words(),
+            ));
             self.duplicated.insert(n);
             return false;
         }

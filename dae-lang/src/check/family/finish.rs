@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use super::expr::{Env, Ty, Val, Where};
 use super::{Checker, Component, Kind, LET_STRIDE, LetState};
 use crate::ast::{BinOp, Item, Span};
-use crate::check::{der_of_non_state, der_of_time, lets};
+use crate::check::{NamedConstraint, der_of_non_state, der_of_time, lets, named_constraints};
 use crate::diag::Diagnostic;
 use crate::model::{
     ConstraintDef, DerDef, Family, InputDef, LetDef, MapKind, Model, ParamDef, RExpr, VarDef,
@@ -331,23 +331,17 @@ impl Checker<'_> {
         let m = self.m;
         let mut out = Vec::new();
         let mut seen: HashMap<String, Span> = HashMap::new();
-        for item in &m.items {
-            let Item::Constraint {
-                name,
+        for constraint in named_constraints(m) {
+            let NamedConstraint {
+                name: cname,
+                name_span: cspan,
+                written,
                 binder,
                 lhs,
                 rhs,
                 span,
-            } = item
-            else {
-                continue;
-            };
-            let k = out.len() + 1;
-            let (cname, cspan) = match name {
-                Some(n) => (n.name.clone(), n.span),
-                None => (format!("c{k}"), *span),
-            };
-            if name.is_some() && super::decl::is_reserved(&cname) {
+            } = constraint;
+            if written && super::decl::is_reserved(&cname) {
                 self.diags.push(
                     Diagnostic::new(
                         format!("reserved word `{cname}` cannot be used as a name"),
@@ -372,7 +366,7 @@ impl Checker<'_> {
             } else {
                 seen.insert(cname.clone(), cspan);
             }
-            let Ok(over) = self.binder_set(binder.as_ref()) else {
+            let Ok(over) = self.binder_set(binder) else {
                 out.push(None);
                 continue;
             };
@@ -382,7 +376,7 @@ impl Checker<'_> {
                 place: Where::Equation,
                 owner: cname.clone(),
             };
-            if let (Some(set), Some(e)) = (over, binder.as_ref().and_then(|b| b.elem.as_ref())) {
+            if let (Some(set), Some(e)) = (over, binder.and_then(|b| b.elem.as_ref())) {
                 env.binders.push(super::expr::Binding {
                     name: e.name.clone(),
                     set,
@@ -403,7 +397,7 @@ impl Checker<'_> {
                     self.diags.push(
                         Diagnostic::new(
                             format!("constraint `{cname}` is {}, not one equation", bad.words()),
-                            *span,
+                            span,
                             "vector constraint",
                         )
                         .hint("a constraint is one scalar equation: constrain a number such as `norm(d[l])`, `dot(a, b)` or `v.x`"),
@@ -415,7 +409,7 @@ impl Checker<'_> {
             out.push(residual.map(|residual| ConstraintDef {
                 name: cname,
                 residual,
-                span: *span,
+                span,
                 over,
             }));
         }

@@ -46,21 +46,15 @@ fn decl_v2(d: &Decl) -> bool {
 const FAMILY_FUNCTIONS: [&str; 7] = ["vec2", "vec3", "dot", "norm", "cross", "div", "mod"];
 
 fn expr_v2(e: &Expr) -> bool {
-    match &e.kind {
-        ExprKind::Num(_) | ExprKind::Time | ExprKind::Name(_) => false,
-        ExprKind::Neg(a) => expr_v2(a),
-        ExprKind::Binary(_, a, b) => expr_v2(a) || expr_v2(b),
-        ExprKind::Call(f, args) => {
-            FAMILY_FUNCTIONS.contains(&f.name.as_str()) || args.iter().any(expr_v2)
+    e.kind.is_version_2()
+        || match &e.kind {
+            ExprKind::Neg(a) => expr_v2(a),
+            ExprKind::Binary(_, a, b) => expr_v2(a) || expr_v2(b),
+            ExprKind::Call(f, args) => {
+                FAMILY_FUNCTIONS.contains(&f.name.as_str()) || args.iter().any(expr_v2)
+            }
+            _ => false,
         }
-        ExprKind::Index(..)
-        | ExprKind::Field(..)
-        | ExprKind::Sum { .. }
-        | ExprKind::Compare(..)
-        | ExprKind::Logic(..)
-        | ExprKind::Not(_)
-        | ExprKind::If(..) => true,
-    }
 }
 
 /// What a declared name is.
