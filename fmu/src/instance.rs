@@ -48,6 +48,8 @@ pub(crate) struct Instance<M: Driven> {
     loss_reported: bool,
     // Scratch for the constraint errors (`w`, `s`, `alpha_hat`, `mu`, the initial point).
     w: Vec<f64>,
+    /// Where each constraint's `w` starts in `w` (its `w_i`).
+    w_offsets: Vec<usize>,
     s: Vec<f64>,
     ah: Vec<f64>,
     mu: Vec<f64>,
@@ -60,6 +62,15 @@ impl<M: Driven> Instance<M> {
     pub(crate) fn new(model: M, config: Config) -> Self {
         let vars = variables::of(&model, config.eps);
         let m = model.n_constraints();
+        let w_offsets: Vec<usize> = model
+            .indices()
+            .iter()
+            .scan(0, |at, &r| {
+                let here = *at;
+                *at += r;
+                Some(here)
+            })
+            .collect();
         let w_len = model.indices().iter().sum();
         let inputs = (0..model.n_inputs())
             .map(|i| {
@@ -83,6 +94,7 @@ impl<M: Driven> Instance<M> {
             inputs_changed: false,
             loss_reported: false,
             w: vec![0.0; w_len],
+            w_offsets,
             s: vec![0.0; m],
             ah: vec![0.0; m],
             mu: vec![1.0; m],
@@ -156,6 +168,14 @@ impl<M: Driven> Instance<M> {
 
     /// `fmi2GetReal`.
     pub(crate) fn get_real(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), String> {
+        // The constraint errors come from one evaluation for the whole call.
+        if vrs.iter().any(|&vr| {
+            self.vars
+                .get(vr as usize)
+                .is_some_and(|v| v.kind == Kind::Error)
+        }) {
+            self.errors()?;
+        }
         for (&vr, o) in vrs.iter().zip(out.iter_mut()) {
             let v = self.variable(vr)?;
             let (kind, i) = (v.kind, v.index);
@@ -165,11 +185,7 @@ impl<M: Driven> Instance<M> {
                 Kind::Input => self.inputs[i][0],
                 Kind::State => self.point()?.0[i],
                 Kind::Alg => self.point()?.1[i],
-                Kind::Error => {
-                    self.errors()?;
-                    let offset: usize = self.model()?.indices()[..i].iter().sum();
-                    self.w[offset]
-                }
+                Kind::Error => self.w[self.w_offsets[i]],
             };
         }
         Ok(())
