@@ -202,12 +202,9 @@ impl<M: Driven> Instance<M> {
 
     /// Every constraint's `w` at the current point, into `self.w`.
     fn errors(&mut self) -> Result<(), String> {
-        let (t, x, z, model): (f64, &[f64], &[f64], &M) = match &mut self.stage {
-            Stage::Setup(m) => {
-                m.initial_state(&mut self.x0);
-                m.initial_alg(&mut self.z0);
-                (self.start, &self.x0, &self.z0, m)
-            }
+        let (t, x, z, model): (f64, &[f64], &[f64], &M) = match &self.stage {
+            // `x0` and `z0` follow the parameters (`new`, `set_real`).
+            Stage::Setup(m) => (self.start, &self.x0, &self.z0, m),
             Stage::Running(sim) => (sim.time(), sim.state(), sim.alg(), sim.model()),
             Stage::Failed(why) => return Err(failed(why)),
         };

@@ -92,12 +92,6 @@ impl<M: Model> Simulator<M> {
             Phase::Running => {}
         }
         let target = t.min(self.set.window.t_end);
-        // Two cut points a few rounding errors apart (a caller's `t + h` beside the
-        // search's `origin + k frame`) are one: a step between them would only underflow.
-        let rounding = 4.0 * f64::EPSILON * self.pt.t.abs().max(target.abs());
-        if (target - self.pt.t).abs() <= rounding {
-            return Ok(());
-        }
         if target.is_nan() || target < self.pt.t {
             return Err(SimError::Backwards {
                 requested: t,
