@@ -29,7 +29,7 @@ use std::path::Path;
 
 use crate::{Reported, source};
 use dae_lang::CompiledModel;
-use dae_lang::family::{Construction, Spec};
+use dae_lang::family::{AssignError, Construction, Spec};
 use dae_lang::model::MapKind;
 use dae_runtime::Model;
 use dae_runtime::family::{FamilyInstance, Interpreter, Kernels};
@@ -329,37 +329,27 @@ pub(crate) fn spec_for(
 ) -> Result<Spec, Reported> {
     let mut spec = Spec::default();
     for (name, value) in sets {
-        if c.sizes.iter().any(|s| &s.name == name) {
-            if value.fract() != 0.0 || *value < 0.0 || *value > i64::MAX as f64 / 2.0 {
+        match spec.assign(c, name, *value) {
+            Ok(()) => {}
+            Err(AssignError::NotWhole) => {
                 error!(
                     "--set {name}={value}: `{name}` is a size, a whole number >= 0\n  hint: e.g. --set {name}=1000"
                 );
                 return Err(Reported);
             }
-            spec.sizes.push((name.clone(), *value as i64));
-        } else if c
-            .params
-            .iter()
-            .any(|p| &p.name == name && p.family.over.is_none())
-        {
-            spec.params.push((name.clone(), *value));
-        } else if let Some(p) = c
-            .params
-            .iter()
-            .find(|p| p.name.split('.').next() == Some(name.split('[').next().unwrap_or("")))
-        {
-            error!(
-                "--set {name}={value}: `{}` is a per-element parameter (one value per element of its set)\n  hint: change the formula of its declaration, or set its elements through the runtime API (`set_param_named(\"{}[3]\", ..)`)",
-                p.name.split('.').next().unwrap_or(&p.name),
-                p.name.split('.').next().unwrap_or(&p.name),
-            );
-            return Err(Reported);
-        } else {
-            error!(
-                "--set {name}={value}: the model has no size or scalar parameter `{name}`\n  hint: {}",
-                settable(c)
-            );
-            return Err(Reported);
+            Err(AssignError::PerElement(family)) => {
+                error!(
+                    "--set {name}={value}: `{family}` is a per-element parameter (one value per element of its set)\n  hint: change the formula of its declaration, or set its elements through the runtime API (`set_param_named(\"{family}[3]\", ..)`)",
+                );
+                return Err(Reported);
+            }
+            Err(AssignError::Unknown) => {
+                error!(
+                    "--set {name}={value}: the model has no size or scalar parameter `{name}`\n  hint: {}",
+                    settable(c)
+                );
+                return Err(Reported);
+            }
         }
     }
     if let Some(t) = topology {

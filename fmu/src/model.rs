@@ -1,6 +1,7 @@
 //! The model an FMU runs: compiled from its source at instantiation and evaluated by the
 //! runtime's interpreter, as `daec run` evaluates it.
 
+use dae_lang::family::AssignError;
 use dae_runtime::Model;
 use dae_runtime::family::{FamilyInstance, Interpreted, Interpreter, Kernels};
 
@@ -94,22 +95,13 @@ pub(crate) fn load(src: &str, config: &Config) -> Result<Loaded, String> {
     let c = kernels.construction();
     let mut spec = dae_lang::family::Spec::default();
     for (name, value) in &config.sets {
-        if c.sizes.iter().any(|s| &s.name == name) {
-            if value.fract() != 0.0 || *value < 0.0 || *value > i64::MAX as f64 / 2.0 {
-                return Err(format!("{name} = {value}: a size is a whole number >= 0"));
+        spec.assign(c, name, *value).map_err(|e| match e {
+            AssignError::NotWhole => format!("{name} = {value}: a size is a whole number >= 0"),
+            AssignError::PerElement(family) => {
+                format!("`{family}` is a per-element parameter: it is set through its formula")
             }
-            spec.sizes.push((name.clone(), *value as i64));
-        } else if c
-            .params
-            .iter()
-            .any(|p| &p.name == name && p.family.over.is_none())
-        {
-            spec.params.push((name.clone(), *value));
-        } else {
-            return Err(format!(
-                "the model has no size or scalar parameter `{name}`"
-            ));
-        }
+            AssignError::Unknown => format!("the model has no size or scalar parameter `{name}`"),
+        })?;
     }
     if let Some(m) = c
         .maps

@@ -50,6 +50,47 @@ pub struct Spec {
     pub params: Vec<(String, f64)>,
 }
 
+/// Why [`Spec::assign`] refused `name = value`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum AssignError {
+    /// `name` is a size and `value` not a whole number >= 0 (or too large).
+    NotWhole,
+    /// `name` is a per-element parameter (one value per element of its set), whose
+    /// family is given.
+    PerElement(String),
+    /// The model has no size or scalar parameter `name`.
+    Unknown,
+}
+
+impl Spec {
+    /// Gives a size or a scalar parameter of the model `c` by name (`N = 1000`,
+    /// `m_end = 10`), as `daec --set` and an FMU's export do.
+    pub fn assign(&mut self, c: &Construction, name: &str, value: f64) -> Result<(), AssignError> {
+        if c.sizes.iter().any(|s| s.name == name) {
+            if value.fract() != 0.0 || value < 0.0 || value > i64::MAX as f64 / 2.0 {
+                return Err(AssignError::NotWhole);
+            }
+            self.sizes.push((name.to_string(), value as i64));
+        } else if c
+            .params
+            .iter()
+            .any(|p| p.name == name && p.family.over.is_none())
+        {
+            self.params.push((name.to_string(), value));
+        } else if let Some(p) = c
+            .params
+            .iter()
+            .find(|p| p.name.split('.').next() == Some(name.split('[').next().unwrap_or("")))
+        {
+            let family = p.name.split('.').next().unwrap_or(&p.name);
+            return Err(AssignError::PerElement(family.to_string()));
+        } else {
+            return Err(AssignError::Unknown);
+        }
+        Ok(())
+    }
+}
+
 /// A construction-time error: what, where (the declaration), and a hint.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ConstructError {

@@ -71,7 +71,7 @@ mod schedule;
 
 pub(crate) use schedule::compile;
 
-pub use construct::{ConstructError, Instance, JacobianPattern, Spec, construct};
+pub use construct::{AssignError, ConstructError, Instance, JacobianPattern, Spec, construct};
 pub use eval::{Scratch, Values};
 pub use expand::{Expanded, expand};
 pub use layout::{Layout, Slot};
