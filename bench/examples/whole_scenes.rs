@@ -150,7 +150,12 @@ fn main() {
         if let Some(dir) = &pictures {
             let stem = format!("{}_{}", scene.stem(), spec.method());
             if r.complete() && !left_a_guarantee(&r) {
-                match write_pictures(dir, &stem, scene.system.links(), &capture, eps) {
+                let panel = dae_bench::particle_bench::Panel {
+                    method: format!("{} {}", spec.method(), spec.knob()),
+                    capture,
+                };
+                let marks = dae_bench::particle_bench::Marks::of(scene);
+                match write_pictures(dir, &stem, scene.system.links(), &marks, &panel, eps) {
                     Ok(files) => eprintln!("  pictures: {}", files.join(", ")),
                     Err(e) => picture_error = Some(format!("pictures {stem}: {e}")),
                 }

@@ -30,10 +30,12 @@
 //!   test and benchmark matrices of the runtime's `J_s` solvers
 //!   (`cargo run --release -p dae-bench --example solvers` times every solver at 10^2,
 //!   10^3 and 10^4 links with fitted exponents).
-//! * **Particle scenes** ([`ParticleScene`](particle_bench::ParticleScene), [`c1`](particle_bench::c1) ... [`c4`](particle_bench::c4), [`MethodSpec`](particle_bench::MethodSpec),
+//! * **Particle scenes** ([`ParticleScene`](particle_bench::ParticleScene), [`c1`](particle_bench::c1) ... [`c7`](particle_bench::c7), [`MethodSpec`](particle_bench::MethodSpec),
 //!   [`run_particle_method`](particle_bench::run_particle_method), [`ParticleRecord`](particle_bench::ParticleRecord), [`write_particles_csv`](particle_bench::write_particles_csv)): the scenes of
 //!   docs/particles.md through the `dae_particles::Backend` seam, with the baselines
-//!   [`Xpbd`](particle_methods::Xpbd) (zero compliance, substeps or iterations) and [`IndexOneParticles`](particle_methods::IndexOneParticles) (RK4,
+//!   [`Xpbd`](particle_methods::Xpbd) (zero compliance, substeps or iterations),
+//!   [`Vbd`](particle_methods::Vbd) and [`Avbd`](particle_methods::Avbd) (vertex block
+//!   descent on stiff springs, and with hard links) and [`IndexOneParticles`](particle_methods::IndexOneParticles) (RK4,
 //!   exact solve at every stage), the DBSMC design from an index-1 pilot
 //!   ([`particle_pilot`](particle_bench::particle_pilot), [`dbsmc_settings`](particle_bench::dbsmc_settings)), a method's settings run as a series
 //!   ([`run_series`](particle_bench::run_series): XPBD's and the index-1 method's costlier settings are left out once

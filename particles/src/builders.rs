@@ -1,5 +1,6 @@
 //! The scenes' builders: a chain (C1), hair strands on a swaying head (C2), a cloth grid
-//! pinned three ways (C3, and C4's cloth). Every builder starts at rest, on the
+//! pinned three ways (C3, and C4's cloth), and a rope of any links, masses and start
+//! direction (C5-C7: the heavy-end pendulums of the peers' papers). Every builder starts at rest, on the
 //! constraint manifold (every link at its rest length), with [`GRAVITY`].
 
 use crate::motion::{Pin, Sway};
@@ -30,6 +31,65 @@ pub fn chain(links: usize, end_mass_ratio: f64) -> Result<System, SystemError> {
     let mut masses = vec![m; links + 1];
     masses[links] = m * end_mass_ratio;
     let edges: Vec<(usize, usize)> = (0..links).map(|k| (k, k + 1)).collect();
+    System::from_edges(positions, masses, &edges)?.with_fixed(0)
+}
+
+/// A rope (scenes C5-C7): `links` equal links of `link_length` m hanging from particle
+/// 0, pinned at the origin, the others of `particle_mass` kg except the free end,
+/// `end_mass_ratio` times heavier, released at rest along `direction` (any non-zero
+/// vector; it is normalised): `[1, 0, 0]` starts horizontal, `[sin a, 0, -cos a]`
+/// at `a` rad from the downward vertical.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Rope {
+    /// Links.
+    pub links: usize,
+    /// Length of each link (m).
+    pub link_length: f64,
+    /// Mass of each particle but the end (kg).
+    pub particle_mass: f64,
+    /// The end particle's mass over `particle_mass`.
+    pub end_mass_ratio: f64,
+    /// Direction of the rope at the start.
+    pub direction: [f64; 3],
+}
+
+/// The system of a [`Rope`]; the arguments are checked ([`SystemError::Invalid`] names
+/// the one that is not usable).
+pub fn rope(r: &Rope) -> Result<System, SystemError> {
+    need("links", r.links as f64, r.links >= 1, ">= 1")?;
+    let positive = |x: f64| x.is_finite() && x > 0.0;
+    need(
+        "link_length",
+        r.link_length,
+        positive(r.link_length),
+        "finite and > 0",
+    )?;
+    need(
+        "particle_mass",
+        r.particle_mass,
+        positive(r.particle_mass),
+        "finite and > 0",
+    )?;
+    need(
+        "end_mass_ratio",
+        r.end_mass_ratio,
+        positive(r.end_mass_ratio),
+        "finite and > 0",
+    )?;
+    let norm = r.direction.iter().map(|x| x * x).sum::<f64>().sqrt();
+    need(
+        "direction (its length)",
+        norm,
+        positive(norm),
+        "finite and > 0",
+    )?;
+    let u = r.direction.map(|x| x / norm);
+    let positions = (0..=r.links)
+        .map(|k| u.map(|c| c * k as f64 * r.link_length))
+        .collect();
+    let mut masses = vec![r.particle_mass; r.links + 1];
+    masses[r.links] = r.particle_mass * r.end_mass_ratio;
+    let edges: Vec<(usize, usize)> = (0..r.links).map(|k| (k, k + 1)).collect();
     System::from_edges(positions, masses, &edges)?.with_fixed(0)
 }
 
@@ -238,6 +298,52 @@ mod tests {
             rest_lengths_hold(&s);
         }
         assert!(chain(0, 1.0).is_err() && chain(3, 0.0).is_err());
+    }
+
+    #[test]
+    fn a_rope_has_its_links_masses_direction_and_pin() {
+        let (a, n) = (0.5f64, 50);
+        let r = Rope {
+            links: n,
+            link_length: 0.02,
+            particle_mass: 2e-3,
+            end_mass_ratio: 200.0,
+            direction: [2.0 * a.sin(), 0.0, -2.0 * a.cos()],
+        };
+        let s = rope(&r).unwrap();
+        assert_eq!((s.n_particles(), s.links().len()), (n + 1, n));
+        assert!(s.masses()[..n].iter().all(|&m| m == 2e-3));
+        assert_eq!(s.masses()[n], 2e-3 * 200.0);
+        assert!(s.pins()[0].is_some() && s.pins()[1..].iter().all(|p| p.is_none()));
+        let end = s.positions()[n];
+        // One metre along the direction, at `a` from the downward vertical.
+        assert!((distance(end, [0.0; 3]) - 1.0).abs() < 1e-12, "{end:?}");
+        assert!((end[0].atan2(-end[2]) - a).abs() < 1e-12, "{end:?}");
+        rest_lengths_hold(&s);
+        for bad in [
+            Rope { links: 0, ..r },
+            Rope {
+                link_length: -1.0,
+                ..r
+            },
+            Rope {
+                particle_mass: f64::NAN,
+                ..r
+            },
+            Rope {
+                end_mass_ratio: 0.0,
+                ..r
+            },
+            Rope {
+                direction: [0.0; 3],
+                ..r
+            },
+        ] {
+            assert!(
+                matches!(rope(&bad), Err(SystemError::Invalid { .. })),
+                "{bad:?}"
+            );
+        }
     }
 
     #[test]

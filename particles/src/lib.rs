@@ -135,8 +135,8 @@ pub use backend::{
     Backend, BackendError, BlockCounters, Counters, MuSearchCounters, SlidingCounters,
 };
 pub use builders::{
-    FAR_EDGE_SLACK, GridPins, HEAD_RADIUS, STRAND_LENGTH, STRAND_PARTICLE_MASS, chain, grid,
-    grid_index, grid_with_slack, strands,
+    FAR_EDGE_SLACK, GridPins, HEAD_RADIUS, Rope, STRAND_LENGTH, STRAND_PARTICLE_MASS, chain, grid,
+    grid_index, grid_with_slack, rope, strands,
 };
 pub use dae_runtime::settings::AdaptiveMu;
 pub use dbsmc::{Dbsmc, online_settings};

@@ -1,7 +1,9 @@
-//! The particle benchmark (docs/particles.md): scenes C1-C4, DBSMC against XPBD (small
+//! The particle benchmark (docs/particles.md): scenes C1-C7, DBSMC against XPBD (small
 //! steps with the links in the system's order, `xpbd-substeps`, or by colour,
-//! `xpbd-coloured`; and one step of n iterations) and the index-1 method, every run a
-//! row of `docs/results/particles.csv`, charts, tables and pictures beside it.
+//! `xpbd-coloured`; and one step of n iterations), Vertex Block Descent (`vbd`) and
+//! Augmented VBD (`avbd`), k substeps of 10 iterations each, and the index-1 method,
+//! every run a row of `docs/results/particles.csv`, charts, tables and pictures beside
+//! it.
 //!
 //! ```text
 //! cargo run --release -p dae-bench --example particles [-- --large] [--studies] [--jobs N] [--budget SECS] [--only TEXT] [--method TEXT] [--slack S] [DIR]
@@ -14,7 +16,8 @@
 //! sweep, `dbsmc-dp`. The settings of XPBD and the index-1 method run as a series,
 //! cheapest first, until one runs out of its budget or holds 1e-4 over the whole scene:
 //! the costlier ones are not run, and the tables' notes name them. Every DBSMC setting
-//! runs (each eps is a bound to check). On every scene, XPBD's small steps are bisected
+//! runs (each eps is a bound to check). On every scene, XPBD's small steps (and the
+//! substeps of VBD and AVBD) are bisected
 //! between the grid's last failing and first holding k of each level, to within a
 //! sixteenth (the grid, by 2x on the chains and 4x on the others, would put the cheapest
 //! setting up to 2x or 4x too high; the third target compares DBSMC with XPBD tuned to a
@@ -51,7 +54,8 @@ use dae_bench::{
     particle_bench::ParticleRecord, particle_bench::ParticleScene,
     particle_bench::RELAXED_STEP_PER_MU, particle_bench::STRAIN_LEVELS, particle_bench::SceneDraws,
     particle_bench::bisect_least_holding, particle_bench::c1, particle_bench::c2,
-    particle_bench::c3_with_slack, particle_bench::c4_with_slack, particle_bench::capture_frame,
+    particle_bench::c3_with_slack, particle_bench::c4_with_slack, particle_bench::c5,
+    particle_bench::c6, particle_bench::c7, particle_bench::capture_frame,
     particle_bench::cheapest, particle_bench::cheapest_table, particle_bench::drive_scene,
     particle_bench::frame_tied_draws, particle_bench::heavy_chain_choices,
     particle_bench::holding_brackets, particle_bench::index_one, particle_bench::kept_both,
@@ -160,6 +164,10 @@ fn scenes(large: bool, slack: f64) -> Result<Vec<ParticleScene>, String> {
     if !large {
         v.push(c1(1000, 1.0).map_err(e)?);
     }
+    // The heavy-end scenes of the block-descent papers.
+    v.push(c5().map_err(e)?);
+    v.push(c6().map_err(e)?);
+    v.push(c7().map_err(e)?);
     v.push(c2(100, 32).map_err(e)?);
     if large {
         v.push(c2(1000, 32).map_err(e)?);
@@ -208,6 +216,8 @@ fn sweeps(fine_k: bool, studies: bool) -> Vec<Vec<MethodSpec>> {
         ks.iter().copied().map(MethodSpec::XpbdColoured).collect(),
         [4, 16, 64, 256].map(MethodSpec::XpbdIterations).to_vec(),
         [4, 16, 64, 256, 1024].map(MethodSpec::IndexOne).to_vec(),
+        ks.iter().copied().map(MethodSpec::Vbd).collect(),
+        ks.iter().copied().map(MethodSpec::Avbd).collect(),
     ];
     if studies {
         sweeps.extend(
@@ -312,7 +322,7 @@ fn prepare(scene: &ParticleScene, o: &Options) -> Prepared {
     let mut notes = Vec::new();
     // The reference (N <= 100) and its own error: the index-1 method at two steps.
     let mut reference = None;
-    if scene.id == "C1" && scene.size() <= 100 {
+    if scene.is_chain() && scene.size() <= 100 {
         let (a, b) = (position_at_1s(scene, 512), position_at_1s(scene, 1024));
         if let (Some(a), Some(b)) = (a, b) {
             let self_err = dae_particles::distance(a, b);
@@ -375,6 +385,8 @@ fn bisect_small_steps(
     let make: fn(u32) -> MethodSpec = match first {
         MethodSpec::XpbdSubsteps(_) => MethodSpec::XpbdSubsteps,
         MethodSpec::XpbdColoured(_) => MethodSpec::XpbdColoured,
+        MethodSpec::Vbd(_) => MethodSpec::Vbd,
+        MethodSpec::Avbd(_) => MethodSpec::Avbd,
         _ => return Vec::new(),
     };
     // A k asked for by two levels runs once.
@@ -515,11 +527,15 @@ fn main() {
         .iter()
         .enumerate()
         .flat_map(|(i, scene)| {
-            sweeps(scene.id == "C1", opts.studies)
+            sweeps(scene.is_chain(), opts.studies)
                 .into_iter()
                 .filter_map(move |sweep| {
-                    let kept: Vec<MethodSpec> =
-                        sweep.into_iter().filter(|s| opts.keeps(s)).collect();
+                    let kept: Vec<MethodSpec> = sweep
+                        .into_iter()
+                        .filter(|s| {
+                            opts.keeps(s) && (scene.has_generated_model() || !s.generated())
+                        })
+                        .collect();
                     (!kept.is_empty()).then_some((i, kept))
                 })
         })
@@ -584,6 +600,8 @@ fn main() {
         "xpbd-substeps",
         "xpbd-coloured",
         "xpbd-iterations",
+        "vbd",
+        "avbd",
     ]
     .map(String::from)
     .to_vec();
@@ -643,6 +661,7 @@ fn main() {
         clock.elapsed().as_secs_f64(),
         draws.len()
     );
+    md += &dae_bench::particle_bench::peers_section(&records);
     md += &dae_bench::particle_bench::targets_section(&records, &draws);
     md += "\n## Notes\n\n";
     for n in &notes {
@@ -663,8 +682,9 @@ fn main() {
 
 /// Pictures of `scene`: the DBSMC run (hand-written model, RK4, Dormand-Prince or the
 /// frame-tied design) at the loosest eps that ran through holding its strain and its
-/// s-layer, the cheapest of those; else the cheapest complete index-1 run; and XPBD
-/// small steps by colour at k = 16 for contrast.
+/// s-layer, the cheapest of those; else the cheapest complete index-1 run; and the
+/// cheapest settings of XPBD by colour, VBD and AVBD that held the same worst strain
+/// (or 1e-2) over the whole scene; each alone and all side by side.
 fn draw_pictures(
     scene: &ParticleScene,
     prep: &Prepared,
@@ -699,7 +719,28 @@ fn draw_pictures(
             .unwrap_or(64);
         shots.push((MethodSpec::IndexOne(spf), 1e-2));
     }
-    shots.push((MethodSpec::XpbdColoured(16), 1e-2));
+    // The peers at the same worst strain: each one's cheapest setting that held the
+    // bound of the first shot over the whole scene (or 1e-2 where none held that).
+    let bound = shots.first().map_or(1e-2, |s| s.1);
+    let make = |method: &str, k: u32| match method {
+        "vbd" => MethodSpec::Vbd(k),
+        "avbd" => MethodSpec::Avbd(k),
+        _ => MethodSpec::XpbdColoured(k),
+    };
+    for method in ["xpbd-coloured", "vbd", "avbd"] {
+        let held = [bound, 1e-2]
+            .into_iter()
+            .find_map(|level| Some((cheapest(records, &title, method, level)?, level)));
+        let k = held
+            .and_then(|(r, level)| Some((r.knob.strip_prefix("k=")?.parse::<u32>().ok()?, level)));
+        if let Some((k, level)) = k {
+            shots.push((make(method, k), level));
+        }
+    }
+    use dae_bench::particle_bench::{Marks, Panel, write_side_by_side};
+    let marks = Marks::of(scene);
+    let links = scene.system.links();
+    let mut panels: Vec<Panel> = Vec::new();
     for (spec, scale) in shots {
         let mut capture: Capture = Vec::new();
         let mut obs = |f: u64, p: &[[f64; 3]]| capture_frame(&mut capture, f, p);
@@ -712,9 +753,19 @@ fn draw_pictures(
             Some(&mut obs),
         );
         let stem = format!("{}_{}", scene.stem(), spec.method());
-        match write_pictures(pictures, &stem, scene.system.links(), &capture, scale) {
+        let panel = Panel {
+            method: format!("{} {}", spec.method(), spec.knob()),
+            capture,
+        };
+        match write_pictures(pictures, &stem, links, &marks, &panel, scale) {
             Ok(files) => println!("  pictures {} ({}): {}", stem, r.status, files.join(", ")),
             Err(e) => println!("  pictures {stem}: {e}"),
         }
+        panels.push(panel);
+    }
+    let stem = format!("{}_side_by_side", scene.stem());
+    match write_side_by_side(pictures, &stem, links, &marks, &panels, bound) {
+        Ok(files) => println!("  pictures {stem}: {}", files.join(", ")),
+        Err(e) => println!("  pictures {stem}: {e}"),
     }
 }

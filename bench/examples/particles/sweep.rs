@@ -46,6 +46,8 @@ pub fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Option
     let mut specs: Vec<MethodSpec> = Vec::new();
     specs.extend([64, 256, 1024].map(MethodSpec::XpbdSubsteps));
     specs.extend([64, 256, 1024].map(MethodSpec::XpbdColoured));
+    specs.extend([4, 16, 64].map(MethodSpec::Vbd));
+    specs.extend([4, 16, 64].map(MethodSpec::Avbd));
     // One setting of the index-1 method: at 256 steps per frame it fitted the same
     // exponents (0.97 on chains, 1.31 on cloth against 1.32, run of f5e06e2) and was
     // the sweep's longest job (52 s, 45 of them the 64 x 64 cloth).
@@ -198,6 +200,8 @@ pub fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Option
         for method in [
             "xpbd-substeps",
             "xpbd-coloured",
+            "vbd",
+            "avbd",
             "index1-rk4",
             "dbsmc-dp",
             "dbsmc-relaxed",

@@ -1,19 +1,34 @@
-//! Pictures of a run: PNG frames and an animated GIF, links coloured by strain
-//! (plotters' bitmap and GIF backends, the `png` crate for the frames).
+//! Pictures of runs: PNG frames and animated GIFs (plotters' bitmap and GIF backends,
+//! the `png` crate for the frames), one method alone or several side by side, drawn by
+//! [`view`](super::view): an orthographic camera over a ground grid, links coloured by
+//! strain relative to a bound with its legend, pinned and grabbed particles marked, the
+//! time, the method and its worst strain so far in each frame.
 
 use std::path::Path;
 
-use dae_particles::{Link, distance};
+use dae_particles::Link;
 use plotters::prelude::*;
+
+use super::font::draw_text;
+use super::scenes::ParticleScene;
+use super::view::{CAMERA, Ground, Marks, PANEL, Shot, View, draw_panel, worst_strain};
 
 /// Positions captured during a run: `(frame, positions)`.
 pub type Capture = Vec<(u64, Vec<[f64; 3]>)>;
 
-/// Picture size (pixels).
-const SIZE: u32 = 320;
+/// One method's run in a side-by-side picture.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Panel {
+    /// The name printed on the panel (the method, and its setting if wanted).
+    pub method: String,
+    /// Its captured frames ([`capture_frame`]).
+    pub capture: Capture,
+}
 
 /// Frames a run keeps for its pictures: every fifth (12 per second of the scene's 60).
 const CAPTURE_EVERY: u64 = 5;
+/// Frames per second of the scenes.
+const FPS: f64 = 60.0;
 /// The frames written as PNG: the start, 1 s, 2.5 s and 5 s.
 const PNG_FRAMES: [u64; 4] = [0, 60, 150, 300];
 /// The GIF's delay per picture (ms): five frames of 1/60 s, about real time.
@@ -27,118 +42,269 @@ pub fn capture_frame(capture: &mut Capture, frame: u64, positions: &[[f64; 3]]) 
     }
 }
 
-/// The oblique view: `x` to the right, `z` up, `y` into the picture (shifted left and
-/// up), so that chains in the `x`-`z` plane are seen side on and cloth at an angle.
-fn project(p: [f64; 3]) -> (f64, f64) {
-    (p[0] - 0.35 * p[1], p[2] + 0.25 * p[1])
-}
-
-/// Colour of a strain relative to `scale`: green at or below `scale / 10`, yellow at
-/// `scale`, red at or above `10 scale` (log scale in between).
-pub fn strain_colour(strain: f64, scale: f64) -> RGBColor {
-    let r = if strain > 0.0 {
-        (strain / scale).log10().clamp(-1.0, 1.0)
-    } else {
-        -1.0
+/// The points that set the view: all finite captured positions not far from where the
+/// first captured frame was (a diverged run's particles far away would shrink the rest
+/// to a dot; they are drawn cut at the panel's edge).
+fn sane_points(panels: &[Panel]) -> Vec<[f64; 3]> {
+    let finite = |p: &[f64; 3]| p.iter().all(|c| c.is_finite());
+    let Some((_, first)) = panels.iter().find_map(|p| p.capture.first()) else {
+        return Vec::new();
     };
-    let lerp = |a: u8, b: u8, f: f64| (a as f64 + (b as f64 - a as f64) * f).round() as u8;
-    if r < 0.0 {
-        let f = r + 1.0;
-        RGBColor(lerp(40, 230, f), lerp(170, 200, f), lerp(60, 30, f))
-    } else {
-        RGBColor(lerp(230, 210, r), lerp(200, 20, r), lerp(30, 30, r))
-    }
-}
-
-/// The view window of all captured frames, square, with a margin.
-fn window(capture: &Capture) -> (f64, f64, f64) {
-    let (mut u0, mut u1, mut v0, mut v1) = (
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-    );
-    for (_, ps) in capture {
-        for &p in ps {
-            let (u, v) = project(p);
-            if u.is_finite() && v.is_finite() {
-                u0 = u0.min(u);
-                u1 = u1.max(u);
-                v0 = v0.min(v);
-                v1 = v1.max(v);
-            }
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in first.iter().filter(|p| finite(p)) {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
         }
     }
-    let side = (u1 - u0).max(v1 - v0).max(1e-9) * 1.08;
-    ((u0 + u1 - side) / 2.0, (v0 + v1 + side) / 2.0, side)
+    let reach = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max) * 2.0 + 1.0;
+    panels
+        .iter()
+        .flat_map(|p| p.capture.iter().flat_map(|(_, ps)| ps.iter()))
+        .filter(|p| finite(p) && (0..3).all(|k| p[k] >= lo[k] - reach && p[k] <= hi[k] + reach))
+        .copied()
+        .collect()
 }
 
-fn draw<DB: DrawingBackend>(
-    area: &DrawingArea<DB, plotters::coord::Shift>,
-    links: &[Link],
-    ps: &[[f64; 3]],
-    view: (f64, f64, f64),
-    scale: f64,
-) -> Result<(), String>
-where
-    DB::ErrorType: 'static,
-{
-    area.fill(&WHITE).map_err(|e| e.to_string())?;
-    let (u0, vtop, side) = view;
-    let px = |p: [f64; 3]| {
-        let (u, v) = project(p);
-        (
-            ((u - u0) / side * SIZE as f64) as i32,
-            ((vtop - v) / side * SIZE as f64) as i32,
-        )
-    };
-    for l in links {
-        let (a, b) = (ps[l.a], ps[l.b]);
-        let strain = (distance(a, b) - l.rest).abs() / l.rest;
-        let c = strain_colour(strain, scale);
-        area.draw(&PathElement::new(vec![px(a), px(b)], c.stroke_width(2)))
-            .map_err(|e| e.to_string())?;
+/// The one view of all panels and frames.
+fn view_of(panels: &[Panel], marks: &Marks) -> View {
+    let points = sane_points(panels);
+    View::fitting(CAMERA, Ground::under(&points, marks.ground), &points)
+}
+
+/// Each captured frame's worst strain so far (`NaN` from the first non-finite one on).
+fn worst_so_far(links: &[Link], capture: &Capture) -> Vec<f64> {
+    let mut worst = 0.0f64;
+    capture
+        .iter()
+        .map(|(_, ps)| {
+            let w = worst_strain(links, ps);
+            worst = if worst.is_nan() || w.is_nan() {
+                f64::NAN
+            } else {
+                worst.max(w)
+            };
+            worst
+        })
+        .collect()
+}
+
+/// What `panel` shows at `frame`: its last captured frame at or before it (index), and
+/// the time it stopped at if that is before `frame`.
+fn at_frame(capture: &Capture, frame: u64) -> Option<(usize, Option<f64>)> {
+    let i = capture.iter().rposition(|(f, _)| *f <= frame)?;
+    let last = capture.last().map(|(f, _)| *f)?;
+    Some((i, (frame > last).then_some(last as f64 / FPS)))
+}
+
+/// What every frame of a picture draws from.
+struct Picture<'a> {
+    links: &'a [Link],
+    marks: &'a Marks,
+    panels: &'a [Panel],
+    /// Per panel, per captured frame: the worst strain so far.
+    worst: Vec<Vec<f64>>,
+    view: View,
+    bound: f64,
+}
+
+impl<'a> Picture<'a> {
+    fn new(links: &'a [Link], marks: &'a Marks, panels: &'a [Panel], bound: f64) -> Self {
+        Picture {
+            links,
+            marks,
+            panels,
+            worst: panels
+                .iter()
+                .map(|p| worst_so_far(links, &p.capture))
+                .collect(),
+            view: view_of(panels, marks),
+            bound,
+        }
     }
-    Ok(())
+
+    /// Draw the frame `frame` of all panels side by side into `root`.
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, plotters::coord::Shift>,
+        frame: u64,
+    ) -> Result<(), String>
+    where
+        DB::ErrorType: 'static,
+    {
+        let areas = root.split_evenly((1, self.panels.len().max(1)));
+        for (k, (panel, area)) in self.panels.iter().zip(&areas).enumerate() {
+            match at_frame(&panel.capture, frame) {
+                Some((i, stopped)) => {
+                    let shot = Shot {
+                        links: self.links,
+                        positions: &panel.capture[i].1,
+                        t: frame as f64 / FPS,
+                        method: &panel.method,
+                        worst: self.worst[k][i],
+                        stopped,
+                        bound: self.bound,
+                    };
+                    draw_panel(area, &self.view, self.marks, &shot)?;
+                }
+                None => {
+                    area.fill(&WHITE).map_err(|e| e.to_string())?;
+                    draw_text(area, &panel.method, (8, 6), 2, BLACK)?;
+                    draw_text(area, "no frame yet", (8, 26), 2, BLACK)?;
+                }
+            }
+            if k > 0 {
+                let h = PANEL.1 as i32;
+                area.draw(&PathElement::new(
+                    vec![(0, 0), (0, h)],
+                    RGBColor(90, 90, 90).stroke_width(2),
+                ))
+                .map_err(|e| e.to_string())?;
+            }
+        }
+        Ok(())
+    }
 }
 
-/// Write `stem_t<time>.png` for the captured frames at 0, 1, 2.5 and 5 s, and
-/// `stem.gif` of all captured frames ([`capture_frame`]) at about real time, links
-/// coloured by strain relative to `scale` (e.g. the layer `eps`).
+/// The frames of a side-by-side picture: every frame any panel captured, in order.
+fn frames_of(panels: &[Panel]) -> Vec<u64> {
+    let mut frames: Vec<u64> = panels
+        .iter()
+        .flat_map(|p| p.capture.iter().map(|(f, _)| *f))
+        .collect();
+    frames.sort_unstable();
+    frames.dedup();
+    frames
+}
+
+/// Write `stem.gif`: the `panels` side by side (each `PANEL` pixels), one camera and
+/// one window for all, every frame any of them captured at about real time; a panel
+/// whose run stopped shows its last frame and the time it stopped at. Links coloured by
+/// strain relative to `bound`, `marks` marked. Returns the file's name.
+pub fn write_side_by_side(
+    dir: &Path,
+    stem: &str,
+    links: &[Link],
+    marks: &Marks,
+    panels: &[Panel],
+    bound: f64,
+) -> Result<Vec<String>, String> {
+    if panels.is_empty() {
+        return Err(format!("{stem}: no panel"));
+    }
+    let picture = Picture::new(links, marks, panels, bound);
+    let name = format!("{stem}.gif");
+    let size = (PANEL.0 * panels.len() as u32, PANEL.1);
+    let root = BitMapBackend::gif(dir.join(&name), size, GIF_DELAY_MS)
+        .map_err(|e| format!("{name}: {e}"))?
+        .into_drawing_area();
+    for f in frames_of(panels) {
+        picture.draw(&root, f).map_err(|e| format!("{name}: {e}"))?;
+        root.present().map_err(|e| format!("{name}: {e}"))?;
+    }
+    Ok(vec![name])
+}
+
+/// Write `stem_t<time>.png` for the captured frames at 0, 1, 2.5 and 5 s and `stem.gif`
+/// of all captured frames of one method's run (`panel`), drawn as one panel of
+/// [`write_side_by_side`]. Returns the files' names.
 pub fn write_pictures(
     dir: &Path,
     stem: &str,
     links: &[Link],
-    capture: &Capture,
-    scale: f64,
+    marks: &Marks,
+    panel: &Panel,
+    bound: f64,
 ) -> Result<Vec<String>, String> {
-    let view = window(capture);
+    let panels = std::slice::from_ref(panel);
+    let picture = Picture::new(links, marks, panels, bound);
     let mut written = Vec::new();
-    for (f, ps) in capture.iter().filter(|(f, _)| PNG_FRAMES.contains(f)) {
-        let mut buf = vec![255u8; (SIZE * SIZE * 3) as usize];
+    let (w, h) = PANEL;
+    for f in PNG_FRAMES {
+        if !panel.capture.iter().any(|(g, _)| *g == f) {
+            continue;
+        }
+        let mut buf = vec![255u8; (w * h * 3) as usize];
         {
-            let area = BitMapBackend::with_buffer(&mut buf, (SIZE, SIZE)).into_drawing_area();
-            draw(&area, links, ps, view, scale)?;
+            let area = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+            picture.draw(&area, f)?;
             area.present().map_err(|e| e.to_string())?;
         }
-        let name = format!("{stem}_t{:.2}.png", *f as f64 / 60.0);
+        let name = format!("{stem}_t{:.2}.png", f as f64 / FPS);
         let file = std::fs::File::create(dir.join(&name)).map_err(|e| format!("{name}: {e}"))?;
-        let mut enc = png::Encoder::new(std::io::BufWriter::new(file), SIZE, SIZE);
+        let mut enc = png::Encoder::new(std::io::BufWriter::new(file), w, h);
         enc.set_color(png::ColorType::Rgb);
         enc.set_depth(png::BitDepth::Eight);
-        let mut w = enc.write_header().map_err(|e| format!("{name}: {e}"))?;
-        w.write_image_data(&buf)
+        let mut wr = enc.write_header().map_err(|e| format!("{name}: {e}"))?;
+        wr.write_image_data(&buf)
             .map_err(|e| format!("{name}: {e}"))?;
         written.push(name);
     }
-    let name = format!("{stem}.gif");
-    let area = BitMapBackend::gif(dir.join(&name), (SIZE, SIZE), GIF_DELAY_MS)
-        .map_err(|e| format!("{name}: {e}"))?
-        .into_drawing_area();
-    for (_, ps) in capture {
-        draw(&area, links, ps, view, scale)?;
-        area.present().map_err(|e| format!("{name}: {e}"))?;
-    }
-    written.push(name);
+    written.extend(write_side_by_side(dir, stem, links, marks, panels, bound)?);
     Ok(written)
+}
+
+impl Marks {
+    /// The marks of `scene`: its pinned particles, its grab while held, the ground
+    /// below the lowest point.
+    pub fn of(scene: &ParticleScene) -> Marks {
+        Marks {
+            pinned: scene
+                .system
+                .pins()
+                .iter()
+                .enumerate()
+                .filter_map(|(i, p)| p.as_ref().map(|_| i))
+                .collect(),
+            grabbed: scene
+                .grab
+                .iter()
+                .map(|g| (g.particle, g.at, g.release))
+                .collect(),
+            ground: None,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn capture(n: u64, f: impl Fn(u64) -> Vec<[f64; 3]>) -> Capture {
+        (0..n).map(|i| (i * CAPTURE_EVERY, f(i))).collect()
+    }
+
+    #[test]
+    fn worst_so_far_only_grows_and_stays_nan() {
+        let links = [Link {
+            a: 0,
+            b: 1,
+            rest: 1.0,
+        }];
+        let lens = [1.0, 1.1, 1.05, f64::NAN, 1.0];
+        let c = capture(5, |i| vec![[0.0; 3], [lens[i as usize], 0.0, 0.0]]);
+        let w = worst_so_far(&links, &c);
+        assert!((w[1] - 0.1).abs() < 1e-12 && (w[2] - 0.1).abs() < 1e-12);
+        assert!(w[3].is_nan() && w[4].is_nan());
+    }
+
+    #[test]
+    fn a_stopped_panel_shows_its_last_frame_and_a_diverged_one_does_not_set_the_view() {
+        let c = capture(3, |_| vec![[0.0; 3]]);
+        assert_eq!(at_frame(&c, 5), Some((1, None)));
+        assert_eq!(at_frame(&c, 7), Some((1, None)));
+        assert_eq!(at_frame(&c, 20), Some((2, Some(10.0 / FPS))));
+        let calm = Panel {
+            method: "calm".into(),
+            capture: capture(3, |i| vec![[0.0; 3], [1.0, 0.0, -(i as f64) * 0.1]]),
+        };
+        let wild = Panel {
+            method: "wild".into(),
+            capture: capture(3, |i| vec![[0.0; 3], [1e17 * i as f64, f64::NAN, 0.0]]),
+        };
+        let pts = sane_points(&[calm.clone(), wild]);
+        assert!(pts.iter().all(|p| p[0].abs() <= 1.0), "{pts:?}");
+        assert_eq!(frames_of(&[calm]), vec![0, 5, 10]);
+    }
 }

@@ -15,8 +15,8 @@ use dae_runtime::{
 
 use super::scenes::{ParticleScene, SceneShape};
 use crate::{
-    particle_methods::IndexOneParticles, particle_methods::PilotBounds,
-    particle_methods::SweepOrder, particle_methods::Xpbd,
+    particle_methods::Avbd, particle_methods::IndexOneParticles, particle_methods::PilotBounds,
+    particle_methods::SweepOrder, particle_methods::Vbd, particle_methods::Xpbd,
 };
 
 /// A method and its setting.
@@ -84,7 +84,18 @@ pub enum MethodSpec {
     XpbdIterations(u32),
     /// The index-1 method with this many RK4 steps per frame.
     IndexOne(u32),
+    /// Vertex Block Descent ([`Vbd`]): `k` substeps per frame of [`VBD_ITERATIONS`]
+    /// iterations each.
+    Vbd(u32),
+    /// Augmented Vertex Block Descent ([`Avbd`]): `k` substeps per frame of
+    /// [`AVBD_ITERATIONS`] iterations each.
+    Avbd(u32),
 }
+
+/// Iterations per substep of [`MethodSpec::Vbd`] (its substeps are the knob).
+pub const VBD_ITERATIONS: u32 = 10;
+/// Iterations per substep of [`MethodSpec::Avbd`] (its substeps are the knob).
+pub const AVBD_ITERATIONS: u32 = 10;
 
 impl MethodSpec {
     /// The method's name in reports.
@@ -116,6 +127,8 @@ impl MethodSpec {
             MethodSpec::XpbdColoured(_) => "xpbd-coloured".into(),
             MethodSpec::XpbdIterations(_) => "xpbd-iterations".into(),
             MethodSpec::IndexOne(_) => "index1-rk4".into(),
+            MethodSpec::Vbd(_) => "vbd".into(),
+            MethodSpec::Avbd(_) => "avbd".into(),
         }
     }
     /// The strain bound of a DBSMC setting (`None` for the methods without one). Every
@@ -131,8 +144,18 @@ impl MethodSpec {
             MethodSpec::XpbdSubsteps(_)
             | MethodSpec::XpbdColoured(_)
             | MethodSpec::XpbdIterations(_)
-            | MethodSpec::IndexOne(_) => None,
+            | MethodSpec::IndexOne(_)
+            | MethodSpec::Vbd(_)
+            | MethodSpec::Avbd(_) => None,
         }
+    }
+    /// Whether the setting runs the scene's generated family model (which the ropes of
+    /// other lengths and masses do not have: [`ParticleScene::has_generated_model`]).
+    pub fn generated(&self) -> bool {
+        matches!(
+            self,
+            MethodSpec::DbsmcGenerated { .. } | MethodSpec::DbsmcRampGenerated { .. }
+        )
     }
     /// The setting, e.g. `k=20`.
     pub fn knob(&self) -> String {
@@ -144,7 +167,10 @@ impl MethodSpec {
             | MethodSpec::DbsmcRamped { eps, gain }
             | MethodSpec::DbsmcAdaptive { eps, gain }
             | MethodSpec::DbsmcRampGenerated { eps, gain } => format!("eps={eps:e} c={gain}"),
-            MethodSpec::XpbdSubsteps(k) | MethodSpec::XpbdColoured(k) => format!("k={k}"),
+            MethodSpec::XpbdSubsteps(k)
+            | MethodSpec::XpbdColoured(k)
+            | MethodSpec::Vbd(k)
+            | MethodSpec::Avbd(k) => format!("k={k}"),
             MethodSpec::XpbdIterations(n) => format!("n={n}"),
             MethodSpec::IndexOne(s) => format!("steps/frame={s}"),
         }
@@ -638,6 +664,18 @@ pub fn run_particle_method(
                 Err(e) => failed(e),
             };
         }
+        MethodSpec::Vbd(k) => {
+            return match Vbd::new(&scene.system, k, VBD_ITERATIONS) {
+                Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
+                Err(e) => failed(e),
+            };
+        }
+        MethodSpec::Avbd(k) => {
+            return match Avbd::new(&scene.system, k, AVBD_ITERATIONS) {
+                Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
+                Err(e) => failed(e),
+            };
+        }
         MethodSpec::Dbsmc {
             eps,
             solver,
@@ -757,6 +795,11 @@ impl RunDbsmc<'_, '_> {
             } => self.with(crate::particle_methods::generated_grid(
                 sys, w, pins, shear, slack,
             )),
+            SceneShape::Rope(_) => {
+                let mut r = blank(self.scene, self.spec);
+                r.status = "failed: the scene has no generated family model".into();
+                r
+            }
         }
     }
 

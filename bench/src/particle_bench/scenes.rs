@@ -2,7 +2,8 @@
 //! grab, and what can be measured on it.
 
 use dae_particles::{
-    FAR_EDGE_SLACK, GridPins, System, SystemError, chain, grid_index, grid_with_slack, strands,
+    FAR_EDGE_SLACK, GridPins, Rope, System, SystemError, chain, grid_index, grid_with_slack, rope,
+    strands,
 };
 
 /// A grab during a run (C4): at `at` the particle is grabbed where it is, moved by
@@ -50,6 +51,9 @@ pub enum SceneShape {
         /// The far edge's slack (with two pinned corners).
         slack: f64,
     },
+    /// [`rope`]`(rope)`: no generated family model (`chain.dae` is 1 m, 0.1 kg and
+    /// horizontal).
+    Rope(Rope),
 }
 
 /// One scene of the benchmark.
@@ -80,6 +84,15 @@ impl ParticleScene {
     /// Number of links.
     pub fn size(&self) -> usize {
         self.system.links().len()
+    }
+    /// Whether the scene has a generated family model (C1-C4 and C6; not the ropes of
+    /// other lengths, masses or start directions).
+    pub fn has_generated_model(&self) -> bool {
+        !matches!(self.shape, SceneShape::Rope(_))
+    }
+    /// Whether the scene is one chain hanging from a pin (C1, C5-C7).
+    pub fn is_chain(&self) -> bool {
+        matches!(self.shape, SceneShape::Chain { .. } | SceneShape::Rope(_))
     }
     /// `id` and variant, e.g. `C1 N=100 r=1e2`.
     pub fn title(&self) -> String {
@@ -117,6 +130,58 @@ pub fn c1(n: usize, ratio: f64) -> Result<ParticleScene, SystemError> {
         tracked: n,
         param: ratio,
     })
+}
+
+/// A rope scene of 5 s from rest, its end particle tracked.
+fn rope_scene(id: &'static str, variant: &str, r: Rope) -> Result<ParticleScene, SystemError> {
+    Ok(ParticleScene {
+        id,
+        variant: variant.into(),
+        system: rope(&r)?,
+        shape: SceneShape::Rope(r),
+        duration: 5.0,
+        grab: None,
+        conservative: true,
+        tracked: r.links,
+        param: r.end_mass_ratio,
+    })
+}
+
+/// C5: Mueller's 4-pendulum ("Small steps in physics simulation", Macklin et al. 2019):
+/// 4 links of 0.3 m, bobs of 0.1, 0.1, 0.1 and 10 kg, released horizontal.
+pub fn c5() -> Result<ParticleScene, SystemError> {
+    let r = Rope {
+        links: 4,
+        link_length: 0.3,
+        particle_mass: 0.1,
+        end_mass_ratio: 100.0,
+        direction: [1.0, 0.0, 0.0],
+    };
+    rope_scene("C5", "4-pendulum r=1e2", r)
+}
+
+/// C6: the heavy rope of AVBD (Giles, Diaz, Yuksel 2025): 20 links, the end 1800 times
+/// heavier, released horizontal; built as C1 (1 m, 0.1 kg), so it has C1's generated
+/// model.
+pub fn c6() -> Result<ParticleScene, SystemError> {
+    let mut s = c1(20, 1800.0)?;
+    s.id = "C6";
+    s.variant = "N=20 r=1800".into();
+    Ok(s)
+}
+
+/// C7: the hanging rope of AVBD: 50 links of 2 cm (1 m, 2 g particles), the end 200
+/// times heavier, released from 0.5 rad off the vertical.
+pub fn c7() -> Result<ParticleScene, SystemError> {
+    let a = 0.5f64;
+    let r = Rope {
+        links: 50,
+        link_length: 0.02,
+        particle_mass: 2e-3,
+        end_mass_ratio: 200.0,
+        direction: [a.sin(), 0.0, -a.cos()],
+    };
+    rope_scene("C7", "N=50 r=200 0.5 rad", r)
 }
 
 /// C2: `s` strands of `n` links on the swaying head, 5 s.
@@ -232,6 +297,23 @@ pub fn scene_of_spec(spec: &str) -> Result<ParticleScene, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_heavy_end_scenes_are_the_papers_ropes() {
+        let s5 = c5().unwrap();
+        assert_eq!((s5.size(), s5.system.masses()[4]), (4, 10.0));
+        assert_eq!(s5.system.masses()[1..4], [0.1; 3]);
+        assert_eq!(s5.system.positions()[4][0], 1.2);
+        let s6 = c6().unwrap();
+        assert_eq!((s6.title().as_str(), s6.size()), ("C6 N=20 r=1800", 20));
+        assert!(s6.has_generated_model() && s6.is_chain());
+        let s7 = c7().unwrap();
+        let end = s7.system.positions()[50];
+        assert!((end[0].atan2(-end[2]) - 0.5).abs() < 1e-12, "{end:?}");
+        assert_eq!(s7.system.masses()[50] / s7.system.masses()[1], 200.0);
+        assert!(!s7.has_generated_model() && s7.is_chain());
+        assert_eq!(s7.stem(), "c7_n50_r200_05_rad");
+    }
 
     #[test]
     fn a_scene_spec_names_a_chain_or_a_cloth_or_says_what_is_wrong() {

@@ -3,10 +3,12 @@
 mod common;
 
 mod baselines;
+mod block_descent;
 mod generated;
 mod generated_particles;
 mod harness;
 mod particles;
+mod pictures;
 mod solvers;
 mod stability;
 mod standin;
