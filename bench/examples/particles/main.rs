@@ -50,9 +50,10 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use dae_bench::{
-    particle_bench::Capture, particle_bench::FrameTied, particle_bench::MethodSpec,
-    particle_bench::ParticleRecord, particle_bench::ParticleScene,
-    particle_bench::RELAXED_STEP_PER_MU, particle_bench::STRAIN_LEVELS, particle_bench::SceneDraws,
+    particle_bench::Capture, particle_bench::FrameTied, particle_bench::Marks,
+    particle_bench::MethodSpec, particle_bench::Panel, particle_bench::ParticleRecord,
+    particle_bench::ParticleScene, particle_bench::RELAXED_STEP_PER_MU,
+    particle_bench::STRAIN_LEVELS, particle_bench::SceneDraws,
     particle_bench::bisect_least_holding, particle_bench::c1, particle_bench::c2,
     particle_bench::c3_with_slack, particle_bench::c4_with_slack, particle_bench::c5,
     particle_bench::c6, particle_bench::c7, particle_bench::capture_frame,
@@ -63,7 +64,8 @@ use dae_bench::{
     particle_bench::run_particle_method, particle_bench::run_series, particle_bench::scene_groups,
     particle_bench::scene_title, particle_bench::stability_table, particle_bench::strain_chart,
     particle_bench::timed_repeatedly, particle_bench::write_particles_csv,
-    particle_bench::write_pictures, particle_methods::PilotBounds,
+    particle_bench::write_pictures, particle_bench::write_side_by_side,
+    particle_methods::PilotBounds,
 };
 use dae_particles::{FAR_EDGE_SLACK, GridPins};
 use dae_runtime::{settings::Integrator, solve::SolverChoice};
@@ -737,7 +739,6 @@ fn draw_pictures(
             shots.push((make(method, k), level));
         }
     }
-    use dae_bench::particle_bench::{Marks, Panel, write_side_by_side};
     let marks = Marks::of(scene);
     let links = scene.system.links();
     let mut panels: Vec<Panel> = Vec::new();

@@ -5,6 +5,7 @@ use std::fmt::Write as _;
 
 use super::report::{cheapest_of, grouped, scene_title};
 use super::run::ParticleRecord;
+use super::targets::is_sweep;
 
 /// The peers, as they are named in the records: XPBD small steps in either sweep order,
 /// Vertex Block Descent and its augmented-Lagrangian variant.
@@ -16,9 +17,7 @@ pub const PEER_LEVELS: [f64; 2] = [1e-3, 1e-4];
 /// Whether `r` is a whole-scene run of a chain with an end at least 100 times heavier
 /// than its other particles (C1 r >= 1e2, the 4-pendulum C5, the ropes C6 and C7).
 fn heavy_end(r: &ParticleRecord) -> bool {
-    matches!(r.scene.as_str(), "C1" | "C5" | "C6" | "C7")
-        && r.param >= 1e2
-        && !r.variant.contains(" first ")
+    matches!(r.scene.as_str(), "C1" | "C5" | "C6" | "C7") && r.param >= 1e2 && !is_sweep(r)
 }
 
 /// The markdown section: for every heavy-end scene and every level of [`PEER_LEVELS`],

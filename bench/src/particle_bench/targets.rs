@@ -35,7 +35,7 @@ fn is_xpbd_small_steps(r: &ParticleRecord) -> bool {
 }
 
 /// A row of the size sweep (the same first frames at every size), not a whole scene.
-fn is_sweep(r: &ParticleRecord) -> bool {
+pub(super) fn is_sweep(r: &ParticleRecord) -> bool {
     r.variant.contains(" first ")
 }
 

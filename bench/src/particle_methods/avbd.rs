@@ -49,9 +49,9 @@
 //! multipliers do the work; that is the published setting, measured as such
 //! (`examples/block_descent.rs`).
 
-use dae_particles::{Backend, BackendError, Counters, Kinematics, Pin, System};
+use dae_particles::System;
 
-use super::vertex_blocks::{Mat3, Vertices, direction, solve3};
+use super::vertex_blocks::{Mat3, Vertices, direction, solve3, vertex_block_backend};
 
 /// AVBD's parameters (module docs for the values and where they come from).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -253,45 +253,12 @@ impl Avbd {
     }
 }
 
-impl Backend for Avbd {
-    fn name(&self) -> String {
-        format!("avbd k={} n={}", self.substeps, self.iterations)
-    }
-    fn n_particles(&self) -> usize {
-        self.state.x.len()
-    }
-    fn time(&self) -> f64 {
-        self.state.t
-    }
-    fn advance_to(&mut self, t: f64) -> Result<(), BackendError> {
-        let (n, h) = self.state.split(t, self.substeps);
-        for _ in 0..n {
-            self.substep(h);
-        }
-        let name = self.name();
-        self.state.finish(name, t)
-    }
-    fn positions(&self, out: &mut [[f64; 3]]) {
-        out.copy_from_slice(&self.state.x);
-    }
-    fn velocities(&self, out: &mut [[f64; 3]]) {
-        out.copy_from_slice(&self.state.v);
-    }
-    fn particle(&self, k: usize) -> Kinematics {
-        self.state.particle(k)
-    }
-    fn set_pin(&mut self, k: usize, pin: Option<Pin>) -> Result<(), BackendError> {
-        let name = self.name();
-        self.state.set_pin(name, k, pin)
-    }
-    fn counters(&self) -> Counters {
-        self.state.counters
-    }
-}
+vertex_block_backend!(Avbd, "avbd");
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use dae_particles::Backend;
 
     /// A bob hanging at rest from a fixed pin: the multiplier converges to its weight
     /// (the tension `m g`), the dual variable's meaning.

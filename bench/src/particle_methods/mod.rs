@@ -7,6 +7,7 @@
 mod avbd;
 mod family_models;
 mod index1;
+mod substeps;
 mod vbd;
 mod vertex_blocks;
 mod xpbd;

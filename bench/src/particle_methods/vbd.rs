@@ -38,9 +38,9 @@
 //! end of ratio 1e4 stays near 3e-5. These are the converged (static) strains: with few
 //! iterations VBD leaves far more, which is what the benchmark measures.
 
-use dae_particles::{Backend, BackendError, Counters, Kinematics, Pin, System};
+use dae_particles::System;
 
-use super::vertex_blocks::{Mat3, Vertices, direction, solve3};
+use super::vertex_blocks::{Mat3, Vertices, direction, solve3, vertex_block_backend};
 
 /// The default axial stiffness `EA` of a link (N; module docs).
 pub const DEFAULT_STIFFNESS: f64 = 1e8;
@@ -178,45 +178,12 @@ impl Vbd {
     }
 }
 
-impl Backend for Vbd {
-    fn name(&self) -> String {
-        format!("vbd k={} n={}", self.substeps, self.iterations)
-    }
-    fn n_particles(&self) -> usize {
-        self.state.x.len()
-    }
-    fn time(&self) -> f64 {
-        self.state.t
-    }
-    fn advance_to(&mut self, t: f64) -> Result<(), BackendError> {
-        let (n, h) = self.state.split(t, self.substeps);
-        for _ in 0..n {
-            self.substep(h);
-        }
-        let name = self.name();
-        self.state.finish(name, t)
-    }
-    fn positions(&self, out: &mut [[f64; 3]]) {
-        out.copy_from_slice(&self.state.x);
-    }
-    fn velocities(&self, out: &mut [[f64; 3]]) {
-        out.copy_from_slice(&self.state.v);
-    }
-    fn particle(&self, k: usize) -> Kinematics {
-        self.state.particle(k)
-    }
-    fn set_pin(&mut self, k: usize, pin: Option<Pin>) -> Result<(), BackendError> {
-        let name = self.name();
-        self.state.set_pin(name, k, pin)
-    }
-    fn counters(&self) -> Counters {
-        self.state.counters
-    }
-}
+vertex_block_backend!(Vbd, "vbd");
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use dae_particles::Backend;
 
     /// One free vertex and one spring: a converged substep solves the local problem
     /// exactly, so the gradient of `G` vanishes there.

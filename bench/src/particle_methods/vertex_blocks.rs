@@ -5,6 +5,8 @@
 
 use dae_particles::{BackendError, Counters, Kinematics, Pin, System};
 
+use super::substeps;
+
 /// A symmetric 3 x 3 matrix as its rows.
 pub(crate) type Mat3 = [[f64; 3]; 3];
 
@@ -139,9 +141,7 @@ impl Vertices {
     /// The substeps that take the state to `t`: as many of `1/(60 k)` s as fit (at
     /// least one), as `(count, length)` (the split of XPBD).
     pub fn split(&self, t: f64, substeps: u32) -> (u64, f64) {
-        let span = t - self.t;
-        let n = ((span * 60.0 * substeps as f64) - 1e-9).ceil().max(1.0) as u64;
-        (n, span / n as f64)
+        substeps::split(t - self.t, substeps)
     }
 
     /// The start of a substep of length `h`: `x_prev = x`, the inertia targets `y`, the
@@ -199,30 +199,11 @@ impl Vertices {
     /// not finite.
     pub fn finish(&mut self, method: String, t: f64) -> Result<(), BackendError> {
         self.t = t;
-        if let Some(k) = self.x.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
-            return Err(BackendError {
-                method,
-                t,
-                reason: format!("particle {k} has a non-finite position"),
-                deadline: false,
-            });
-        }
-        Ok(())
+        substeps::check_finite(method, t, &self.x)
     }
 
     pub fn particle(&self, k: usize) -> Kinematics {
-        let mut acc = [0.0; 3];
-        if self.h_last > 0.0 {
-            for (i, a) in acc.iter_mut().enumerate() {
-                *a = (self.v[k][i] - self.v_prev[k][i]) / self.h_last;
-            }
-        }
-        Kinematics {
-            pos: self.x[k],
-            vel: self.v[k],
-            acc,
-            jerk: [0.0; 3],
-        }
+        substeps::kinematics(k, &self.x, &self.v, &self.v_prev, self.h_last)
     }
 
     pub fn set_pin(
@@ -231,18 +212,59 @@ impl Vertices {
         k: usize,
         pin: Option<Pin>,
     ) -> Result<(), BackendError> {
-        if k >= self.x.len() {
-            return Err(BackendError {
-                method,
-                t: self.t,
-                reason: format!("particle {k} does not exist"),
-                deadline: false,
-            });
-        }
+        substeps::check_particle(method, self.t, k, self.x.len())?;
         self.pins[k] = pin;
         Ok(())
     }
 }
+
+/// `Backend` for a block descent method `$ty` named `$name`, with fields `state:
+/// Vertices`, `substeps`, `iterations` and a method `substep(h)`: the seam is the
+/// same for VBD and AVBD, only the substep differs.
+macro_rules! vertex_block_backend {
+    ($ty:ty, $name:literal) => {
+        impl dae_particles::Backend for $ty {
+            fn name(&self) -> String {
+                format!(concat!($name, " k={} n={}"), self.substeps, self.iterations)
+            }
+            fn n_particles(&self) -> usize {
+                self.state.x.len()
+            }
+            fn time(&self) -> f64 {
+                self.state.t
+            }
+            fn advance_to(&mut self, t: f64) -> Result<(), dae_particles::BackendError> {
+                let (n, h) = self.state.split(t, self.substeps);
+                for _ in 0..n {
+                    self.substep(h);
+                }
+                let name = self.name();
+                self.state.finish(name, t)
+            }
+            fn positions(&self, out: &mut [[f64; 3]]) {
+                out.copy_from_slice(&self.state.x);
+            }
+            fn velocities(&self, out: &mut [[f64; 3]]) {
+                out.copy_from_slice(&self.state.v);
+            }
+            fn particle(&self, k: usize) -> dae_particles::Kinematics {
+                self.state.particle(k)
+            }
+            fn set_pin(
+                &mut self,
+                k: usize,
+                pin: Option<dae_particles::Pin>,
+            ) -> Result<(), dae_particles::BackendError> {
+                let name = self.name();
+                self.state.set_pin(name, k, pin)
+            }
+            fn counters(&self) -> dae_particles::Counters {
+                self.state.counters
+            }
+        }
+    };
+}
+pub(crate) use vertex_block_backend;
 
 /// The unit vector from `q` to `p` and the distance, or `None` if they coincide.
 pub(crate) fn direction(p: [f64; 3], q: [f64; 3]) -> Option<([f64; 3], f64)> {

@@ -27,6 +27,8 @@
 
 use dae_particles::{Backend, BackendError, Counters, Kinematics, Pin, System};
 
+use super::substeps;
+
 /// The order of the links in a Gauss-Seidel sweep (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SweepOrder {
@@ -190,25 +192,12 @@ impl Backend for Xpbd {
         self.t
     }
     fn advance_to(&mut self, t: f64) -> Result<(), BackendError> {
-        let span = t - self.t;
-        // Substeps of 1/(60 k) s, as many as fit (at least one).
-        let n = ((span * 60.0 * self.substeps as f64) - 1e-9)
-            .ceil()
-            .max(1.0) as u64;
-        let h = span / n as f64;
+        let (n, h) = substeps::split(t - self.t, self.substeps);
         for _ in 0..n {
             self.substep(h);
         }
         self.t = t;
-        if let Some(k) = self.x.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
-            return Err(BackendError {
-                method: self.name(),
-                t,
-                reason: format!("particle {k} has a non-finite position"),
-                deadline: false,
-            });
-        }
-        Ok(())
+        substeps::check_finite(self.name(), t, &self.x)
     }
     fn positions(&self, out: &mut [[f64; 3]]) {
         out.copy_from_slice(&self.x);
@@ -217,28 +206,10 @@ impl Backend for Xpbd {
         out.copy_from_slice(&self.v);
     }
     fn particle(&self, k: usize) -> Kinematics {
-        let mut acc = [0.0; 3];
-        if self.h_last > 0.0 {
-            for (i, a) in acc.iter_mut().enumerate() {
-                *a = (self.v[k][i] - self.v_prev[k][i]) / self.h_last;
-            }
-        }
-        Kinematics {
-            pos: self.x[k],
-            vel: self.v[k],
-            acc,
-            jerk: [0.0; 3],
-        }
+        substeps::kinematics(k, &self.x, &self.v, &self.v_prev, self.h_last)
     }
     fn set_pin(&mut self, k: usize, pin: Option<Pin>) -> Result<(), BackendError> {
-        if k >= self.x.len() {
-            return Err(BackendError {
-                method: self.name(),
-                t: self.t,
-                reason: format!("particle {k} does not exist"),
-                deadline: false,
-            });
-        }
+        substeps::check_particle(self.name(), self.t, k, self.x.len())?;
         self.inv_mass[k] = if pin.is_some() {
             0.0
         } else {
