@@ -41,6 +41,9 @@ pub struct SlidingCounters {
     pub layer_worst_ratio: Option<f64>,
     /// The search for `mu` ([`crate::Dbsmc::adapt_mu`]), if one runs.
     pub mu_search: Option<MuSearchCounters>,
+    /// The parts of the system simulated apart, each on a clock of its own
+    /// ([`crate::Components`]); 1 for one simulator over the whole system.
+    pub parts: u64,
 }
 
 /// What block-local updates did.

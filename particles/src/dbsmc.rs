@@ -475,6 +475,7 @@ impl<M: ParticleDae> Backend for Dbsmc<M> {
                     moves: mu_moves,
                     refused: mu_refused,
                 }),
+                parts: 1,
             }),
         }
     }

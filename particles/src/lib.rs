@@ -19,6 +19,13 @@
 //!   allocating: a [`Dbsmc`] run allocates nothing per frame once it runs
 //!   (`bench/tests/particle_alloc.rs`). A model written as a `.dae` family plugs in
 //!   through [`FamilyParticles`] (feature `families`, "Plugging in another model").
+//! * **Parts apart** ([`Components`], [`parts`]): the parts of a system that no link
+//!   joins (the strands of the hair, the pieces of a scene), each simulated by a
+//!   backend of its own on its own clock, so that a part's events cost only that
+//!   part, optionally on several threads ([`Components::threads`], the same results
+//!   to the bit). [`Components::online`] is DBSMC on every part in one call: the way
+//!   to simulate a system without a model or settings of one's own (a connected
+//!   system is one part).
 //! * **`mu` during a run** ([`AdaptiveMu`], [`Dbsmc::adapt_mu`]): DBSMC's `mu` searched
 //!   for frame by frame, towards the one at which the run costs least, each move keeping
 //!   the sliding variables continuous and the layer's guarantee (docs/particles.md,
@@ -123,6 +130,7 @@
 
 mod backend;
 mod builders;
+mod components;
 mod dbsmc;
 #[cfg(feature = "families")]
 mod family;
@@ -138,6 +146,7 @@ pub use builders::{
     FAR_EDGE_SLACK, GridPins, HEAD_RADIUS, Rope, STRAND_LENGTH, STRAND_PARTICLE_MASS, chain, grid,
     grid_index, grid_with_slack, rope, strands,
 };
+pub use components::{Components, Part, parts};
 pub use dae_runtime::settings::AdaptiveMu;
 pub use dbsmc::{Dbsmc, online_settings};
 #[cfg(feature = "families")]

@@ -54,6 +54,17 @@ pub struct PilotBounds {
 }
 
 impl PilotBounds {
+    /// The bounds of the constraints `constraints` alone (a part of the system, in its
+    /// order).
+    pub fn restricted(&self, constraints: &[usize]) -> Self {
+        let pick = |v: &[f64]| constraints.iter().map(|&i| v[i]).collect::<Vec<_>>();
+        Self {
+            beta: pick(&self.beta),
+            drift: pick(&self.drift),
+            ..Self::new(constraints.len())
+        }
+    }
+
     fn new(m: usize) -> Self {
         Self {
             beta: vec![0.0; m],
