@@ -220,6 +220,7 @@ fn sweeps(fine_k: bool, studies: bool) -> Vec<Vec<MethodSpec>> {
         [4, 16, 64, 256, 1024].map(MethodSpec::IndexOne).to_vec(),
         ks.iter().copied().map(MethodSpec::Vbd).collect(),
         ks.iter().copied().map(MethodSpec::Avbd).collect(),
+        ks.iter().copied().map(MethodSpec::AvbdTuned).collect(),
     ];
     if studies {
         sweeps.extend(
@@ -389,6 +390,7 @@ fn bisect_small_steps(
         MethodSpec::XpbdColoured(_) => MethodSpec::XpbdColoured,
         MethodSpec::Vbd(_) => MethodSpec::Vbd,
         MethodSpec::Avbd(_) => MethodSpec::Avbd,
+        MethodSpec::AvbdTuned(_) => MethodSpec::AvbdTuned,
         _ => return Vec::new(),
     };
     // A k asked for by two levels runs once.
@@ -604,6 +606,7 @@ fn main() {
         "xpbd-iterations",
         "vbd",
         "avbd",
+        "avbd-tuned",
     ]
     .map(String::from)
     .to_vec();
@@ -727,9 +730,10 @@ fn draw_pictures(
     let make = |method: &str, k: u32| match method {
         "vbd" => MethodSpec::Vbd(k),
         "avbd" => MethodSpec::Avbd(k),
+        "avbd-tuned" => MethodSpec::AvbdTuned(k),
         _ => MethodSpec::XpbdColoured(k),
     };
-    for method in ["xpbd-coloured", "vbd", "avbd"] {
+    for method in ["xpbd-coloured", "vbd", "avbd", "avbd-tuned"] {
         let held = [bound, 1e-2]
             .into_iter()
             .find_map(|level| Some((cheapest(records, &title, method, level)?, level)));

@@ -48,6 +48,7 @@ pub fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Option
     specs.extend([64, 256, 1024].map(MethodSpec::XpbdColoured));
     specs.extend([4, 16, 64].map(MethodSpec::Vbd));
     specs.extend([4, 16, 64].map(MethodSpec::Avbd));
+    specs.extend([4, 16, 64].map(MethodSpec::AvbdTuned));
     // One setting of the index-1 method: at 256 steps per frame it fitted the same
     // exponents (0.97 on chains, 1.31 on cloth against 1.32, run of f5e06e2) and was
     // the sweep's longest job (52 s, 45 of them the 64 x 64 cloth).
@@ -202,6 +203,7 @@ pub fn size_sweep(records: &mut Vec<ParticleRecord>, pictures: &Path, o: &Option
             "xpbd-coloured",
             "vbd",
             "avbd",
+            "avbd-tuned",
             "index1-rk4",
             "dbsmc-dp",
             "dbsmc-relaxed",

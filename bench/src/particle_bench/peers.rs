@@ -9,7 +9,13 @@ use super::targets::is_sweep;
 
 /// The peers, as they are named in the records: XPBD small steps in either sweep order,
 /// Vertex Block Descent and its augmented-Lagrangian variant.
-pub const PEERS: [&str; 4] = ["xpbd-substeps", "xpbd-coloured", "vbd", "avbd"];
+pub const PEERS: [&str; 5] = [
+    "xpbd-substeps",
+    "xpbd-coloured",
+    "vbd",
+    "avbd",
+    "avbd-tuned",
+];
 
 /// The worst strains the peers table compares at.
 pub const PEER_LEVELS: [f64; 2] = [1e-3, 1e-4];

@@ -5,7 +5,8 @@
 use std::time::{Duration, Instant};
 
 use dae_particles::{
-    AdaptiveMu, Backend, BackendError, Counters, Dbsmc, FRAME, ParticleDae, ParticleModel, Scene,
+    AdaptiveMu, Backend, BackendError, Components, Counters, Dbsmc, FRAME, ParticleDae,
+    ParticleModel, Scene, System, parts,
 };
 use dae_runtime::settings::Hold;
 use dae_runtime::{
@@ -15,8 +16,9 @@ use dae_runtime::{
 
 use super::scenes::{ParticleScene, SceneShape};
 use crate::{
-    particle_methods::Avbd, particle_methods::IndexOneParticles, particle_methods::PilotBounds,
-    particle_methods::SweepOrder, particle_methods::Vbd, particle_methods::Xpbd,
+    particle_methods::Avbd, particle_methods::AvbdOptions, particle_methods::IndexOneParticles,
+    particle_methods::PilotBounds, particle_methods::SweepOrder, particle_methods::Vbd,
+    particle_methods::Xpbd,
 };
 
 /// A method and its setting.
@@ -90,12 +92,21 @@ pub enum MethodSpec {
     /// Augmented Vertex Block Descent ([`Avbd`]): `k` substeps per frame of
     /// [`AVBD_ITERATIONS`] iterations each.
     Avbd(u32),
+    /// AVBD as [`MethodSpec::Avbd`] with the starting penalty raised to
+    /// [`AVBD_TUNED_K_START`].
+    AvbdTuned(u32),
 }
 
 /// Iterations per substep of [`MethodSpec::Vbd`] (its substeps are the knob).
 pub const VBD_ITERATIONS: u32 = 10;
 /// Iterations per substep of [`MethodSpec::Avbd`] (its substeps are the knob).
 pub const AVBD_ITERATIONS: u32 = 10;
+/// The starting (and least warm-started) penalty of [`MethodSpec::AvbdTuned`], N/m:
+/// with the published `beta = 10` and `k_start = 1e3` the penalty hardly ramps in these
+/// scenes' units; over `beta` in 10 ... 1e7 and `k_start` in 1e3 ... 1e7 on the
+/// heavy-end scenes, `k_start = 1e7` gave the cheapest setting holding a level in most
+/// cells, mostly with `beta = 10` (`examples/avbd_params.rs`, docs/particles.md).
+pub const AVBD_TUNED_K_START: f64 = 1e7;
 
 impl MethodSpec {
     /// The method's name in reports.
@@ -129,6 +140,7 @@ impl MethodSpec {
             MethodSpec::IndexOne(_) => "index1-rk4".into(),
             MethodSpec::Vbd(_) => "vbd".into(),
             MethodSpec::Avbd(_) => "avbd".into(),
+            MethodSpec::AvbdTuned(_) => "avbd-tuned".into(),
         }
     }
     /// The strain bound of a DBSMC setting (`None` for the methods without one). Every
@@ -146,7 +158,8 @@ impl MethodSpec {
             | MethodSpec::XpbdIterations(_)
             | MethodSpec::IndexOne(_)
             | MethodSpec::Vbd(_)
-            | MethodSpec::Avbd(_) => None,
+            | MethodSpec::Avbd(_)
+            | MethodSpec::AvbdTuned(_) => None,
         }
     }
     /// Whether the setting runs the scene's generated family model (which the ropes of
@@ -170,7 +183,8 @@ impl MethodSpec {
             MethodSpec::XpbdSubsteps(k)
             | MethodSpec::XpbdColoured(k)
             | MethodSpec::Vbd(k)
-            | MethodSpec::Avbd(k) => format!("k={k}"),
+            | MethodSpec::Avbd(k)
+            | MethodSpec::AvbdTuned(k) => format!("k={k}"),
             MethodSpec::XpbdIterations(n) => format!("n={n}"),
             MethodSpec::IndexOne(s) => format!("steps/frame={s}"),
         }
@@ -568,15 +582,15 @@ pub fn ramped(mut settings: Settings) -> Settings {
     settings
 }
 
-/// The frame-tied design ([`relaxed_settings`]) on the hand-written model of `scene`,
-/// its settings changed by `adjust` (fixed gains, another tolerance or longest step),
+/// The frame-tied design ([`relaxed_settings`]) on the hand-written model of each part
+/// of `scene` ([`Components`]), its settings changed by `adjust` (fixed gains, another tolerance or longest step),
 /// going on after a lost layer to measure what follows (the strain).
 pub fn run_relaxed_with(
     scene: &ParticleScene,
     eps: f64,
     gain: f64,
     budget: Duration,
-    adjust: impl FnOnce(Settings) -> Settings,
+    adjust: impl Fn(Settings) -> Settings,
 ) -> ParticleRecord {
     run_relaxed_at(scene, eps, gain, RELAXED_MU_PER_FRAME, None, budget, adjust)
 }
@@ -591,26 +605,23 @@ pub fn run_relaxed_at(
     mu_per_frame: f64,
     search: Option<AdaptiveMu>,
     budget: Duration,
-    adjust: impl FnOnce(Settings) -> Settings,
+    adjust: impl Fn(Settings) -> Settings,
 ) -> ParticleRecord {
     let spec = MethodSpec::DbsmcRelaxed { eps, gain };
-    let backend = ParticleModel::new(&scene.system)
-        .map_err(|e| e.to_string())
-        .and_then(|model| {
-            let settings = adjust(relaxed_settings_at(&model, eps, gain, mu_per_frame));
-            Dbsmc::new(model, settings, "relaxed")
-                .and_then(|b| searching(b, search))
-                .map_err(|e| e.to_string())
-        });
+    let backend = Components::new(&scene.system, |part, _| {
+        let model = ParticleModel::new(part).map_err(|e| BackendError {
+            method: "relaxed".into(),
+            t: 0.0,
+            reason: e.to_string(),
+            deadline: false,
+        })?;
+        let settings = adjust(relaxed_settings_at(&model, eps, gain, mu_per_frame));
+        Dbsmc::new(model, settings, "relaxed")
+            .and_then(|b| searching(b, search))
+            .map(Dbsmc::keep_going_after_bound_loss)
+    });
     match backend {
-        Ok(b) => drive_scene(
-            scene,
-            &spec,
-            b.keep_going_after_bound_loss(),
-            budget,
-            None,
-            None,
-        ),
+        Ok(b) => drive_scene(scene, &spec, b, budget, None, None),
         Err(e) => {
             let mut r = blank(scene, &spec);
             r.status = format!("failed: {e}");
@@ -676,6 +687,16 @@ pub fn run_particle_method(
                 Err(e) => failed(e),
             };
         }
+        MethodSpec::AvbdTuned(k) => {
+            let options = AvbdOptions {
+                k_start: AVBD_TUNED_K_START,
+                ..AvbdOptions::default()
+            };
+            return match Avbd::with_options(&scene.system, k, AVBD_ITERATIONS, options) {
+                Ok(b) => drive_scene(scene, spec, b, budget, reference, observe),
+                Err(e) => failed(e),
+            };
+        }
         MethodSpec::Dbsmc {
             eps,
             solver,
@@ -729,7 +750,7 @@ pub fn run_particle_method(
     if generated {
         run.with_generated()
     } else {
-        run.with(ParticleModel::new(&scene.system).map_err(|e| e.to_string()))
+        run.with(|part| ParticleModel::new(part).map_err(|e| e.to_string()))
     }
 }
 
@@ -774,27 +795,22 @@ impl RunDbsmc<'_, '_> {
     /// [`Self::with`] on the scene's generated family model (C1: `chain.dae`, C2:
     /// `c2_hair.dae`, C3 and C4: `c3_cloth.dae`).
     fn with_generated(self) -> ParticleRecord {
-        let sys = &self.scene.system;
+        use crate::particle_methods::{generated_chain, generated_grid, generated_strands};
         match self.scene.shape {
             SceneShape::Chain {
                 links,
                 end_mass_ratio,
-            } => self.with(crate::particle_methods::generated_chain(
-                sys,
-                links,
-                end_mass_ratio,
-            )),
-            SceneShape::Strands { strands, links } => self.with(
-                crate::particle_methods::generated_strands(sys, strands, links),
-            ),
+            } => self.with(|part| generated_chain(part, links, end_mass_ratio)),
+            // Each strand is a part of its own: the hair model of one strand.
+            SceneShape::Strands { links, .. } => {
+                self.with(|part| generated_strands(part, 1, links))
+            }
             SceneShape::Grid {
                 w,
                 pins,
                 shear,
                 slack,
-            } => self.with(crate::particle_methods::generated_grid(
-                sys, w, pins, shear, slack,
-            )),
+            } => self.with(|part| generated_grid(part, w, pins, shear, slack)),
             SceneShape::Rope(_) => {
                 let mut r = blank(self.scene, self.spec);
                 r.status = "failed: the scene has no generated family model".into();
@@ -803,23 +819,97 @@ impl RunDbsmc<'_, '_> {
         }
     }
 
-    /// Designs the settings for `model` from the pilot bounds and runs the scene on it.
-    /// The strain is measured over the whole run; a lost s-layer is recorded
-    /// (`s_layer_lost_at`), not a reason to stop.
-    fn with<M: ParticleDae>(self, model: Result<M, String>) -> ParticleRecord {
+    /// Runs the scene with one DBSMC simulator per part of its system
+    /// ([`Components`]: the strands of the hair apart, a connected scene as one part),
+    /// each on the model `model` builds for the part and the settings designed for it
+    /// (from the pilot bounds of its links, or the frame-tied design). The strain is
+    /// measured over the whole run; a lost s-layer is recorded (`s_layer_lost_at`), not
+    /// a reason to stop.
+    fn with<M: ParticleDae + Send>(
+        self,
+        model: impl Fn(&System) -> Result<M, String>,
+    ) -> ParticleRecord {
         let mut r = blank(self.scene, self.spec);
-        let model = match model {
-            Ok(m) => m,
+        let sys = &self.scene.system;
+        let split = match parts(sys) {
+            Ok(split) => split,
             Err(e) => {
                 r.status = format!("failed: {e}");
                 return r;
             }
         };
-        let designed = match self.design {
+        let constraints = constraints_of_links(sys);
+        let name = format!("{} {}", self.spec.method(), self.spec.knob());
+        let search = match self.design {
+            Design::Relaxed { search, .. } => search,
+            Design::Pilot(_) => None,
+        };
+        // What the parts' designs say: the shortest guaranteed period, the first part's
+        // step, and the first failure of a model or a design (reported as it is).
+        let (mut t_min, mut step, mut refused) = (None::<f64>, None, None);
+        let backend = Components::new(sys, |part, p| {
+            let fail = |reason: String| BackendError {
+                method: name.clone(),
+                t: 0.0,
+                reason,
+                deadline: false,
+            };
+            let designed = model(part).and_then(|m| {
+                let of_part: Vec<usize> = split[p]
+                    .links
+                    .iter()
+                    .filter_map(|&l| constraints[l])
+                    .collect();
+                self.settings(&m, &of_part).map(|d| (m, d))
+            });
+            let (m, (settings, t)) = designed.map_err(|e| {
+                refused.get_or_insert_with(|| e.clone());
+                fail(e)
+            })?;
+            t_min = match (t_min, t) {
+                (Some(a), Some(b)) => Some(a.min(b)),
+                (a, b) => a.or(b),
+            };
+            step.get_or_insert(settings.integration.step);
+            Dbsmc::new(m, settings, &name)
+                .and_then(|b| searching(b, search))
+                .map(Dbsmc::keep_going_after_bound_loss)
+        });
+        match backend {
+            Ok(b) => {
+                r = drive_scene(
+                    self.scene,
+                    self.spec,
+                    b,
+                    self.budget,
+                    self.reference,
+                    self.observe,
+                );
+            }
+            Err(e) => match refused {
+                Some(reason) => r.status = format!("failed: {reason}"),
+                None => r.status = format!("failed: {e}"),
+            },
+        }
+        r.t_min = t_min;
+        r.step = step;
+        r
+    }
+
+    /// The settings of a part's `model` whose constraints are the scene's constraints
+    /// `constraints` (for the pilot bounds), and the guaranteed period if the design
+    /// has one.
+    fn settings<M: ParticleDae>(
+        &self,
+        model: &M,
+        constraints: &[usize],
+    ) -> Result<(Settings, Option<f64>), String> {
+        match self.design {
             // An error-controlled integrator chooses its own steps (crossings are
             // located inside them): no step tied to the layer, at most a frame.
             Design::Pilot(bounds) => {
-                dbsmc_settings(&model, bounds, self.eps, self.solver).map(|(s, t)| {
+                let bounds = bounds.restricted(constraints);
+                dbsmc_settings(model, &bounds, self.eps, self.solver).map(|(s, t)| {
                     let s = s.integrator(self.integrator);
                     let s = if self.integrator.is_adaptive() {
                         s.step(FRAME).max_step(FRAME)
@@ -831,40 +921,28 @@ impl RunDbsmc<'_, '_> {
             }
             // No guaranteed period: the design assumes its drift (see relaxed_settings).
             Design::Relaxed { gain, ramp, .. } => {
-                let settings = relaxed_settings(&model, self.eps, gain);
+                let settings = relaxed_settings(model, self.eps, gain);
                 Ok((if ramp { ramped(settings) } else { settings }, None))
             }
-        };
-        let (settings, t_min) = match designed {
-            Ok(d) => d,
-            Err(e) => {
-                r.status = format!("failed: {e}");
-                return r;
-            }
-        };
-        let step = settings.integration.step;
-        let name = format!("{} {}", self.spec.method(), self.spec.knob());
-        let search = match self.design {
-            Design::Relaxed { search, .. } => search,
-            Design::Pilot(_) => None,
-        };
-        match Dbsmc::new(model, settings, &name).and_then(|b| searching(b, search)) {
-            Ok(b) => {
-                r = drive_scene(
-                    self.scene,
-                    self.spec,
-                    b.keep_going_after_bound_loss(),
-                    self.budget,
-                    self.reference,
-                    self.observe,
-                );
-            }
-            Err(e) => r.status = format!("failed: {e}"),
         }
-        r.t_min = t_min;
-        r.step = Some(step);
-        r
     }
+}
+
+/// For each link of `system`, its constraint in the particle models (which drop the
+/// links with both ends pinned), if it has one.
+fn constraints_of_links(system: &System) -> Vec<Option<usize>> {
+    let pins = system.pins();
+    let mut next = 0;
+    system
+        .links()
+        .iter()
+        .map(|l| {
+            (pins[l.a].is_none() || pins[l.b].is_none()).then(|| {
+                next += 1;
+                next - 1
+            })
+        })
+        .collect()
 }
 
 fn blank(scene: &ParticleScene, spec: &MethodSpec) -> ParticleRecord {
