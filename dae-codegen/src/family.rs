@@ -101,10 +101,40 @@ pub(crate) fn generate_family(model: &CompiledModel, fam: &FamilyModel) -> Token
 
     let stride_check = stride_check(c);
     let offset_check = offset_check(c);
-    let rhs = program_body(&fam.rhs, c, &[quote!(dx)]);
-    let sliding = program_body(&fam.sliding, c, &[quote!(w), quote!(s), quote!(alpha_hat)]);
-    let jacobian = program_body(&fam.jacobian, c, &[quote!(values)]);
-    let rate = program_body(&fam.rate, c, &[quote!(rate)]);
+    // One `Kernels` function per program (the scratch field of the same name), with the
+    // output slices it writes, in the order of `Dest::output`.
+    let signatures: [(&str, &[&str]); 4] = [
+        ("rhs", &["dx"]),
+        ("sliding", &["w", "s", "alpha_hat"]),
+        ("jacobian", &["values"]),
+        ("omega_rate", &["rate"]),
+    ];
+    let kernel_fns = progs
+        .iter()
+        .zip(signatures)
+        .map(|(&(prog, p), (name, outs))| {
+            let (name, prog) = (format_ident!("{name}"), format_ident!("{prog}"));
+            let outs: Vec<TokenStream> = outs
+                .iter()
+                .map(|o| {
+                    let o = format_ident!("{o}");
+                    quote!(#o)
+                })
+                .collect();
+            let body = program_body(p, c, &outs);
+            quote! {
+                fn #name(
+                    &self,
+                    inst: &#dl::family::Instance,
+                    vals: &#dl::family::Values<'_>,
+                    scratch: &mut #scratch_ty,
+                    #( #outs: &mut [f64], )*
+                ) {
+                    let scratch_arrays = &mut scratch.#prog;
+                    #body
+                }
+            }
+        });
     let construction = construction_expr(c);
 
     quote! {
@@ -176,51 +206,7 @@ pub(crate) fn generate_family(model: &CompiledModel, fam: &FamilyModel) -> Token
                 #scratch_ty { #( #prog_names: #array_inits, )* }
             }
 
-            fn rhs(
-                &self,
-                inst: &#dl::family::Instance,
-                vals: &#dl::family::Values<'_>,
-                scratch: &mut #scratch_ty,
-                dx: &mut [f64],
-            ) {
-                let scratch_arrays = &mut scratch.rhs;
-                #rhs
-            }
-
-            fn sliding(
-                &self,
-                inst: &#dl::family::Instance,
-                vals: &#dl::family::Values<'_>,
-                scratch: &mut #scratch_ty,
-                w: &mut [f64],
-                s: &mut [f64],
-                alpha_hat: &mut [f64],
-            ) {
-                let scratch_arrays = &mut scratch.sliding;
-                #sliding
-            }
-
-            fn jacobian(
-                &self,
-                inst: &#dl::family::Instance,
-                vals: &#dl::family::Values<'_>,
-                scratch: &mut #scratch_ty,
-                values: &mut [f64],
-            ) {
-                let scratch_arrays = &mut scratch.jacobian;
-                #jacobian
-            }
-
-            fn omega_rate(
-                &self,
-                inst: &#dl::family::Instance,
-                vals: &#dl::family::Values<'_>,
-                scratch: &mut #scratch_ty,
-                rate: &mut [f64],
-            ) {
-                let scratch_arrays = &mut scratch.rate;
-                #rate
-            }
+            #(#kernel_fns)*
         }
     }
 }
