@@ -33,7 +33,6 @@ macro_rules! note {
 
 mod bounded;
 mod check;
-mod check_family;
 mod check_set;
 mod derive;
 mod design;

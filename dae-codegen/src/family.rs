@@ -36,14 +36,15 @@ use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
 
 use dae_lang::family::{Construction, Dest, Factor, FamilyModel, Program, Sink};
+use dae_lang::model::Family;
 use dae_lang::tape::Operand;
 use dae_lang::{CompiledModel, VarRef};
 
 use crate::construction::construction_expr;
 use crate::literals::{
-    instr, lang, map_ident, number, rust_ident, slot, usize_lit, var_ident, var_source,
+    lang, lets, map_ident, number, rust_ident, slot, usize_lit, var_ident, var_source,
 };
-use crate::vectors::{VectorReads, VectorWrites};
+use crate::vectors::{VectorReads, VectorWrites, family_of, layout_families, offset_check};
 
 /// The tokens of the kernels type of a family model, its scratch type and its
 /// `Kernels` implementation.
@@ -99,11 +100,41 @@ pub(crate) fn generate_family(model: &CompiledModel, fam: &FamilyModel) -> Token
         .collect();
 
     let stride_check = stride_check(c);
-    let offset_check = crate::vectors::offset_check(c);
-    let rhs = program_body(&fam.rhs, c, &[quote!(dx)]);
-    let sliding = program_body(&fam.sliding, c, &[quote!(w), quote!(s), quote!(alpha_hat)]);
-    let jacobian = program_body(&fam.jacobian, c, &[quote!(values)]);
-    let rate = program_body(&fam.rate, c, &[quote!(rate)]);
+    let offset_check = offset_check(c);
+    // One `Kernels` function per program (the scratch field of the same name), with the
+    // output slices it writes, in the order of `Dest::output`.
+    let signatures: [(&str, &[&str]); 4] = [
+        ("rhs", &["dx"]),
+        ("sliding", &["w", "s", "alpha_hat"]),
+        ("jacobian", &["values"]),
+        ("omega_rate", &["rate"]),
+    ];
+    let kernel_fns = progs
+        .iter()
+        .zip(signatures)
+        .map(|(&(prog, p), (name, outs))| {
+            let (name, prog) = (format_ident!("{name}"), format_ident!("{prog}"));
+            let outs: Vec<TokenStream> = outs
+                .iter()
+                .map(|o| {
+                    let o = format_ident!("{o}");
+                    quote!(#o)
+                })
+                .collect();
+            let body = program_body(p, c, &outs);
+            quote! {
+                fn #name(
+                    &self,
+                    inst: &#dl::family::Instance,
+                    vals: &#dl::family::Values<'_>,
+                    scratch: &mut #scratch_ty,
+                    #( #outs: &mut [f64], )*
+                ) {
+                    let scratch_arrays = &mut scratch.#prog;
+                    #body
+                }
+            }
+        });
     let construction = construction_expr(c);
 
     quote! {
@@ -175,51 +206,7 @@ pub(crate) fn generate_family(model: &CompiledModel, fam: &FamilyModel) -> Token
                 #scratch_ty { #( #prog_names: #array_inits, )* }
             }
 
-            fn rhs(
-                &self,
-                inst: &#dl::family::Instance,
-                vals: &#dl::family::Values<'_>,
-                scratch: &mut #scratch_ty,
-                dx: &mut [f64],
-            ) {
-                let scratch_arrays = &mut scratch.rhs;
-                #rhs
-            }
-
-            fn sliding(
-                &self,
-                inst: &#dl::family::Instance,
-                vals: &#dl::family::Values<'_>,
-                scratch: &mut #scratch_ty,
-                w: &mut [f64],
-                s: &mut [f64],
-                alpha_hat: &mut [f64],
-            ) {
-                let scratch_arrays = &mut scratch.sliding;
-                #sliding
-            }
-
-            fn jacobian(
-                &self,
-                inst: &#dl::family::Instance,
-                vals: &#dl::family::Values<'_>,
-                scratch: &mut #scratch_ty,
-                values: &mut [f64],
-            ) {
-                let scratch_arrays = &mut scratch.jacobian;
-                #jacobian
-            }
-
-            fn omega_rate(
-                &self,
-                inst: &#dl::family::Instance,
-                vals: &#dl::family::Values<'_>,
-                scratch: &mut #scratch_ty,
-                rate: &mut [f64],
-            ) {
-                let scratch_arrays = &mut scratch.rate;
-                #rate
-            }
+            #(#kernel_fns)*
         }
     }
 }
@@ -227,52 +214,18 @@ pub(crate) fn generate_family(model: &CompiledModel, fam: &FamilyModel) -> Token
 /// The check, once per instance, that the layout's strides are the ones compiled into
 /// the loops (they depend on declarations only, never on sizes).
 fn stride_check(c: &Construction) -> TokenStream {
-    let family = |f: dae_lang::model::Family, k: usize| if f.over.is_some() { k } else { 0 };
-    let dim = |f: dae_lang::model::Family| usize::from(f.dim.max(1));
-    let tables: [(&str, Vec<usize>); 6] = [
-        (
-            "params",
-            c.params
-                .iter()
-                .map(|d| family(d.family, dim(d.family)))
-                .collect(),
-        ),
-        (
-            "states",
-            c.states
-                .iter()
-                .map(|d| family(d.family, dim(d.family)))
-                .collect(),
-        ),
-        (
-            "algs",
-            c.algs
-                .iter()
-                .map(|d| family(d.family, dim(d.family)))
-                .collect(),
-        ),
-        (
-            "input_values",
-            c.inputs
-                .iter()
-                .map(|d| family(d.family, dim(d.family)))
-                .collect(),
-        ),
-        (
-            "rows",
-            c.constraints
-                .iter()
-                .map(|k| usize::from(k.over.is_some()))
-                .collect(),
-        ),
-        (
-            "w",
-            c.constraints
-                .iter()
-                .map(|k| if k.over.is_some() { k.index } else { 0 })
-                .collect(),
-        ),
-    ];
+    let stride = |f: Family| if f.over.is_some() { var_dim(f) } else { 0 };
+    let mut tables: Vec<(&str, Vec<usize>)> = layout_families(c)
+        .into_iter()
+        .map(|(table, families)| (table, families.into_iter().map(stride).collect()))
+        .collect();
+    let rows = c.constraints.iter().map(|k| usize::from(k.over.is_some()));
+    tables.push(("rows", rows.collect()));
+    let w = c
+        .constraints
+        .iter()
+        .map(|k| if k.over.is_some() { k.index } else { 0 });
+    tables.push(("w", w.collect()));
     let checks = tables
         .iter()
         .filter(|(_, v)| !v.is_empty())
@@ -329,14 +282,15 @@ impl DestSlot {
 /// Whether a variable has one value per element (read at `e`) or one value.
 fn per_element(v: VarRef, c: &Construction) -> bool {
     match v {
-        VarRef::Param(i) => c.params[i.index()].family.over.is_some(),
-        VarRef::State(i) => c.states[i.index()].family.over.is_some(),
-        VarRef::Alg(i) | VarRef::AlgRate(i) => c.algs[i.index()].family.over.is_some(),
         VarRef::Mu(k) => c.constraints[k.index()].over.is_some(),
-        VarRef::Input(i, _) => c.inputs[i.index()].family.over.is_some(),
         VarRef::Elem(_) => true,
-        VarRef::Time | VarRef::Size(_) => false,
+        _ => family_of(v, c).is_some_and(|f| f.over.is_some()),
     }
+}
+
+/// The number of values a declaration has per element (1 for a scalar type).
+fn var_dim(f: Family) -> usize {
+    usize::from(f.dim.max(1))
 }
 
 /// The distance between the slots of two consecutive elements of a family variable
@@ -344,14 +298,9 @@ fn per_element(v: VarRef, c: &Construction) -> bool {
 /// for each derivative of an input; one row per element). A literal in the generated
 /// code; `Kernels::scratch` checks it against the instance's layout.
 fn var_stride(v: VarRef, c: &Construction) -> usize {
-    let dim = |f: dae_lang::model::Family| usize::from(f.dim.max(1));
     match v {
-        VarRef::Param(i) => dim(c.params[i.index()].family),
-        VarRef::State(i) => dim(c.states[i.index()].family),
-        VarRef::Alg(i) | VarRef::AlgRate(i) => dim(c.algs[i.index()].family),
-        VarRef::Input(i, _) => dim(c.inputs[i.index()].family),
         VarRef::Mu(_) => 1,
-        VarRef::Time | VarRef::Elem(_) | VarRef::Size(_) => 0,
+        _ => family_of(v, c).map_or(0, var_dim),
     }
 }
 
@@ -384,6 +333,17 @@ fn read_var(v: VarRef, at: TokenStream, c: &Construction) -> TokenStream {
 
 fn array_ident(a: usize) -> Ident {
     format_ident!("a{a}")
+}
+
+/// Scratch array `a` of program `p` at element index `at` (its one value for a scalar
+/// array).
+fn array_at(p: &Program, a: usize, at: TokenStream) -> TokenStream {
+    let id = array_ident(a);
+    if p.arrays[a].over.is_some() {
+        quote!(#id[#at])
+    } else {
+        quote!(#id[0])
+    }
 }
 
 /// The body of one `Kernels` function: reads before the loops, the accumulators set to
@@ -449,20 +409,13 @@ fn program_body(p: &Program, c: &Construction, outs: &[TokenStream]) -> TokenStr
     }
     for &d in &uses.dests {
         let id = d.ident();
-        pre.push(match d {
-            DestSlot::State(i) => {
-                let i = usize_lit(i);
-                quote!(let #id: usize = inst.layout.states[#i].offset;)
-            }
-            DestSlot::W(k) => {
-                let k = usize_lit(k);
-                quote!(let #id: usize = inst.layout.w[#k].offset;)
-            }
-            DestSlot::Row(k) => {
-                let k = usize_lit(k);
-                quote!(let #id: usize = inst.layout.rows[#k].offset;)
-            }
-        });
+        let (table, i) = match d {
+            DestSlot::State(i) => (quote!(states), i),
+            DestSlot::W(k) => (quote!(w), k),
+            DestSlot::Row(k) => (quote!(rows), k),
+        };
+        let i = usize_lit(i);
+        pre.push(quote!(let #id: usize = inst.layout.#table[#i].offset;));
     }
     let arrays: Vec<Ident> = (0..p.arrays.len()).map(array_ident).collect();
     let zero: Vec<&Ident> = p
@@ -483,11 +436,7 @@ fn program_body(p: &Program, c: &Construction, outs: &[TokenStream]) -> TokenStr
         let reads = VectorReads::of(g, c);
         let mut writes = VectorWrites::of(g, c);
         let operand = |o: Operand| operand_at(o, p, c, &reads);
-        let lets = g.tape.instrs().iter().enumerate().map(|(k, i)| {
-            let v = slot(k as u32);
-            let e = instr(i, &operand);
-            quote!(let #v: f64 = #e;)
-        });
+        let lets = lets(&g.tape, &operand);
         let sinks: Vec<TokenStream> = g
             .tape
             .outputs()
@@ -508,7 +457,7 @@ fn program_body(p: &Program, c: &Construction, outs: &[TokenStream]) -> TokenStr
                             _ => quote!(),
                         };
                         let stride = match d {
-                            Dest::Rhs(x) => usize::from(c.states[x.index()].family.dim.max(1)),
+                            Dest::Rhs(x) => var_stride(VarRef::State(x), c),
                             Dest::W(k, _) => c.constraints[k.index()].index,
                             Dest::S(_) | Dest::AlphaHat(_) | Dest::Rate(_) => 1,
                         };
@@ -520,12 +469,8 @@ fn program_body(p: &Program, c: &Construction, outs: &[TokenStream]) -> TokenStr
                         quote!(#out[#id + #step #j] = #val;)
                     }
                     Sink::Store(a) => {
-                        let id = array_ident(a.index());
-                        if p.arrays[a.index()].over.is_some() {
-                            quote!(#id[e] = #val;)
-                        } else {
-                            quote!(#id[0] = #val;)
-                        }
+                        let at = array_at(p, a.index(), quote!(e));
+                        quote!(#at = #val;)
                     }
                     Sink::ScatterAdd(a, m) => {
                         let id = array_ident(a.index());
@@ -541,7 +486,7 @@ fn program_body(p: &Program, c: &Construction, outs: &[TokenStream]) -> TokenStr
             })
             .collect();
         let (bind, blocks) = (reads.bindings(), writes.blocks());
-        let body = quote!(#bind #(#lets)* #(#sinks)* #blocks);
+        let body = quote!(#bind #lets #(#sinks)* #blocks);
         match g.over {
             Some(s) => {
                 let s = usize_lit(s.index());
@@ -561,14 +506,7 @@ fn program_body(p: &Program, c: &Construction, outs: &[TokenStream]) -> TokenStr
         let coupling = usize_lit(el.coupling);
         let factor = |f: Factor, at: TokenStream| match f {
             Factor::Const(v) => number(v),
-            Factor::Array(a) => {
-                let id = array_ident(a.index());
-                if p.arrays[a.index()].over.is_some() {
-                    quote!(#id[#at])
-                } else {
-                    quote!(#id[0])
-                }
-            }
+            Factor::Array(a) => array_at(p, a.index(), at),
         };
         let terms = el.terms.iter().map(|&(r, k)| {
             let r = factor(r, quote!(l));
@@ -703,14 +641,7 @@ fn operand_at(o: Operand, p: &Program, c: &Construction, reads: &VectorReads) ->
             let m = map_ident(m.index());
             read_var(v, quote!((#m[e] as usize)), c)
         }
-        Operand::Array(a) => {
-            let id = array_ident(a.index());
-            if p.arrays[a.index()].over.is_some() {
-                quote!(#id[e])
-            } else {
-                quote!(#id[0])
-            }
-        }
+        Operand::Array(a) => array_at(p, a.index(), quote!(e)),
         Operand::ArrayAt(a, m) => {
             let id = array_ident(a.index());
             let m = map_ident(m.index());

@@ -7,7 +7,7 @@
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 
-use dae_lang::tape::{BinaryOp, Instr, Operand, UnaryOp};
+use dae_lang::tape::{BinaryOp, Instr, Operand, Tape, UnaryOp};
 use dae_lang::{Func, VarRef};
 
 /// Names a model or a parameter must not take as they are in the generated code: every
@@ -251,6 +251,17 @@ fn call2(f: Func, a: TokenStream, b: TokenStream) -> TokenStream {
             quote!(f64::#name(#a, #b))
         }
     }
+}
+
+/// One `let` per instruction of `tape`, `let v<k>: f64 = ...;`, with its operands
+/// written by `operand`.
+pub(crate) fn lets(tape: &Tape, operand: &impl Fn(Operand) -> TokenStream) -> TokenStream {
+    let stmts = tape.instrs().iter().enumerate().map(|(k, i)| {
+        let v = slot(k as u32);
+        let e = instr(i, operand);
+        quote!(let #v: f64 = #e;)
+    });
+    quote!(#(#stmts)*)
 }
 
 /// The path of `dae-lang` as the runtime re-exports it (feature `families`).

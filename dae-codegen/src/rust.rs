@@ -16,7 +16,7 @@ use quote::{format_ident, quote};
 use dae_lang::tape::{Operand, Tape};
 use dae_lang::{CompiledModel, VarRef};
 
-use crate::literals::{instr, number, rust_ident, slot, usize_lit};
+use crate::literals::{lets, number, rust_ident, slot, usize_lit};
 
 /// The tokens of the generated type of a version-1 model and its `Model`
 /// implementation.
@@ -73,12 +73,19 @@ pub(crate) fn generate_scalar(model: &CompiledModel) -> TokenStream {
         model.indices
     );
 
-    let init_state = body(&model.init_state, &fields, quote!(x));
-    let init_alg = body(&model.init_alg, &fields, quote!(z));
-    let rhs = body(&model.rhs, &fields, quote!(dx));
-    let jac = body(&model.jacobian, &fields, quote!(values));
-    let beta = body(&model.beta, &fields, quote!(beta));
-    let sliding = sliding_body(&model.sliding, &fields, nw_len, model.algs.len());
+    let one = |tape: &Tape, out| body(tape, &fields, &[(out, tape.outputs().len())]);
+    let init_state = one(&model.init_state, quote!(x));
+    let init_alg = one(&model.init_alg, quote!(z));
+    let rhs = one(&model.rhs, quote!(dx));
+    let jac = one(&model.jacobian, quote!(values));
+    let beta = one(&model.beta, quote!(beta));
+    let m_len = model.algs.len();
+    let sliding_outs = [
+        (quote!(w), nw_len),
+        (quote!(s), m_len),
+        (quote!(alpha_hat), m_len),
+    ];
+    let sliding = body(&model.sliding, &fields, &sliding_outs);
 
     quote! {
         #[doc = #doc]
@@ -228,42 +235,22 @@ fn operand(o: Operand, fields: &[Ident]) -> TokenStream {
     }
 }
 
-fn lets(tape: &Tape, fields: &[Ident]) -> TokenStream {
-    let stmts = tape.instrs().iter().enumerate().map(|(k, i)| {
-        let v = slot(k as u32);
-        let e = instr(i, &|o| operand(o, fields));
-        quote!(let #v: f64 = #e;)
-    });
-    quote!(#(#stmts)*)
-}
-
-/// Straight-line code writing all outputs of `tape` to `out[0..len]`.
-fn body(tape: &Tape, fields: &[Ident], out: TokenStream) -> TokenStream {
-    let lets = lets(tape, fields);
-    let stores = tape.outputs().iter().enumerate().map(|(k, o)| {
-        let e = operand(*o, fields);
+/// Straight-line code writing the outputs of `tape`, in order, to the arrays `outs`,
+/// each `(array, length)`: the sliding tape writes `w`, then `s`, then `alpha_hat`.
+fn body(tape: &Tape, fields: &[Ident], outs: &[(TokenStream, usize)]) -> TokenStream {
+    debug_assert_eq!(
+        tape.outputs().len(),
+        outs.iter().map(|o| o.1).sum::<usize>()
+    );
+    let read = |o| operand(o, fields);
+    let lets = lets(tape, &read);
+    let places = outs
+        .iter()
+        .flat_map(|(out, n)| (0..*n).map(move |k| (out, k)));
+    let stores = tape.outputs().iter().zip(places).map(|(o, (out, k))| {
+        let e = read(*o);
         let k = usize_lit(k);
         quote!(#out[#k] = #e;)
-    });
-    quote!(#lets #(#stores)*)
-}
-
-/// The sliding tape writes three arrays: w, then s, then alpha_hat.
-fn sliding_body(tape: &Tape, fields: &[Ident], nw: usize, m: usize) -> TokenStream {
-    debug_assert_eq!(tape.outputs().len(), nw + 2 * m);
-    let lets = lets(tape, fields);
-    let stores = tape.outputs().iter().enumerate().map(|(k, o)| {
-        let e = operand(*o, fields);
-        if k < nw {
-            let k = usize_lit(k);
-            quote!(w[#k] = #e;)
-        } else if k < nw + m {
-            let k = usize_lit(k - nw);
-            quote!(s[#k] = #e;)
-        } else {
-            let k = usize_lit(k - nw - m);
-            quote!(alpha_hat[#k] = #e;)
-        }
     });
     quote!(#lets #(#stores)*)
 }

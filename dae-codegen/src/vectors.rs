@@ -26,26 +26,51 @@ use dae_lang::{AlgId, InputId, ParamId, StateId, VarRef};
 
 use crate::literals::{lang, map_ident, usize_lit, var_ident, var_source};
 
+/// Where a declared variable stands among the declarations of its kind (`None` for
+/// `t`, `mu`, elements and sizes).
+fn position(v: VarRef) -> Option<usize> {
+    match v {
+        VarRef::Param(i) => Some(i.index()),
+        VarRef::State(i) => Some(i.index()),
+        VarRef::Alg(i) | VarRef::AlgRate(i) => Some(i.index()),
+        VarRef::Input(i, _) => Some(i.index()),
+        VarRef::Mu(_) | VarRef::Time | VarRef::Elem(_) | VarRef::Size(_) => None,
+    }
+}
+
+/// The family of declaration `k` of `v`'s kind: parameters, states, algebraic unknowns
+/// (for `z` and `z'`) or inputs; `None` past their end and for the other leaves.
+fn family_at(v: VarRef, k: usize, c: &Construction) -> Option<Family> {
+    match v {
+        VarRef::Param(_) => c.params.get(k).map(|d| d.family),
+        VarRef::State(_) => c.states.get(k).map(|d| d.family),
+        VarRef::Alg(_) | VarRef::AlgRate(_) => c.algs.get(k).map(|d| d.family),
+        VarRef::Input(..) => c.inputs.get(k).map(|d| d.family),
+        _ => None,
+    }
+}
+
+/// The family of a declared variable (`None` for `t`, `mu`, elements and sizes).
+pub(crate) fn family_of(v: VarRef, c: &Construction) -> Option<Family> {
+    family_at(v, position(v)?, c)
+}
+
+/// The families of the declarations of each layout table with a slot per declared
+/// component, by the table's name in the layout.
+pub(crate) fn layout_families(c: &Construction) -> [(&'static str, Vec<Family>); 4] {
+    [
+        ("params", c.params.iter().map(|d| d.family).collect()),
+        ("states", c.states.iter().map(|d| d.family).collect()),
+        ("algs", c.algs.iter().map(|d| d.family).collect()),
+        ("input_values", c.inputs.iter().map(|d| d.family).collect()),
+    ]
+}
+
 /// A component of a vector family: the variable of its component 0, which component it
 /// is, and how many there are. `None` for a scalar or a single-component family.
 pub(crate) fn vector_component(v: VarRef, c: &Construction) -> Option<(VarRef, usize, usize)> {
-    let family = |k: usize| -> Option<Family> {
-        match v {
-            VarRef::Param(_) => c.params.get(k).map(|d| d.family),
-            VarRef::State(_) => c.states.get(k).map(|d| d.family),
-            VarRef::Alg(_) | VarRef::AlgRate(_) => c.algs.get(k).map(|d| d.family),
-            VarRef::Input(..) => c.inputs.get(k).map(|d| d.family),
-            _ => None,
-        }
-    };
-    let i = match v {
-        VarRef::Param(i) => i.index(),
-        VarRef::State(i) => i.index(),
-        VarRef::Alg(i) | VarRef::AlgRate(i) => i.index(),
-        VarRef::Input(i, _) => i.index(),
-        _ => return None,
-    };
-    let f = family(i)?;
+    let i = position(v)?;
+    let f = family_at(v, i, c)?;
     let (j, dim) = (usize::from(f.component), usize::from(f.dim));
     if f.over.is_none() || dim < 2 {
         return None;
@@ -54,7 +79,7 @@ pub(crate) fn vector_component(v: VarRef, c: &Construction) -> Option<(VarRef, u
     // The components of one declaration are consecutive ids (`Construction`); anything
     // else is read one component at a time.
     let consecutive = (0..dim).all(|k| {
-        family(first + k).is_some_and(|g| {
+        family_at(v, first + k, c).is_some_and(|g| {
             g.over == f.over && usize::from(g.dim) == dim && usize::from(g.component) == k
         })
     });
@@ -280,15 +305,7 @@ pub(crate) fn offset_check(c: &Construction) -> TokenStream {
             .map(|(i, f)| (i, i - usize::from(f.component)))
             .collect()
     };
-    let tables = [
-        ("params", pairs(c.params.iter().map(|d| d.family).collect())),
-        ("states", pairs(c.states.iter().map(|d| d.family).collect())),
-        ("algs", pairs(c.algs.iter().map(|d| d.family).collect())),
-        (
-            "input_values",
-            pairs(c.inputs.iter().map(|d| d.family).collect()),
-        ),
-    ];
+    let tables = layout_families(c).map(|(table, families)| (table, pairs(families)));
     let checks: Vec<TokenStream> = tables
         .iter()
         .filter(|(_, v)| !v.is_empty())

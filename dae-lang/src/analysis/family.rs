@@ -2,7 +2,7 @@
 //! the sizes): `J_Omega` as kernels with the couplings they hold in, and the check that
 //! every input is given with the derivatives the functions read.
 
-use super::{ConstraintAnalysis, Kernel, SymbolicModel, text::wname};
+use super::{ConstraintAnalysis, Kernel, SymbolicModel, family_name, text::wname};
 use crate::diag::Diagnostic;
 use crate::model::{ConstraintDef, Model};
 use crate::sym::{Arena, Id, Names, Node, jacobian_terms};
@@ -42,11 +42,6 @@ pub(super) fn kernels(
         }
     }
     Ok(kernels)
-}
-
-/// `pin.x` -> `pin`.
-fn family_name(name: &str) -> String {
-    name.split('.').next().unwrap_or(name).to_string()
 }
 
 fn two_hop(names: &Names, def: &ConstraintDef, k: AlgId) -> Diagnostic {

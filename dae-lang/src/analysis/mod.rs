@@ -214,17 +214,12 @@ pub(crate) fn derive(
     }
     // A family model's counts are checked per set, at the default sizes, by the checker.
     if !is_family && model.algs.len() != model.constraints.len() {
-        errors.push(Diagnostic {
-            message: format!(
-                "{} algebraic unknowns but {} constraints",
-                model.algs.len(),
-                model.constraints.len()
-            ),
-            span: model.span,
-            label: "J_Omega must be square".into(),
-            hint: Some("declare exactly one constraint per `alg` variable".into()),
-            related: vec![],
-        });
+        let (n, m) = (model.algs.len(), model.constraints.len());
+        let message = format!("{n} algebraic unknowns but {m} constraints");
+        errors.push(
+            Diagnostic::new(message, model.span, "J_Omega must be square")
+                .hint("declare exactly one constraint per `alg` variable"),
+        );
     }
     if !errors.is_empty() {
         return Err(errors);
@@ -412,14 +407,15 @@ fn sliding_exprs(arena: &mut Arena, w: &[Id], beta: Id, mu: Id) -> (Id, Id, Id) 
     (s, alpha, alpha_hat)
 }
 
-/// The name of an algebraic unknown's family (`pin` for the component `pin.x`; a
-/// version-1 name has no component).
+/// The name of a declaration's family: `pin` for the component `pin.x` (a version-1
+/// name has no component).
+fn family_name(name: &str) -> String {
+    name.split('.').next().unwrap_or(name).to_string()
+}
+
+/// The name of an algebraic unknown's family.
 fn alg_name(names: &Names, k: AlgId) -> String {
-    let name = names.var(crate::VarRef::Alg(k));
-    match name.split_once('.') {
-        Some((family, _)) => family.to_string(),
-        None => name,
-    }
+    family_name(&names.var(crate::VarRef::Alg(k)))
 }
 
 fn no_index(
@@ -462,11 +458,5 @@ fn no_index(
             "the algebraic unknowns must drive the states this constraint depends on (through some `der`)".to_string(),
         ),
     };
-    Diagnostic {
-        message,
-        span: def.span,
-        label: format!("depends on {vars}"),
-        hint: Some(hint),
-        related: vec![],
-    }
+    Diagnostic::new(message, def.span, format!("depends on {vars}")).hint(hint)
 }

@@ -59,7 +59,6 @@ mod eval;
 #[cfg(test)]
 mod parse_back;
 mod print;
-mod print_family;
 #[cfg(test)]
 pub(crate) mod reader;
 #[cfg(test)]

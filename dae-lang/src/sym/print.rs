@@ -9,14 +9,26 @@
 //! (`{:?}`, integers without `.0`), which the grammar reads back to the same `f64`;
 //! non-finite constants (only reachable from non-finite input) print as `(1/0)`,
 //! `(-1/0)` and `(0/0)`, which evaluate to the same values.
+//!
+//! A family model's templates print their leaves at the element bound to their set
+//! (`x[b[l]].y`), gathers as the gathered node with its set bound to the image (`b[l]`),
+//! sums as `sum(k in L where a[k] == p) z[k]*u[k].x`, and maps and sets by their integer
+//! formulas. The text of a node depends on the element name bound to its context (the
+//! same `let` prints `u[l].x` and `u[k].x`), so the memo is keyed by the node and that
+//! name. A version-1 model is the case without sets: every node is scalar, binds
+//! nothing, and is printed once.
 
 use std::collections::HashMap;
 
-use super::names::Names;
+use super::names::{Names, split_component};
 use super::{Arena, Id, Node, Num};
+use crate::ast::{BinOp, LogicOp};
+use crate::model::{IntOp, MapKind, RExpr};
+use crate::{MapId, SetId, VarRef};
+
 /// Binding strength of the outermost operator of a printed piece.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-pub(super) enum Kind {
+enum Kind {
     Sum,
     Neg,
     Prod,
@@ -24,10 +36,16 @@ pub(super) enum Kind {
     Atom,
 }
 
-pub(super) type Piece = (String, Kind);
+type Piece = (String, Kind);
 
-pub(super) fn wrap((s, k): Piece, min: Kind) -> String {
+fn wrap((s, k): Piece, min: Kind) -> String {
     if k < min { format!("({s})") } else { s }
+}
+
+/// `base^exp`, each side bracketed as its position needs.
+fn power(base: Piece, exp: Piece) -> Piece {
+    let (b, e) = (wrap(base, Kind::Atom), wrap(exp, Kind::Pow));
+    (format!("{b}^{e}"), Kind::Pow)
 }
 
 /// A non-negative finite number as the grammar writes it.
@@ -39,7 +57,7 @@ fn unsigned(v: f64) -> String {
     }
 }
 
-pub(super) fn number(v: f64) -> Piece {
+fn number(v: f64) -> Piece {
     if v.is_nan() {
         ("(0/0)".into(), Kind::Atom)
     } else if v.is_infinite() {
@@ -59,7 +77,7 @@ fn exact_reciprocal(v: f64) -> Option<f64> {
 
 /// Names written in place of nodes (a model's `let`s), added one at a time.
 #[derive(Default)]
-pub(super) struct Abbreviations {
+struct Abbreviations {
     /// Node -> the name written for it (the latest added for that node).
     names: HashMap<Id, String>,
     /// Abbreviations that are a power of one base, `name = base^e0` (a let `l =
@@ -94,7 +112,7 @@ fn count_entry() {
 
 impl Abbreviations {
     /// Writes `name` for node `id` from now on.
-    pub(super) fn add(&mut self, arena: &Arena, id: Id, name: &str) {
+    fn add(&mut self, arena: &Arena, id: Id, name: &str) {
         count_entry();
         self.names.insert(id, name.to_string());
         if let Node::Mul(c, fs) = arena.node(id) {
@@ -120,24 +138,52 @@ impl Abbreviations {
     }
 }
 
-pub(super) struct Printer<'a> {
-    pub(super) arena: &'a Arena,
-    pub(super) names: &'a Names,
+struct Printer<'a> {
+    arena: &'a Arena,
+    names: &'a Names,
     /// By node and the element name bound to its context (interned; 0 for a scalar).
-    pub(super) memo: HashMap<(Id, u32), Piece>,
+    memo: HashMap<(Id, u32), Piece>,
     /// Nodes written by name (a model's `let`s): `d.x` prints `d[l].x` in the context of
     /// `l`.
-    pub(super) abbrev: Abbreviations,
+    abbrev: Abbreviations,
     /// The node being defined: never written as its own abbreviation.
-    pub(super) defining: Option<Id>,
-    /// The element name bound to each set (family models).
-    pub(super) env: Vec<String>,
+    defining: Option<Id>,
+    /// The element name bound to each set (empty for a version-1 model).
+    env: Vec<String>,
     /// Interned bindings, for the memo.
-    pub(super) bindings: HashMap<String, u32>,
+    bindings: HashMap<String, u32>,
+}
+
+impl<'a> Printer<'a> {
+    fn new(arena: &'a Arena, names: &'a Names) -> Printer<'a> {
+        let env = names
+            .family
+            .as_ref()
+            .map_or(Vec::new(), |f| f.elems.clone());
+        Printer {
+            arena,
+            names,
+            memo: HashMap::new(),
+            abbrev: Abbreviations::default(),
+            defining: None,
+            env,
+            bindings: HashMap::new(),
+        }
+    }
 }
 
 impl Printer<'_> {
-    pub(super) fn pr(&mut self, id: Id) -> Piece {
+    /// The memo key of a node: its id and the element name bound to its context.
+    fn key(&mut self, id: Id) -> (Id, u32) {
+        let Some(s) = self.arena.ctx(id) else {
+            return (id, 0);
+        };
+        let b = self.env.get(s.index()).cloned().unwrap_or_default();
+        let next = self.bindings.len() as u32 + 1;
+        (id, *self.bindings.entry(b).or_insert(next))
+    }
+
+    fn pr(&mut self, id: Id) -> Piece {
         if Some(id) != self.defining {
             if let Some(name) = self.abbrev.names.get(&id) {
                 return (self.at_element(name, self.arena.ctx(id)), Kind::Atom);
@@ -154,11 +200,7 @@ impl Printer<'_> {
             Node::Sum(m, b) => self.sum_over(*m, *b),
             Node::Add(c, ts) => self.sum(c.0, ts),
             Node::Mul(c, fs) => self.product(c.0, fs),
-            Node::Pow(a, b) => {
-                let base = wrap(self.pr(*a), Kind::Atom);
-                let exp = wrap(self.pr(*b), Kind::Pow);
-                (format!("{base}^{exp}"), Kind::Pow)
-            }
+            Node::Pow(a, b) => power(self.pr(*a), self.pr(*b)),
             Node::F1(f, a) => (format!("{}({})", f.name(), self.pr(*a).0), Kind::Atom),
             Node::F2(f, a, b) => (
                 format!("{}({}, {})", f.name(), self.pr(*a).0, self.pr(*b).0),
@@ -212,13 +254,9 @@ impl Printer<'_> {
             return number(c);
         }
         if c != 0.0 {
-            if c < 0.0 {
-                out.push_str(" - ");
-                out.push_str(&wrap(number(-c), Kind::Prod));
-            } else {
-                out.push_str(" + ");
-                out.push_str(&wrap(number(c), Kind::Prod));
-            }
+            let (sign, mag) = if c < 0.0 { (" - ", -c) } else { (" + ", c) };
+            out.push_str(sign);
+            out.push_str(&wrap(number(mag), Kind::Prod));
         }
         (out, Kind::Sum)
     }
@@ -273,7 +311,7 @@ impl Printer<'_> {
                 return if k == 1.0 {
                     (name, Kind::Atom)
                 } else {
-                    (format!("{name}^{}", wrap(number(k), Kind::Pow)), Kind::Pow)
+                    power((name, Kind::Atom), number(k))
                 };
             }
         }
@@ -282,8 +320,7 @@ impl Printer<'_> {
         } else if e == 0.5 {
             (format!("sqrt({})", self.pr(b).0), Kind::Atom)
         } else {
-            let base = wrap(self.pr(b), Kind::Atom);
-            (format!("{base}^{}", wrap(number(e), Kind::Pow)), Kind::Pow)
+            power(self.pr(b), number(e))
         }
     }
 
@@ -300,7 +337,7 @@ impl Printer<'_> {
         if mag != 1.0 {
             match exact_reciprocal(mag) {
                 Some(r) if has_num && !sum_below => den.push(unsigned(r)),
-                _ => coef = Some(unsigned_or_special(mag)),
+                _ => coef = Some(number(mag).0),
             }
         }
         let order = self.numerator(fs);
@@ -350,11 +387,104 @@ impl Printer<'_> {
             (s, kind)
         }
     }
-}
 
-/// A non-negative number, or a non-finite one in its bracketed form.
-fn unsigned_or_special(v: f64) -> String {
-    number(v).0
+    /// The element name bound to a set (`0`, the unit's one element, for `None`).
+    fn bound(&self, s: Option<SetId>) -> String {
+        match s {
+            None => "0".into(),
+            Some(s) => self
+                .env
+                .get(s.index())
+                .cloned()
+                .unwrap_or_else(|| self.names.elem(s)),
+        }
+    }
+
+    /// A name (a variable's or a `let`'s) at the element bound to `set`: `x.y` ->
+    /// `x[b[l]].y`; a scalar's name as it is.
+    fn at_element(&self, name: &str, set: Option<SetId>) -> String {
+        match set {
+            None => name.to_string(),
+            Some(s) => {
+                let (base, comp) = split_component(name);
+                format!("{base}[{}]{comp}", self.bound(Some(s)))
+            }
+        }
+    }
+
+    /// A leaf: an input's derivative `u''.x` at an element is `u''[l].x`, as any other
+    /// name with a component.
+    fn leaf(&self, v: VarRef) -> String {
+        let set = self.arena.leaf_sets().of(v);
+        match (v, set) {
+            (VarRef::Elem(s), _) => self.bound(Some(s)),
+            (VarRef::Mu(_), Some(_)) => format!("{}[{}]", self.names.var(v), self.bound(set)),
+            _ => self.at_element(&self.names.var(v), set),
+        }
+    }
+
+    /// Element `elem` mapped by `m`, as text: `a[l]`, `b[a[l]]`, `l + 1`.
+    fn path(&self, m: MapId, elem: &str) -> String {
+        let d = self.arena.maps().get(m);
+        match &d.kind {
+            MapKind::Identity => elem.to_string(),
+            MapKind::ToUnit => "0".into(),
+            MapKind::Chain(ms) => ms.iter().fold(elem.to_string(), |e, k| self.path(*k, &e)),
+            MapKind::Formula(f) if d.name.is_empty() => self.formula(f, elem),
+            _ => format!("{}[{elem}]", d.name),
+        }
+    }
+
+    /// An integer formula (a map's or a set size's) with the element written `elem`.
+    fn formula(&self, e: &RExpr, elem: &str) -> String {
+        formula(e, elem, &|m, x| self.path(m, x), self.names).0
+    }
+
+    /// `Gather(m, e)`: `e` printed with its set bound to the image under `m`.
+    fn gather(&mut self, m: MapId, e: Id) -> Piece {
+        let maps = self.arena.maps();
+        let (dom, cod) = (maps.domain(m), maps.codomain(m));
+        let at = self.path(m, &self.bound(dom));
+        let Some(c) = cod else { return self.pr(e) };
+        let saved = std::mem::replace(&mut self.env[c.index()], at);
+        let p = self.pr(e);
+        self.env[c.index()] = saved;
+        p
+    }
+
+    /// `Sum(m, b)`: `sum(k in K where m[k] == q) b`, or `sum(k in K) b`.
+    fn sum_over(&mut self, m: MapId, b: Id) -> Piece {
+        let maps = self.arena.maps();
+        let (k_set, q_set) = (maps.domain(m), maps.codomain(m));
+        let Some(ks) = k_set else {
+            return self.pr(b);
+        };
+        let k = self.fresh(ks);
+        let saved = std::mem::replace(&mut self.env[ks.index()], k.clone());
+        let body = wrap(self.pr(b), Kind::Prod);
+        let set = self.names.set(k_set);
+        let text = match q_set {
+            None => format!("sum({k} in {set}) {body}"),
+            Some(_) => format!(
+                "sum({k} in {set} where {} == {}) {body}",
+                self.path(m, &k),
+                self.bound(q_set)
+            ),
+        };
+        self.env[ks.index()] = saved;
+        // As loose as a sum, so that an operation around it puts it in parentheses.
+        (text, Kind::Sum)
+    }
+
+    /// A name for the element of a sum over `k`: the set's element name, primed until it
+    /// differs from every name bound.
+    fn fresh(&self, k: SetId) -> String {
+        let mut name = self.names.elem(k);
+        while self.env.contains(&name) {
+            name.push('\'');
+        }
+        name
+    }
 }
 
 impl Arena {
@@ -366,18 +496,30 @@ impl Arena {
 
     /// Several expressions printed with one memo (faster than repeated [`Arena::display`]).
     pub fn display_all(&self, ids: &[Id], names: &Names) -> Vec<String> {
-        self.display_all_abbreviated(ids, names, &[])
+        self.display_in(ids, names, &[], &[])
     }
 
-    /// Like [`Arena::display_all`], but every occurrence of a node in `abbrev` is written as
-    /// the given name (e.g. a model's `let`s, so that the text reads in the model's scope).
-    pub fn display_all_abbreviated(
+    /// Like [`Arena::display_all`], but every occurrence of a node in `abbrev` is written
+    /// as the given name (e.g. a model's `let`s, so that the text reads in the model's
+    /// scope), and element names are bound to sets: `(set, name)` (e.g. the column
+    /// element `k` of a `J_Omega` kernel); the other sets print with their element names.
+    pub fn display_in(
         &self,
         ids: &[Id],
         names: &Names,
         abbrev: &[(Id, String)],
+        bind: &[(SetId, String)],
     ) -> Vec<String> {
-        self.display_in(ids, names, abbrev, &[])
+        let mut p = Printer::new(self, names);
+        for (id, name) in abbrev {
+            p.abbrev.add(self, *id, name);
+        }
+        for (s, n) in bind {
+            if let Some(slot) = p.env.get_mut(s.index()) {
+                *slot = n.clone();
+            }
+        }
+        ids.iter().map(|&id| p.pr(id).0).collect()
     }
 
     /// Definitions `(node, name, abbreviate)` in order, each written in terms of the
@@ -396,5 +538,88 @@ impl Arena {
             }
         }
         out
+    }
+
+    /// A map applied to an element, as text (`a[l]`, `b[a[l]]`, `l + 1`).
+    pub fn path_text(&self, m: MapId, elem: &str, names: &Names) -> String {
+        Printer::new(self, names).path(m, elem)
+    }
+
+    /// An integer formula of the model (a set's size, a map's formula) as text, with its
+    /// element written `elem`.
+    pub fn formula_text(&self, e: &RExpr, elem: &str, names: &Names) -> String {
+        Printer::new(self, names).formula(e, elem)
+    }
+}
+
+/// An integer (construction-time) formula as text and its binding level (0 `if`,
+/// comparisons and logic, 1 sums, 2 products, 3 unary minus, 4 atoms); `path(m, e)`
+/// writes a map applied.
+fn formula(
+    e: &RExpr,
+    elem: &str,
+    path: &dyn Fn(MapId, &str) -> String,
+    names: &Names,
+) -> (String, u8) {
+    let go = |e: &RExpr, elem: &str| formula(e, elem, path, names);
+    let paren = |(s, l): (String, u8), min: u8| if l < min { format!("({s})") } else { s };
+    match e {
+        RExpr::Num(v) => {
+            let t = number(*v).0;
+            let level = if t.starts_with('-') { 3 } else { 4 };
+            (t, level)
+        }
+        RExpr::Var(VarRef::Elem(_)) => (elem.to_string(), 4),
+        RExpr::Var(v) => (names.var(*v), 4),
+        RExpr::Let(l) => (format!("let{}", l.index()), 4),
+        RExpr::Gather(m, inner) => match inner.as_ref() {
+            RExpr::Var(VarRef::Elem(_)) => (path(*m, elem), 4),
+            other => go(other, &path(*m, elem)),
+        },
+        RExpr::Sum(_, b) => (format!("sum(...) {}", paren(go(b, elem), 2)), 1),
+        RExpr::Neg(a) => (format!("-{}", paren(go(a, elem), 3)), 3),
+        RExpr::Binary(op, a, b) => {
+            let (sym, level) = match op {
+                BinOp::Add => (" + ", 1),
+                BinOp::Sub => (" - ", 1),
+                BinOp::Mul => ("*", 2),
+                BinOp::Div => ("/", 2),
+                BinOp::Pow => ("^", 4),
+            };
+            let right_min = if matches!(op, BinOp::Sub | BinOp::Div | BinOp::Pow) {
+                level + 1
+            } else {
+                level
+            };
+            let (l, r) = (paren(go(a, elem), level), paren(go(b, elem), right_min));
+            (format!("{l}{sym}{r}"), level)
+        }
+        RExpr::Call(f, args) => {
+            let a: Vec<String> = args.iter().map(|a| go(a, elem).0).collect();
+            (format!("{}({})", f.name(), a.join(", ")), 4)
+        }
+        RExpr::Int(op, a, b) => {
+            let f = if *op == IntOp::Div { "div" } else { "mod" };
+            (format!("{f}({}, {})", go(a, elem).0, go(b, elem).0), 4)
+        }
+        RExpr::Compare(op, a, b) => {
+            let (a, b) = (paren(go(a, elem), 1), paren(go(b, elem), 1));
+            (format!("{a} {} {b}", op.symbol()), 0)
+        }
+        RExpr::Logic(op, a, b) => {
+            let w = if *op == LogicOp::And { "and" } else { "or" };
+            let (a, b) = (paren(go(a, elem), 1), paren(go(b, elem), 1));
+            (format!("{a} {w} {b}"), 0)
+        }
+        RExpr::Not(a) => (format!("not {}", paren(go(a, elem), 1)), 0),
+        RExpr::If(c, a, b) => (
+            format!(
+                "if {} then {} else {}",
+                go(c, elem).0,
+                go(a, elem).0,
+                go(b, elem).0
+            ),
+            0,
+        ),
     }
 }
