@@ -2,8 +2,8 @@
 //!
 //! One simulator over a whole system makes every event pay for the whole system: a
 //! sliding variable of any part that reaches its layer cuts the step of every particle
-//! and updates every row, so on the hair of `S` strands the steps, and with them the
-//! cost per frame, grow with `S` for each strand, as `S^2` in all. Parts that no link
+//! and updates every row, so each strand of the hair pays for the events of all the
+//! others, and a step costs the whole head. Parts that no link
 //! joins are independent DAEs: [`Components`] runs one backend per part, each with
 //! its own steps and updates, which is the global method on each part exactly (the
 //! guarantee of each part's layer is its own run's), and can advance the parts on
@@ -165,7 +165,7 @@ impl<B: Backend + Send> Components<B> {
     /// part whose system or backend could not be built.
     pub fn new(
         system: &System,
-        mut build: impl FnMut(&System, usize) -> Result<B, BackendError>,
+        build: impl FnMut(&System, usize) -> Result<B, BackendError>,
     ) -> Result<Self, BackendError> {
         let split = parts(system).map_err(|e| BackendError {
             method: "components".into(),
@@ -173,8 +173,31 @@ impl<B: Backend + Send> Components<B> {
             reason: format!("splitting the system into its parts: {e}"),
             deadline: false,
         })?;
+        Self::of_parts(system.n_particles(), split, build)
+    }
+
+    /// The whole of `system` as one part, whatever joins it: for a model that can only
+    /// be built for the whole system (a family model whose layout depends on the
+    /// number of parts), with the counters and the seam of [`Components::new`].
+    pub fn whole(
+        system: &System,
+        build: impl FnMut(&System, usize) -> Result<B, BackendError>,
+    ) -> Result<Self, BackendError> {
+        let whole = Part {
+            system: system.clone(),
+            particles: (0..system.n_particles()).collect(),
+            links: (0..system.links().len()).collect(),
+        };
+        Self::of_parts(system.n_particles(), vec![whole], build)
+    }
+
+    fn of_parts(
+        n_particles: usize,
+        split: Vec<Part>,
+        mut build: impl FnMut(&System, usize) -> Result<B, BackendError>,
+    ) -> Result<Self, BackendError> {
         let count = split.len();
-        let mut place = vec![(0, 0); system.n_particles()];
+        let mut place = vec![(0, 0); n_particles];
         let mut backends = Vec::with_capacity(count);
         let mut particles = Vec::with_capacity(count);
         let mut weights = Vec::with_capacity(count);

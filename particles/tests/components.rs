@@ -203,3 +203,22 @@ fn a_failure_names_its_part() {
         err.reason
     );
 }
+
+#[test]
+fn the_whole_system_as_one_part_is_one_simulator_to_the_bit() {
+    let hair = strands(3, 4).unwrap();
+    let mut whole = Components::whole(&hair, |part, _| {
+        Dbsmc::online(ParticleModel::new(part).unwrap(), 1e-3, "whole")
+    })
+    .unwrap();
+    let mut one = Dbsmc::online(ParticleModel::new(&hair).unwrap(), 1e-3, "one").unwrap();
+    for f in 1..=20 {
+        whole.advance_to(f as f64 * FRAME).unwrap();
+        one.advance_to(f as f64 * FRAME).unwrap();
+    }
+    let (mut a, mut b) = (vec![[0.0; 3]; 15], vec![[0.0; 3]; 15]);
+    whole.positions(&mut a);
+    one.positions(&mut b);
+    assert_eq!(a, b);
+    assert_eq!(whole.counters(), one.counters());
+}

@@ -29,10 +29,11 @@ pub use report::{
 };
 pub use retime::{MAX_TIMINGS, RETIME_BELOW_MS, timed_repeatedly};
 pub use run::{
-    AVBD_ITERATIONS, FrameObserver, MethodSpec, PILOT_SAFETY, ParticleRecord, RELAXED_DRIFT_SAFETY,
-    RELAXED_GRAZE_PER_MU, RELAXED_MU_PER_FRAME, RELAXED_STEP_PER_MU, RELAXED_TOLERANCE_PER_EPS,
-    VBD_ITERATIONS, dbsmc_settings, drive_scene, index_one, particle_pilot, ramped,
-    relaxed_settings, relaxed_settings_at, run_particle_method, run_relaxed_at, run_relaxed_with,
+    AVBD_ITERATIONS, AVBD_TUNED_K_START, FrameObserver, MethodSpec, PILOT_SAFETY, ParticleRecord,
+    RELAXED_DRIFT_SAFETY, RELAXED_GRAZE_PER_MU, RELAXED_MU_PER_FRAME, RELAXED_STEP_PER_MU,
+    RELAXED_TOLERANCE_PER_EPS, VBD_ITERATIONS, dbsmc_settings, drive_scene, index_one,
+    particle_pilot, ramped, relaxed_settings, relaxed_settings_at, run_particle_method,
+    run_relaxed_at, run_relaxed_with,
 };
 pub use scenes::{
     Grab, ParticleScene, SceneShape, c1, c2, c3, c3_with_slack, c4, c4_with_slack, c5, c6, c7,

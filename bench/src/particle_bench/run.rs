@@ -5,7 +5,7 @@
 use std::time::{Duration, Instant};
 
 use dae_particles::{
-    AdaptiveMu, Backend, BackendError, Components, Counters, Dbsmc, FRAME, ParticleDae,
+    AdaptiveMu, Backend, BackendError, Components, Counters, Dbsmc, FRAME, Part, ParticleDae,
     ParticleModel, Scene, System, parts,
 };
 use dae_runtime::settings::Hold;
@@ -746,6 +746,7 @@ pub fn run_particle_method(
         budget,
         reference,
         observe,
+        whole: false,
     };
     if generated {
         run.with_generated()
@@ -789,9 +790,19 @@ struct RunDbsmc<'a, 'o> {
     budget: Duration,
     reference: Option<&'a [f64; 3]>,
     observe: Option<FrameObserver<'o>>,
+    /// Run the scene's system as one part, whatever joins it ([`Components::whole`]).
+    whole: bool,
 }
 
 impl RunDbsmc<'_, '_> {
+    /// The run with the system as one part.
+    fn whole(self) -> Self {
+        Self {
+            whole: true,
+            ..self
+        }
+    }
+
     /// [`Self::with`] on the scene's generated family model (C1: `chain.dae`, C2:
     /// `c2_hair.dae`, C3 and C4: `c3_cloth.dae`).
     fn with_generated(self) -> ParticleRecord {
@@ -801,10 +812,11 @@ impl RunDbsmc<'_, '_> {
                 links,
                 end_mass_ratio,
             } => self.with(|part| generated_chain(part, links, end_mass_ratio)),
-            // Each strand is a part of its own: the hair model of one strand.
-            SceneShape::Strands { links, .. } => {
-                self.with(|part| generated_strands(part, 1, links))
-            }
+            // `c2_hair.dae` places its strands on the head by their number, so a model
+            // of one strand is not a strand of the head: the hair runs as one part.
+            SceneShape::Strands { strands, links } => self
+                .whole()
+                .with(|part| generated_strands(part, strands, links)),
             SceneShape::Grid {
                 w,
                 pins,
@@ -832,7 +844,12 @@ impl RunDbsmc<'_, '_> {
         let mut r = blank(self.scene, self.spec);
         let sys = &self.scene.system;
         let split = match parts(sys) {
-            Ok(split) => split,
+            Ok(split) if !self.whole => split,
+            Ok(_) => vec![Part {
+                system: sys.clone(),
+                particles: (0..sys.n_particles()).collect(),
+                links: (0..sys.links().len()).collect(),
+            }],
             Err(e) => {
                 r.status = format!("failed: {e}");
                 return r;
@@ -847,7 +864,7 @@ impl RunDbsmc<'_, '_> {
         // What the parts' designs say: the shortest guaranteed period, the first part's
         // step, and the first failure of a model or a design (reported as it is).
         let (mut t_min, mut step, mut refused) = (None::<f64>, None, None);
-        let backend = Components::new(sys, |part, p| {
+        let build = |part: &System, p: usize| {
             let fail = |reason: String| BackendError {
                 method: name.clone(),
                 t: 0.0,
@@ -874,7 +891,12 @@ impl RunDbsmc<'_, '_> {
             Dbsmc::new(m, settings, &name)
                 .and_then(|b| searching(b, search))
                 .map(Dbsmc::keep_going_after_bound_loss)
-        });
+        };
+        let backend = if self.whole {
+            Components::whole(sys, build)
+        } else {
+            Components::new(sys, build)
+        };
         match backend {
             Ok(b) => {
                 r = drive_scene(

@@ -293,3 +293,36 @@ fn a_non_finite_position_is_an_error() {
     let err = avbd.advance_to(1.0 / 60.0).unwrap_err();
     assert_eq!(err.reason, "particle 1 has a non-finite position", "{err}");
 }
+
+/// The worst strain of the 20-link rope with an end 1800 times heavier (C6) over its
+/// whole 5 s, by AVBD at 8 substeps with `options`.
+fn heavy_rope_worst_strain(options: AvbdOptions) -> f64 {
+    let scene = dae_bench::particle_bench::c6().unwrap();
+    let backend = Avbd::with_options(&scene.system, 8, 10, options).unwrap();
+    let spec = dae_bench::particle_bench::MethodSpec::AvbdTuned(8);
+    let r = dae_bench::particle_bench::drive_scene(
+        &scene,
+        &spec,
+        backend,
+        std::time::Duration::from_secs(60),
+        None,
+        None,
+    );
+    assert_eq!(
+        (r.status.as_str(), r.frames),
+        ("ok", r.frames_total),
+        "{r:?}"
+    );
+    r.worst_strain
+}
+
+#[test]
+fn the_tuned_start_penalty_holds_the_heavy_rope_where_the_published_one_does_not() {
+    let published = heavy_rope_worst_strain(AvbdOptions::default());
+    let tuned = heavy_rope_worst_strain(AvbdOptions {
+        k_start: dae_bench::particle_bench::AVBD_TUNED_K_START,
+        ..AvbdOptions::default()
+    });
+    assert!(tuned <= 1e-3, "tuned: {tuned:e}");
+    assert!(published > 1e-2, "published: {published:e}");
+}
