@@ -205,3 +205,34 @@ fn the_index_analysis_outputs_in_the_user_docs_are_what_daec_prints() {
         trim(&find("Error: J_Omega is singular"))
     );
 }
+
+/// A sum over the set of the constraint's own element: the condition compares the sum's
+/// element with the constraint's (not with itself), and a sum inside it takes a name of
+/// its own. The lines are `w` and its derivative written out by hand.
+#[test]
+fn a_sum_over_the_constraint_s_own_set_keeps_the_outer_element_in_its_condition() {
+    let src = "model Ring {
+    size N = 4;
+    set P = N;
+    map nxt[p in P] -> P = if p == N - 1 then 0 else p + 1;
+    state x[p in P] = p;
+    alg z[p in P] = 0;
+    der(x[p]) = z[p] + sum(q in P where nxt[q] == p) x[q];
+    constraint c[p in P]: x[p] + sum(q in P where nxt[q] == p) x[q] = 1;
+}
+";
+    let path = temp_file("ring.dae", src);
+    let o = daec(&["derive", path.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    assert!(
+        out.contains("\nw_c[p] = x[p] + (sum(p' in P where nxt[p'] == p) x[p']) - 1\n"),
+        "{out}"
+    );
+    assert!(
+        out.contains(
+            "\nOmega_c[p] = z[p] + (sum(p' in P where nxt[p'] == p) x[p']) + (sum(p' in P where nxt[p'] == p) (z[p'] + (sum(p'' in P where nxt[p''] == p') x[p''])))\n"
+        ),
+        "{out}"
+    );
+}

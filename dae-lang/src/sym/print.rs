@@ -152,6 +152,9 @@ struct Printer<'a> {
     env: Vec<String>,
     /// Interned bindings, for the memo.
     bindings: HashMap<String, u32>,
+    /// The element names that enclosing sums hide (their sets now bound to the sums'
+    /// elements): a sum's element never takes one, so no name is shadowed.
+    hidden: Vec<String>,
 }
 
 impl<'a> Printer<'a> {
@@ -168,6 +171,7 @@ impl<'a> Printer<'a> {
             defining: None,
             env,
             bindings: HashMap::new(),
+            hidden: Vec::new(),
         }
     }
 }
@@ -460,16 +464,17 @@ impl Printer<'_> {
             return self.pr(b);
         };
         let k = self.fresh(ks);
+        // The element the condition compares with is bound outside the sum: read it
+        // before the sum binds its own set (the same set for a sum over `P` at `p`).
+        let q = self.bound(q_set);
         let saved = std::mem::replace(&mut self.env[ks.index()], k.clone());
+        self.hidden.push(saved);
         let body = wrap(self.pr(b), Kind::Prod);
+        let saved = self.hidden.pop().expect("pushed above");
         let set = self.names.set(k_set);
         let text = match q_set {
             None => format!("sum({k} in {set}) {body}"),
-            Some(_) => format!(
-                "sum({k} in {set} where {} == {}) {body}",
-                self.path(m, &k),
-                self.bound(q_set)
-            ),
+            Some(_) => format!("sum({k} in {set} where {} == {q}) {body}", self.path(m, &k),),
         };
         self.env[ks.index()] = saved;
         // As loose as a sum, so that an operation around it puts it in parentheses.
@@ -477,10 +482,10 @@ impl Printer<'_> {
     }
 
     /// A name for the element of a sum over `k`: the set's element name, primed until it
-    /// differs from every name bound.
+    /// differs from every name bound or hidden by an enclosing sum.
     fn fresh(&self, k: SetId) -> String {
         let mut name = self.names.elem(k);
-        while self.env.contains(&name) {
+        while self.env.contains(&name) || self.hidden.contains(&name) {
             name.push('\'');
         }
         name
