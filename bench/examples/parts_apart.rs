@@ -18,7 +18,8 @@
 use std::time::Duration;
 
 use dae_bench::particle_bench::{
-    MethodSpec, ParticleRecord, ParticleScene, c2, drive_scene, ramped, relaxed_settings,
+    MethodSpec, ParticleRecord, ParticleScene, c2, drive_scene, fitted_exponent, kept_both, ramped,
+    relaxed_settings,
 };
 use dae_particles::{BackendError, Components, Dbsmc, ParticleModel, System};
 
@@ -51,24 +52,11 @@ fn run(
             Ok(b) => drive_scene(scene, &spec, b, budget, None, None),
             Err(e) => failed(e),
         },
-        Some(n) => match Components::new(&scene.system, |part, _| dbsmc(part, eps, c)) {
+        Some(n) => match Components::new(&scene.system, |part, _| dbsmc(&part.system, eps, c)) {
             Ok(b) => drive_scene(scene, &spec, b.threads(n), budget, None, None),
             Err(e) => failed(e),
         },
     }
-}
-
-/// Least-squares slope of `ln y` against `ln x`.
-fn exponent(points: &[(f64, f64)]) -> Option<f64> {
-    if points.len() < 2 {
-        return None;
-    }
-    let n = points.len() as f64;
-    let (lx, ly): (Vec<f64>, Vec<f64>) = points.iter().map(|&(x, y)| (x.ln(), y.ln())).unzip();
-    let (mx, my) = (lx.iter().sum::<f64>() / n, ly.iter().sum::<f64>() / n);
-    let sxy: f64 = lx.iter().zip(&ly).map(|(x, y)| (x - mx) * (y - my)).sum();
-    let sxx: f64 = lx.iter().map(|x| (x - mx) * (x - mx)).sum();
-    Some(sxy / sxx)
 }
 
 fn main() {
@@ -127,8 +115,7 @@ fn main() {
                 r.frames_total,
                 r.status
             );
-            let whole = r.status == "ok" && r.frames == r.frames_total;
-            if whole && r.worst_strain <= 1.05 * eps && r.counters.layer_lost_at().is_none() {
+            if r.complete() && r.frames == r.frames_total && kept_both(&r) {
                 fits[row].1.push((s as f64, r.ms_mean));
             } else {
                 eprintln!("parts_apart: S = {s}, {}: {}", fits[row].0, r.status);
@@ -137,7 +124,7 @@ fn main() {
     }
     println!();
     for (name, points) in &fits {
-        if let Some(e) = exponent(points) {
+        if let Some(e) = fitted_exponent(points) {
             println!(
                 "{name}: cost per frame ~ S^{e:.2} over S = {:?}",
                 points.iter().map(|p| p.0 as usize).collect::<Vec<_>>()

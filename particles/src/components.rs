@@ -31,6 +31,17 @@ pub struct Part {
     pub links: Vec<usize>,
 }
 
+impl Part {
+    /// The whole of `system` as one part.
+    pub fn whole(system: &System) -> Self {
+        Part {
+            system: system.clone(),
+            particles: (0..system.n_particles()).collect(),
+            links: (0..system.links().len()).collect(),
+        }
+    }
+}
+
 /// The parts of `system` that no link joins (a pinned particle joins the links at it,
 /// since a release would couple them), in the order of their first particle. Particles
 /// that belong to no part with a link between particles that are not both pinned (a
@@ -160,12 +171,13 @@ impl<B: Backend + Send> std::fmt::Debug for Components<B> {
 }
 
 impl<B: Backend + Send> Components<B> {
-    /// One backend per part of `system`, each built by `build` from the part's own
-    /// system (its index among the parts as the second argument). An error names the
-    /// part whose system or backend could not be built.
+    /// One backend per part of `system`, each built by `build` from the [`Part`] (its
+    /// own system, and where its particles and links are in the whole) and its index
+    /// among the parts. An error names the part whose system or backend could not be
+    /// built.
     pub fn new(
         system: &System,
-        build: impl FnMut(&System, usize) -> Result<B, BackendError>,
+        build: impl FnMut(&Part, usize) -> Result<B, BackendError>,
     ) -> Result<Self, BackendError> {
         let split = parts(system).map_err(|e| BackendError {
             method: "components".into(),
@@ -181,20 +193,15 @@ impl<B: Backend + Send> Components<B> {
     /// number of parts), with the counters and the seam of [`Components::new`].
     pub fn whole(
         system: &System,
-        build: impl FnMut(&System, usize) -> Result<B, BackendError>,
+        build: impl FnMut(&Part, usize) -> Result<B, BackendError>,
     ) -> Result<Self, BackendError> {
-        let whole = Part {
-            system: system.clone(),
-            particles: (0..system.n_particles()).collect(),
-            links: (0..system.links().len()).collect(),
-        };
-        Self::of_parts(system.n_particles(), vec![whole], build)
+        Self::of_parts(system.n_particles(), vec![Part::whole(system)], build)
     }
 
     fn of_parts(
         n_particles: usize,
         split: Vec<Part>,
-        mut build: impl FnMut(&System, usize) -> Result<B, BackendError>,
+        mut build: impl FnMut(&Part, usize) -> Result<B, BackendError>,
     ) -> Result<Self, BackendError> {
         let count = split.len();
         let mut place = vec![(0, 0); n_particles];
@@ -205,8 +212,7 @@ impl<B: Backend + Send> Components<B> {
             for (i, &k) in part.particles.iter().enumerate() {
                 place[k] = (p, i);
             }
-            let backend =
-                build(&part.system, p).map_err(|e| in_part(e, p, count, &part.particles))?;
+            let backend = build(&part, p).map_err(|e| in_part(e, p, count, &part.particles))?;
             backends.push(backend);
             weights.push(part.links.len());
             particles.push(part.particles);
@@ -239,6 +245,18 @@ impl<B: Backend + Send> Components<B> {
         &self.particles
     }
 
+    /// What `read` gives for each part's particles, at their places in `out`.
+    fn scatter(&self, out: &mut [[f64; 3]], read: impl Fn(&B, &mut [[f64; 3]])) {
+        let mut buf = self.scratch.borrow_mut();
+        for (b, ks) in self.backends.iter().zip(&self.particles) {
+            let part = &mut buf[..ks.len()];
+            read(b, part);
+            for (&k, v) in ks.iter().zip(part.iter()) {
+                out[k] = *v;
+            }
+        }
+    }
+
     /// Runs of parts with about equal numbers of links, one per thread.
     fn shares(&self) -> Vec<Range<usize>> {
         let threads = self.threads.min(self.backends.len()).max(1);
@@ -267,7 +285,7 @@ impl Components<Dbsmc<ParticleModel>> {
     /// and the hair's strands or the pieces of a scene each run on their own clock.
     pub fn online(system: &System, eps: f64, name: &str) -> Result<Self, BackendError> {
         Self::new(system, |part, _| {
-            let model = ParticleModel::new(part).map_err(|e| BackendError {
+            let model = ParticleModel::new(&part.system).map_err(|e| BackendError {
                 method: name.to_string(),
                 t: 0.0,
                 reason: e.to_string(),
@@ -328,10 +346,10 @@ impl<B: Backend + Send> Backend for Components<B> {
             .fold(f64::INFINITY, f64::min)
     }
     fn advance_to(&mut self, t: f64) -> Result<(), BackendError> {
-        let shares = self.shares();
-        let failed = if shares.len() <= 1 {
+        let failed = if self.threads == 1 || self.backends.len() == 1 {
             advance_all(&mut self.backends, 0, t)
         } else {
+            let shares = self.shares();
             let mut rest: &mut [B] = &mut self.backends;
             let mut runs = Vec::with_capacity(shares.len());
             for share in &shares {
@@ -361,24 +379,10 @@ impl<B: Backend + Send> Backend for Components<B> {
         }
     }
     fn positions(&self, out: &mut [[f64; 3]]) {
-        let mut buf = self.scratch.borrow_mut();
-        for (b, ks) in self.backends.iter().zip(&self.particles) {
-            let part = &mut buf[..ks.len()];
-            b.positions(part);
-            for (&k, p) in ks.iter().zip(part.iter()) {
-                out[k] = *p;
-            }
-        }
+        self.scatter(out, B::positions);
     }
     fn velocities(&self, out: &mut [[f64; 3]]) {
-        let mut buf = self.scratch.borrow_mut();
-        for (b, ks) in self.backends.iter().zip(&self.particles) {
-            let part = &mut buf[..ks.len()];
-            b.velocities(part);
-            for (&k, v) in ks.iter().zip(part.iter()) {
-                out[k] = *v;
-            }
-        }
+        self.scatter(out, B::velocities);
     }
     fn particle(&self, k: usize) -> Kinematics {
         let (p, i) = self.place[k];

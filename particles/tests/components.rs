@@ -185,7 +185,7 @@ fn a_failure_names_its_part() {
                 deadline: false,
             })
         } else {
-            Dbsmc::online(ParticleModel::new(part).unwrap(), 1e-3, "test")
+            Dbsmc::online(ParticleModel::new(&part.system).unwrap(), 1e-3, "test")
         }
     })
     .unwrap_err();
@@ -208,7 +208,7 @@ fn a_failure_names_its_part() {
 fn the_whole_system_as_one_part_is_one_simulator_to_the_bit() {
     let hair = strands(3, 4).unwrap();
     let mut whole = Components::whole(&hair, |part, _| {
-        Dbsmc::online(ParticleModel::new(part).unwrap(), 1e-3, "whole")
+        Dbsmc::online(ParticleModel::new(&part.system).unwrap(), 1e-3, "whole")
     })
     .unwrap();
     let mut one = Dbsmc::online(ParticleModel::new(&hair).unwrap(), 1e-3, "one").unwrap();

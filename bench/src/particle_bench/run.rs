@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 
 use dae_particles::{
     AdaptiveMu, Backend, BackendError, Components, Counters, Dbsmc, FRAME, Part, ParticleDae,
-    ParticleModel, Scene, System, parts,
+    ParticleModel, Scene, System,
 };
 use dae_runtime::settings::Hold;
 use dae_runtime::{
@@ -609,7 +609,7 @@ pub fn run_relaxed_at(
 ) -> ParticleRecord {
     let spec = MethodSpec::DbsmcRelaxed { eps, gain };
     let backend = Components::new(&scene.system, |part, _| {
-        let model = ParticleModel::new(part).map_err(|e| BackendError {
+        let model = ParticleModel::new(&part.system).map_err(|e| BackendError {
             method: "relaxed".into(),
             t: 0.0,
             reason: e.to_string(),
@@ -843,18 +843,6 @@ impl RunDbsmc<'_, '_> {
     ) -> ParticleRecord {
         let mut r = blank(self.scene, self.spec);
         let sys = &self.scene.system;
-        let split = match parts(sys) {
-            Ok(split) if !self.whole => split,
-            Ok(_) => vec![Part {
-                system: sys.clone(),
-                particles: (0..sys.n_particles()).collect(),
-                links: (0..sys.links().len()).collect(),
-            }],
-            Err(e) => {
-                r.status = format!("failed: {e}");
-                return r;
-            }
-        };
         let constraints = constraints_of_links(sys);
         let name = format!("{} {}", self.spec.method(), self.spec.knob());
         let search = match self.design {
@@ -864,19 +852,16 @@ impl RunDbsmc<'_, '_> {
         // What the parts' designs say: the shortest guaranteed period, the first part's
         // step, and the first failure of a model or a design (reported as it is).
         let (mut t_min, mut step, mut refused) = (None::<f64>, None, None);
-        let build = |part: &System, p: usize| {
+        let build = |part: &Part, _: usize| {
             let fail = |reason: String| BackendError {
                 method: name.clone(),
                 t: 0.0,
                 reason,
                 deadline: false,
             };
-            let designed = model(part).and_then(|m| {
-                let of_part: Vec<usize> = split[p]
-                    .links
-                    .iter()
-                    .filter_map(|&l| constraints[l])
-                    .collect();
+            let designed = model(&part.system).and_then(|m| {
+                let of_part: Vec<usize> =
+                    part.links.iter().filter_map(|&l| constraints[l]).collect();
                 self.settings(&m, &of_part).map(|d| (m, d))
             });
             let (m, (settings, t)) = designed.map_err(|e| {
