@@ -79,7 +79,7 @@ pub(crate) fn run(args: &Args) -> Result<(), Reported> {
         .iter()
         .map(|(m, a)| {
             m.is_family()
-                .then(|| check_family(a, topology.as_ref(), given))
+                .then(|| check_family(a, topology.as_ref(), given, (&name, &src)))
                 .transpose()
         })
         .collect::<Result<Vec<_>, Reported>>()?;
@@ -293,9 +293,10 @@ fn check_family(
     a: &Analysis,
     topology: Option<&Topology>,
     given: bool,
+    file: (&str, &str),
 ) -> Result<FamilyCheck, Reported> {
     let (header, kernels) = template_lines(&a.derive_text());
-    let default = at_default_sizes(dae_lang::compile(a), topology, given)?;
+    let default = at_default_sizes(dae_lang::compile(a), topology, given, file)?;
     Ok(FamilyCheck {
         header,
         kernels,

@@ -27,6 +27,7 @@
 
 use std::path::Path;
 
+use crate::redundant::Redundant;
 use crate::{Reported, source};
 use dae_lang::CompiledModel;
 use dae_lang::family::{AssignError, Construction, Spec};
@@ -524,6 +525,7 @@ pub(crate) fn at_default_sizes(
     compiled: CompiledModel,
     topology: Option<&Topology>,
     given: bool,
+    (file, src): (&str, &str),
 ) -> Result<Option<DefaultSizes>, Reported> {
     use dae_runtime::{solve::LinearSolver, solve::Solver, solve::SolverChoice};
     let name = compiled.name.clone();
@@ -616,15 +618,64 @@ pub(crate) fn at_default_sizes(
             solver: solver_name,
         })),
         Err(dae_runtime::solve::SolveError::Singular { constraints }) => {
-            error!(
-                "J_Omega of `{name}` is singular at t = 0 with the default sizes ({sizes}): the rows of {} are dependent\n  hint: the algebraic unknowns do not determine these constraints at the initial point (a link of length zero? two links along one line at a particle with no other support?)",
-                names(&constraints)
-            );
+            let which = if given { "given" } else { "default" };
+            let at = format!("t = 0 with the {which} sizes ({sizes})");
+            match Redundant::at(&model, 0.0, &x, &z) {
+                Some(r) => {
+                    let families = &model.kernels().construction().constraints;
+                    let d = singular_diagnostic(&model, &name, &at, &r, families);
+                    source::report(file, src, &[d]);
+                }
+                None => error!(
+                    "J_Omega of `{name}` is singular at {at}: the rows of {} are dependent\n  hint: the algebraic unknowns do not determine these constraints at the initial point (a link of length zero? two links along one line at a particle with no other support?)",
+                    names(&constraints)
+                ),
+            }
             Err(Reported)
         }
         Err(e) => {
             error!("J_Omega of `{name}` at t = 0 with the default sizes ({sizes}): {e}");
             Err(Reported)
         }
+    }
+}
+
+/// A singular `J_Omega` of a family model at the model's lines: the first family with
+/// implied constraints underlined, the others' counts beside their declarations, one
+/// dependency written out in the hint.
+fn singular_diagnostic(
+    model: &FamilyInstance<Interpreter>,
+    name: &str,
+    at: &str,
+    r: &Redundant,
+    families: &[dae_lang::family::ConstraintInfo],
+) -> dae_lang::Diagnostic {
+    let span_of = |family: &str| {
+        families
+            .iter()
+            .find(|c| c.name == family)
+            .map_or(dae_lang::ast::Span::new(0, 0), |c| c.span)
+    };
+    let lines = r.family_lines(model);
+    let main = r
+        .families
+        .iter()
+        .position(|(_, _, implied)| !implied.is_empty())
+        .unwrap_or(0);
+    let related = lines
+        .iter()
+        .enumerate()
+        .filter(|&(k, _)| k != main)
+        .map(|(_, (family, text))| (span_of(family), text.clone()))
+        .collect();
+    dae_lang::Diagnostic {
+        message: format!("J_Omega of `{name}` is singular at {at}: {}", r.counts()),
+        span: span_of(&lines[main].0),
+        label: lines[main].1.clone(),
+        hint: Some(format!(
+            "remove the implied constraints, or make them forces (rigid diagonals of a flat cloth are implied by its links in its plane), or start where they are independent; at this start {}",
+            r.dependency(model)
+        )),
+        related,
     }
 }

@@ -43,6 +43,7 @@ mod fmu;
 mod messages;
 mod pilot;
 mod progress;
+mod redundant;
 mod run;
 mod source;
 

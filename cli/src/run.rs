@@ -16,6 +16,7 @@ use self::report::Report;
 use crate::Reported;
 use crate::pilot::{PilotArgs, design_json, per_constraint};
 use crate::progress::Progress;
+use crate::redundant::Redundant;
 use dae_runtime::{
     Model, Settings, SimError, Simulator, Summary, Trace, charts::plot_run, design,
     design::ConsistentStart, error::Quantity, settings::AlphaChoice, solve::SolverChoice,
@@ -413,7 +414,7 @@ fn consistent_start(model: &dyn Model, settings: &Settings) -> Result<Start, Rep
             error!(
                 "no consistent algebraic start values for `{}`: {}",
                 model.name(),
-                start_error(model, &e)
+                start_error(model, settings.window.t_start, &e)
             );
             hint!(
                 "--start given runs from the model's own values (the reaching phase then starts from them)"
@@ -423,8 +424,31 @@ fn consistent_start(model: &dyn Model, settings: &Settings) -> Result<Start, Rep
     }
 }
 
+/// For a singular `J_Omega` at the start of the run, the constraints the others imply
+/// at the model's initial values (see [`Redundant`]), as a hint; `None` later in the run
+/// or if `J_Omega` has full rank there.
+fn redundant_at_start(model: &dyn Model, settings: &Settings, t: f64) -> Option<String> {
+    if t != settings.window.t_start {
+        return None;
+    }
+    let mut x = vec![0.0; model.n_states()];
+    let mut z = vec![0.0; model.n_constraints()];
+    model.initial_state(&mut x);
+    model.initial_alg(&mut z);
+    let r = Redundant::at(model, t, &x, &z)?;
+    let mut text = format!("at the initial values J_Omega has {}", r.counts());
+    for (_, line) in r.family_lines(model) {
+        text.push_str(&format!("\n  {line}"));
+    }
+    text.push_str(&format!(
+        "\n  there {}\n  remove the implied constraints, or make them forces, or start where they are independent",
+        r.dependency(model)
+    ));
+    Some(text)
+}
+
 /// A [`design::StartError`] with the constraints named.
-fn start_error(model: &dyn Model, e: &design::StartError) -> String {
+fn start_error(model: &dyn Model, t: f64, e: &design::StartError) -> String {
     use design::StartError;
     let names = |rows: &[usize]| {
         let listed: Vec<String> = rows
@@ -440,10 +464,30 @@ fn start_error(model: &dyn Model, e: &design::StartError) -> String {
         }
     };
     match e {
-        StartError::Singular { constraints } => format!(
-            "J_Omega is singular at the initial states: the rows of {} are dependent, so the algebraic unknowns are not determined there",
-            names(constraints)
-        ),
+        StartError::Singular { constraints } => {
+            let mut x = vec![0.0; model.n_states()];
+            let mut z = vec![0.0; model.n_constraints()];
+            model.initial_state(&mut x);
+            model.initial_alg(&mut z);
+            match Redundant::at(model, t, &x, &z) {
+                Some(r) => {
+                    let mut text = format!(
+                        "J_Omega is singular at the initial values: {}, so the algebraic unknowns are not determined there",
+                        r.counts()
+                    );
+                    for (_, line) in r.family_lines(model) {
+                        text.push_str(&format!("\n  {line}"));
+                    }
+                    text.push_str(&format!("\n  there {}", r.dependency(model)));
+                    text.push_str("\n  hint: remove the implied constraints, or make them forces, or start where they are independent");
+                    text
+                }
+                None => format!(
+                    "J_Omega is singular at the initial states: the rows of {} are dependent, so the algebraic unknowns are not determined there",
+                    names(constraints)
+                ),
+            }
+        }
         StartError::NonFinite {
             constraint,
             iteration,
@@ -617,9 +661,10 @@ fn report_failure(model: &dyn Model, settings: &Settings, fixed_step: bool, e: &
             }
             format!("the motion diverged: try {}", tries.join(", "))
         }
-        SimError::SingularJacobian { .. } => {
-            "J_Omega lost rank here: the algebraic unknowns no longer determine these constraints".into()
-        }
+        SimError::SingularJacobian { t, .. } => match redundant_at_start(model, settings, *t) {
+            Some(text) => text,
+            None => "J_Omega lost rank here: the algebraic unknowns no longer determine these constraints".into(),
+        },
         SimError::ReachingTimeout { .. } => "increase the gains or the layers".into(),
         SimError::SolverFailed { .. } => "choose another --solver (dense always applies)".into(),
         SimError::StepUnderflow {

@@ -184,8 +184,13 @@ fn condition(
         .collect();
     let first = &constraints[involved[0]];
     let message = if smin == 0.0 || !cond.is_finite() {
+        // The numerical rank at the usual tolerance of the SVD, `m eps sigma_max`.
+        let rank = sv
+            .iter()
+            .filter(|&&v| v > m as f64 * f64::EPSILON * smax)
+            .count();
         format!(
-            "J_Omega is singular at the initial point (constraints {})",
+            "J_Omega is singular at the initial point: rank {rank} of {m} (constraints {})",
             names.join(", ")
         )
     } else {

@@ -18,6 +18,7 @@ mod approx;
 mod dense;
 mod diagnose;
 mod order;
+mod redundancy;
 mod sparse;
 mod structure;
 mod supernodal;
@@ -28,6 +29,7 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
+pub use redundancy::{IMPLIED_TOL, Redundancy};
 pub(crate) use structure::Structure;
 
 use approx::{Cg, GaussSeidel, Ilu0, Jacobi};
