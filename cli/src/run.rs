@@ -19,8 +19,8 @@ use crate::progress::Progress;
 use crate::redundant::Redundant;
 use dae_runtime::{
     Model, Settings, SimError, Simulator, Summary, Trace, charts::plot_run, design,
-    design::ConsistentStart, error::Quantity, settings::AlphaChoice, solve::SolverChoice,
-    trace::CsvSink, trace::Decimate, trace::Tee,
+    design::ConsistentStart, error::Quantity, settings::AlphaChoice, solve::RedundantRows,
+    solve::SolverChoice, trace::CsvSink, trace::Decimate, trace::Tee,
 };
 use std::fs::File;
 use std::io::{self, BufWriter};
@@ -182,6 +182,12 @@ pub(crate) struct Args {
     /// `jacobi`, `gauss-seidel:K` (K sweeps), `cg:K` (K iterations), `ilu0`.
     #[arg(long, default_value = "auto", value_parser = parse_solver)]
     solver: SolverChoice,
+    /// What a singular J_Omega does: `refuse` stops and names the constraints the
+    /// others imply; `drop` sets them aside and solves the rest, which holds them
+    /// where they are dependent as functions (a constraint stated twice, a family the
+    /// others imply everywhere: docs/method.md, "Redundant constraints").
+    #[arg(long, value_enum, default_value = "refuse")]
+    redundant: RedundantArg,
     /// Let the gains follow the drift of s' measured between updates, with this safety
     /// factor (at least the given gains, up to the gain that sweeps the layer against
     /// the drift; GainRule::FollowDrift).
@@ -200,6 +206,23 @@ pub(crate) struct Args {
     /// asked for).
     #[arg(long)]
     saturate: bool,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum RedundantArg {
+    /// Stop at a singular J_Omega.
+    Refuse,
+    /// Set the implied constraints aside.
+    Drop,
+}
+
+impl From<RedundantArg> for RedundantRows {
+    fn from(a: RedundantArg) -> Self {
+        match a {
+            RedundantArg::Refuse => RedundantRows::Refuse,
+            RedundantArg::Drop => RedundantRows::Drop,
+        }
+    }
 }
 
 fn parse_solver(text: &str) -> Result<SolverChoice, String> {
@@ -294,6 +317,7 @@ pub(crate) fn run(args: &Args) -> Result<Outcome, Reported> {
         .t_end(args.t_end)
         .settle(args.settle)
         .solver(args.solver)
+        .redundant(args.redundant.into())
         .law(laws.run)
         .alpha(match args.alpha {
             Some(AlphaArg::Exact) => AlphaChoice::Exact,
@@ -408,7 +432,13 @@ fn consistent_start(model: &dyn Model, settings: &Settings) -> Result<Start, Rep
     let mut z0 = vec![0.0; model.n_constraints()];
     model.initial_state(&mut x0);
     model.initial_alg(&mut z0);
-    match design::consistent_start(model, settings.window.t_start, &x0, &z0) {
+    match design::consistent_start_with(
+        model,
+        settings.window.t_start,
+        &x0,
+        &z0,
+        settings.redundant,
+    ) {
         Ok(found) => Ok(Start { x0, found }),
         Err(e) => {
             error!(

@@ -103,3 +103,79 @@ fn check_finds_the_rigid_diagonals_of_a_cloth_implied_by_its_links() {
         "{err}"
     );
 }
+
+/// The samples of a `--csv` trace: the header and the rows.
+fn trace(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let text = std::fs::read_to_string(path).expect("the trace");
+    let mut lines = text
+        .lines()
+        .map(|l| l.split(',').map(str::to_string).collect());
+    let header: Vec<String> = lines.next().expect("a header");
+    (header, lines.collect())
+}
+
+/// With `--redundant drop`, the chain whose links are constrained twice runs as the chain
+/// constrained once: every state at every sample equal to the bit, and the summary says
+/// that the implied constraints were set aside.
+#[test]
+fn run_with_redundant_drop_is_the_chain_without_its_repeated_constraints() {
+    let dir = std::env::temp_dir().join(format!("daec-redundant-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (once, twice) = (dir.join("once.csv"), dir.join("twice.csv"));
+    let common = ["--t-end", "0.5", "--eps", "1e-3"];
+    let o = daec(
+        &[
+            &["run", &fixture("chain_once.dae")][..],
+            &common,
+            &["--csv", once.to_str().unwrap()],
+        ]
+        .concat(),
+    );
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let t = daec(
+        &[
+            &[
+                "run",
+                &fixture("chain_twice_same.dae"),
+                "--redundant",
+                "drop",
+            ][..],
+            &common,
+            &["--csv", twice.to_str().unwrap()],
+        ]
+        .concat(),
+    );
+    let out = String::from_utf8_lossy(&t.stdout);
+    assert_eq!(
+        t.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&t.stderr)
+    );
+    assert!(
+        out.contains("the constraints the others imply set aside (at most 5)"),
+        "{out}"
+    );
+    let ((ha, ra), (hb, rb)) = (trace(&once), trace(&twice));
+    assert_eq!(ra.len(), rb.len());
+    let states: Vec<&String> = ha
+        .iter()
+        .filter(|c| *c == "t" || c.starts_with("x."))
+        .collect();
+    assert_eq!(states.len(), 1 + 36);
+    for c in states {
+        let (i, j) = (
+            ha.iter().position(|h| h == c).unwrap(),
+            hb.iter().position(|h| h == c).unwrap(),
+        );
+        for (a, b) in ra.iter().zip(&rb) {
+            assert_eq!(a[i], b[j], "column {c}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -28,6 +28,14 @@ pub struct SolverSummary {
     pub robustness_failures: u64,
     /// Gains raised by [`GainRule::Raise`](crate::settings::GainRule::Raise).
     pub gain_raises: u64,
+    /// Factorisations that found `J_s` singular and set the constraints the others
+    /// imply aside ([`RedundantRows::Drop`](crate::solve::RedundantRows::Drop)), and the
+    /// most constraints set aside at one of them.
+    #[serde(default)]
+    pub set_aside: u64,
+    /// See `set_aside`.
+    #[serde(default)]
+    pub set_aside_max: u64,
 }
 
 /// What block-local updates ([`Scope::Blocks`](crate::settings::Scope::Blocks)) did

@@ -191,6 +191,8 @@ impl Report<'_> {
                 "solves": s.solver.solves,
                 "iterations": s.solver.iterations,
                 "robustness_failures": s.solver.robustness_failures,
+                "set_aside": s.solver.set_aside,
+                "set_aside_max": s.solver.set_aside_max,
             },
             "states": (0..model.n_states()).map(|i| model.state_name(i)).collect::<Vec<_>>(),
             "x_final": s.x,

@@ -45,7 +45,7 @@ pub use pilot_run::{
     AutoDesign, AutoDesignOptions, DesignPass, MuChoice, PilotRun, PilotRunError, auto_design,
     pilot_run, pilot_specs,
 };
-pub use start::{ConsistentStart, MAX_NEWTON, StartError, consistent_start};
+pub use start::{ConsistentStart, MAX_NEWTON, StartError, consistent_start, consistent_start_with};
 
 /// The largest constraint index the formulas accept; `mu^(r-1)` and `2^r` are computed
 /// in `f64` and no realistic model comes near it.

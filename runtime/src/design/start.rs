@@ -14,7 +14,7 @@
 
 use crate::Model;
 use crate::model::w_offsets;
-use crate::solve::{LinearSolver, SolveError, Solver, SolverChoice};
+use crate::solve::{LinearSolver, RedundantRows, SolveError, Solver, SolverChoice};
 
 /// Most Newton iterations of [`consistent_start`].
 pub const MAX_NEWTON: usize = 20;
@@ -114,6 +114,21 @@ pub fn consistent_start<M: Model + ?Sized>(
     x: &[f64],
     z: &[f64],
 ) -> Result<ConsistentStart, StartError> {
+    consistent_start_with(model, t, x, z, RedundantRows::Refuse)
+}
+
+/// [`consistent_start`] where a singular `J_Omega` does what `rows` says: with
+/// [`RedundantRows::Drop`], each Newton step leaves the algebraic unknowns of the
+/// constraints the others imply where they are and solves for the rest (the implied
+/// residuals then vanish with the others when the constraints are dependent as
+/// functions; when they do not, Newton does not converge and says so).
+pub fn consistent_start_with<M: Model + ?Sized>(
+    model: &M,
+    t: f64,
+    x: &[f64],
+    z: &[f64],
+    rows: RedundantRows,
+) -> Result<ConsistentStart, StartError> {
     let (n, m) = (model.n_states(), model.n_constraints());
     if x.len() != n || z.len() != m {
         return Err(StartError::Mismatch(format!(
@@ -122,7 +137,7 @@ pub fn consistent_start<M: Model + ?Sized>(
             z.len()
         )));
     }
-    let mut newton = Newton::new(model, t, x)?;
+    let mut newton = Newton::new(model, t, x, rows)?;
     let mut z = z.to_vec();
     let (mut residual, worst_before) = newton.residual(&z, 0)?;
     let residual_before = residual;
@@ -191,12 +206,13 @@ struct Newton<'a, M: Model + ?Sized> {
 }
 
 impl<'a, M: Model + ?Sized> Newton<'a, M> {
-    fn new(model: &'a M, t: f64, x: &'a [f64]) -> Result<Self, StartError> {
+    fn new(model: &'a M, t: f64, x: &'a [f64], rows: RedundantRows) -> Result<Self, StartError> {
         let m = model.n_constraints();
         let offsets = w_offsets(model.indices());
         let pattern = model.jacobian_pattern();
         let solver = Solver::new(m, pattern, SolverChoice::Auto)
-            .map_err(|e| StartError::Mismatch(format!("the pattern of J_Omega: {e}")))?;
+            .map_err(|e| StartError::Mismatch(format!("the pattern of J_Omega: {e}")))?
+            .redundant_rows(rows, pattern, crate::model::constraint_families(model));
         Ok(Newton {
             model,
             t,

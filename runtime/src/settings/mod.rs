@@ -8,7 +8,7 @@ mod validate;
 
 use serde::{Deserialize, Serialize};
 
-use crate::solve::SolverChoice;
+use crate::solve::{RedundantRows, SolverChoice};
 
 pub use adapt_mu::AdaptiveMu;
 pub use law::{
@@ -181,6 +181,12 @@ pub struct Settings {
     /// Which solver applies `J_hat^{-1}` at the control updates (see the crate docs).
     #[serde(default)]
     pub solver: SolverChoice,
+    /// What a singular `J_s` does: refuse (stop and name the dependent constraints, the
+    /// default) or drop the constraints the others imply and solve the rest
+    /// ([`RedundantRows`]; the guarantee is in `docs/method.md`, "Redundant
+    /// constraints").
+    #[serde(default)]
+    pub redundant: RedundantRows,
     /// Evaluate `beta` at every update to count robustness violations even with the
     /// cheap `alpha_hat` (one extra `beta` evaluation per update). On by default.
     pub check_robustness: bool,
@@ -235,6 +241,7 @@ impl Settings {
             law: Law::default(),
             alpha: AlphaChoice::Cheap,
             solver: SolverChoice::Auto,
+            redundant: RedundantRows::Refuse,
             check_robustness: true,
             bound_tol: BOUND_TOL,
             initial: None,
@@ -320,6 +327,11 @@ impl Settings {
     /// Choose the solver of `J_s` (default [`SolverChoice::Auto`]).
     pub fn solver(mut self, solver: SolverChoice) -> Self {
         self.solver = solver;
+        self
+    }
+    /// Choose what a singular `J_s` does (default [`RedundantRows::Refuse`]).
+    pub fn redundant(mut self, rows: RedundantRows) -> Self {
+        self.redundant = rows;
         self
     }
     /// Start from `x0` (one value per state) and `z0` (one per constraint) instead of

@@ -8,7 +8,9 @@ mod conditioning;
 use super::robust::Robustness;
 use crate::model::w_offsets;
 use crate::settings::Scope;
-use crate::solve::{InverseKind, LinearSolver, SolveError, Solver, SolverChoice, Structure};
+use crate::solve::{
+    InverseKind, LinearSolver, RedundantRows, SolveError, Solver, SolverChoice, Structure,
+};
 use crate::{Model, SimError};
 pub(crate) use blocks::BlockSet;
 use conditioning::probe_vector;
@@ -186,6 +188,7 @@ impl Controller {
         eps: &[f64],
         exact_alpha: bool,
         solver: SolverChoice,
+        redundant: RedundantRows,
         scope: Scope,
     ) -> Result<Self, SimError> {
         let m = model.n_constraints();
@@ -206,16 +209,25 @@ impl Controller {
             Scope::Global => None,
             Scope::Blocks { size } => Some(BlockSet::new(&structure, size).map_err(bad_pattern)?),
         };
-        let solver = Solver::new(m, &pattern, solver).map_err(|e| SimError::Settings {
-            field: "solver",
-            reason: e.to_string(),
-        })?;
+        let families = crate::model::constraint_families(model);
+        let solver = Solver::new(m, &pattern, solver)
+            .map_err(|e| SimError::Settings {
+                field: "solver",
+                reason: e.to_string(),
+            })?
+            .redundant_rows(redundant, &pattern, families);
         // The same symbolic analysis where the choices agree (it is most of the set-up
         // of a large sparse pattern).
         let zsolver = if solver.choice() == SolverChoice::Auto {
             solver.clone()
         } else {
-            Solver::new(m, &pattern, SolverChoice::Auto).map_err(bad_pattern)?
+            Solver::new(m, &pattern, SolverChoice::Auto)
+                .map_err(bad_pattern)?
+                .redundant_rows(
+                    redundant,
+                    &pattern,
+                    crate::model::constraint_families(model),
+                )
         };
         let offs = w_offsets(r);
         let mu_pow = mu_powers(model, mu)?;

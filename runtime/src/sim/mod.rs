@@ -139,6 +139,7 @@ impl<M: Model> Simulator<M> {
             &settings.layers.eps,
             settings.alpha == AlphaChoice::Exact,
             settings.solver,
+            settings.redundant,
             settings.law.scope(),
         )?;
         let layout = Layout {

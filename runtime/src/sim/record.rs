@@ -119,6 +119,8 @@ impl<M: Model> Simulator<M> {
                 iterations: ss.iterations,
                 robustness_failures: st.violations,
                 gain_raises: self.ctl.gain_raises,
+                set_aside: ss.set_aside,
+                set_aside_max: ss.set_aside_rows_max,
             },
             gains: self.ctl.gains.clone(),
             model: self.model.name().to_string(),

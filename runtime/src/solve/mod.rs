@@ -18,6 +18,7 @@ mod approx;
 mod dense;
 mod diagnose;
 mod order;
+mod reduced;
 mod redundancy;
 mod sparse;
 mod structure;
@@ -29,6 +30,8 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
+use reduced::Reduced;
+pub use reduced::RedundantRows;
 pub use redundancy::{IMPLIED_TOL, Redundancy};
 pub(crate) use structure::Structure;
 
@@ -151,6 +154,13 @@ pub struct SolverStats {
     /// Iterations of the iterative solvers (Gauss-Seidel sweeps, CG iterations), summed
     /// over all solves; 0 for direct solvers.
     pub iterations: u64,
+    /// Factorisations that found `J_s` singular and set the implied rows aside
+    /// ([`RedundantRows::Drop`]; counted in `factorisations` too).
+    #[serde(default)]
+    pub set_aside: u64,
+    /// The most rows set aside at one factorisation.
+    #[serde(default)]
+    pub set_aside_rows_max: u64,
 }
 
 impl SolverStats {
@@ -159,6 +169,8 @@ impl SolverStats {
         self.factorisations += other.factorisations;
         self.solves += other.solves;
         self.iterations += other.iterations;
+        self.set_aside += other.set_aside;
+        self.set_aside_rows_max = self.set_aside_rows_max.max(other.set_aside_rows_max);
     }
 }
 
@@ -274,6 +286,8 @@ enum Kind {
 pub struct Solver {
     kind: Kind,
     choice: SolverChoice,
+    /// With [`RedundantRows::Drop`]: the system without the implied rows.
+    reduced: Option<Box<Reduced>>,
 }
 
 impl fmt::Debug for Solver {
@@ -308,7 +322,29 @@ impl Solver {
             SolverChoice::Cg(k) => Kind::Cg(Cg::new(st, k)?),
             SolverChoice::Ilu0 => Kind::Ilu0(Ilu0::new(st)),
         };
-        Ok(Self { kind, choice })
+        Ok(Self {
+            kind,
+            choice,
+            reduced: None,
+        })
+    }
+
+    /// What a singular `J_s` does: with [`RedundantRows::Drop`], the rows the others
+    /// imply are set aside and the rest solved (`class[i]`: the constraint family of row
+    /// `i`, the later family the one set aside; `pattern` as given to [`Solver::new`]).
+    pub(crate) fn redundant_rows(
+        mut self,
+        rows: RedundantRows,
+        pattern: &[(usize, usize)],
+        class: Vec<usize>,
+    ) -> Self {
+        self.reduced = (rows == RedundantRows::Drop)
+            .then(|| Box::new(Reduced::new(pattern, SolverChoice::Auto, class)));
+        self
+    }
+
+    fn reduced_active(&mut self) -> Option<&mut Reduced> {
+        self.reduced.as_deref_mut().filter(|r| r.active)
     }
 
     /// The choice this solver was built from (before [`SolverChoice::Auto`] resolved).
@@ -341,6 +377,9 @@ impl Solver {
     /// solve is cheap against the factorisation (`O(m^2)` against `O(m^3)`). `false`,
     /// with `x` untouched, for the other solvers.
     pub(crate) fn substitute_if_pivots_can_hide(&self, b: &[f64], x: &mut [f64]) -> bool {
+        if self.reduced.as_ref().is_some_and(|r| r.active) {
+            return false;
+        }
         match &self.kind {
             Kind::Dense(s) => {
                 x.copy_from_slice(b);
@@ -406,23 +445,57 @@ impl LinearSolver for Solver {
     }
     #[inline]
     fn factor(&mut self, values: &[f64], row_scale: &[f64]) -> Result<(), SolveError> {
-        dispatch!(self, s => s.factor(values, row_scale))
+        let result = dispatch!(self, s => s.factor(values, row_scale));
+        match self.reduced.as_deref_mut() {
+            None => result,
+            Some(r) => {
+                r.active = false;
+                match result {
+                    Err(SolveError::Singular { .. }) => r.factor(values, row_scale),
+                    other => other,
+                }
+            }
+        }
     }
     #[inline]
     fn solve(&mut self, b: &mut [f64]) {
+        if let Some(r) = self.reduced_active() {
+            return r.solve(b);
+        }
         dispatch!(self, s => s.solve(b))
     }
     #[inline]
     fn solve_from(&mut self, b: &[f64], x: &mut [f64]) {
+        if let Some(r) = self.reduced_active() {
+            x.copy_from_slice(b);
+            return r.solve(x);
+        }
         dispatch!(self, s => s.solve_from(b, x))
     }
     fn pivot_range(&self) -> Option<(f64, f64)> {
-        self.inner().pivot_range()
+        match &self.reduced {
+            Some(r) if r.active => r.solver().and_then(|s| s.pivot_range()),
+            _ => self.inner().pivot_range(),
+        }
     }
     fn stats(&self) -> SolverStats {
-        self.inner().stats()
+        let mut stats = self.inner().stats();
+        if let Some(r) = &self.reduced
+            && let Some(s) = r.solver()
+        {
+            // Its factorisations follow a failed one of the whole `J_s`, counted above.
+            let reduced = s.stats();
+            stats.solves += reduced.solves;
+            stats.iterations += reduced.iterations;
+            stats.set_aside += reduced.factorisations;
+            stats.set_aside_rows_max = stats.set_aside_rows_max.max(r.rows_max);
+        }
+        stats
     }
     fn reset_stats(&mut self) {
+        if let Some(r) = self.reduced.as_deref_mut() {
+            r.reset_stats();
+        }
         dispatch!(self, s => s.reset_stats())
     }
 }

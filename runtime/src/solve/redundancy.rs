@@ -61,8 +61,9 @@ pub struct Redundancy {
     /// remainder_i`.
     scale: Vec<f64>,
     steps: Vec<Vec<(usize, f64)>>,
-    /// The original row of each kept row.
+    /// The original row of each kept row, and its pivot column.
     kept_row: Vec<usize>,
+    kept_pivot: Vec<usize>,
 }
 
 const NONE: usize = usize::MAX;
@@ -337,7 +338,9 @@ impl Redundancy {
             }
         }
         implied.sort_unstable();
+        let kept_pivot = kept.iter().map(|row| row[0].0).collect();
         Outcome::Done(Redundancy {
+            kept_pivot,
             by_class: true,
             m,
             rank: kept.len(),
@@ -354,6 +357,16 @@ impl Redundancy {
     /// not necessarily in the latest classes).
     pub fn by_class(&self) -> bool {
         self.by_class
+    }
+
+    /// The kept rows with their pivot columns, `(row, column)`, in the order they were
+    /// kept: the kept rows restricted to these columns are a nonsingular system.
+    pub fn kept_pivots(&self) -> Vec<(usize, usize)> {
+        self.kept_row
+            .iter()
+            .copied()
+            .zip(self.kept_pivot.iter().copied())
+            .collect()
     }
 
     /// The numerical rank.

@@ -246,6 +246,13 @@ impl fmt::Display for Summary {
                 s.robustness_violations
                     .map_or("unchecked".to_string(), |v| v.to_string())
             )?;
+            if s.solver.set_aside > 0 {
+                write!(
+                    f,
+                    "\n  J_s singular at {} of them: the constraints the others imply set aside (at most {})",
+                    s.solver.set_aside, s.solver.set_aside_max
+                )?;
+            }
         }
         write!(f, "\n  wall time {:.3} s", s.wall_time)
     }
