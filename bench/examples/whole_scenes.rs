@@ -5,7 +5,7 @@
 //! (issue 13's first target), and at what cost per frame.
 //!
 //! ```text
-//! cargo run --release -p dae-bench --example whole_scenes [-- [--ramp | --adapt | --generated] [--jobs N] [--pictures DIR] EPS C BUDGET [TEXT]]
+//! cargo run --release -p dae-bench --example whole_scenes [-- [--ramp | --adapt | --generated] [--jobs N] [--pictures DIR [--beside CSV]] EPS C BUDGET [TEXT]]
 //! ```
 //!
 //! `--ramp` runs the design with `v` ramped against the drift between updates
@@ -29,16 +29,24 @@
 //! pictures): the benchmark's 6 s budget stops every DBSMC run on the hair and the
 //! cloths after a few frames, so its own pictures of those scenes are XPBD's only. A
 //! scene stopped by the budget, or that left a bound, is not drawn (the table says which).
+//! `--beside CSV` (a benchmark's `particles.csv`, e.g. `docs/results/particles.csv`)
+//! draws, as the benchmark does, the methods side by side at the same worst strain: next
+//! to DBSMC the cheapest settings of XPBD by colour, VBD, AVBD and AVBD tuned that held
+//! `EPS` over the whole scene in CSV, run again here (one after the other, each within
+//! `BUDGET`), into `<scene>_side_by_side.gif` (the benchmark's name: run this after the
+//! benchmark, whose own GIF of the scene it replaces) instead of `<scene>_<method>.gif`.
 
 use std::path::PathBuf;
 use std::time::Duration;
 
 use dae_bench::{
-    particle_bench::Capture, particle_bench::MethodSpec, particle_bench::ParticleScene,
-    particle_bench::c1, particle_bench::c2, particle_bench::c3, particle_bench::c4,
-    particle_bench::capture_frame, particle_bench::default_workers,
-    particle_bench::left_a_guarantee, particle_bench::parallel_map,
-    particle_bench::run_particle_method, particle_bench::write_pictures,
+    particle_bench::Capture, particle_bench::MethodSpec, particle_bench::Panel,
+    particle_bench::ParticleRecord, particle_bench::ParticleScene, particle_bench::c1,
+    particle_bench::c2, particle_bench::c3, particle_bench::c4, particle_bench::capture_frame,
+    particle_bench::cheapest, particle_bench::default_workers, particle_bench::left_a_guarantee,
+    particle_bench::parallel_map, particle_bench::records_from_csv,
+    particle_bench::run_particle_method, particle_bench::write_side_by_side,
+    particle_bench::write_stills,
 };
 use dae_particles::GridPins;
 
@@ -61,12 +69,62 @@ fn scenes() -> Result<Vec<ParticleScene>, String> {
     Ok(v)
 }
 
+/// The panels beside DBSMC's in a scene's side-by-side GIF: the cheapest settings of XPBD
+/// by colour, VBD, AVBD and AVBD tuned that held `level` over the whole scene in the
+/// benchmark's CSV `csv`, each run again with its frames captured (within `budget`).
+fn peers(
+    scene: &ParticleScene,
+    records: &[ParticleRecord],
+    level: f64,
+    budget: Duration,
+) -> Vec<Panel> {
+    let mut panels = Vec::new();
+    for method in ["xpbd-coloured", "vbd", "avbd", "avbd-tuned"] {
+        let Some(knob) = cheapest(records, &scene.title(), method, level).map(|r| &r.knob) else {
+            eprintln!(
+                "  {}: no {method} setting held {level:e} in the CSV",
+                scene.title()
+            );
+            continue;
+        };
+        let Some(k) = knob.strip_prefix("k=").and_then(|k| k.parse::<u32>().ok()) else {
+            eprintln!("  {}: {method} {knob}: not a k=N knob", scene.title());
+            continue;
+        };
+        let spec = match method {
+            "vbd" => MethodSpec::Vbd(k),
+            "avbd" => MethodSpec::Avbd(k),
+            "avbd-tuned" => MethodSpec::AvbdTuned(k),
+            _ => MethodSpec::XpbdColoured(k),
+        };
+        let mut capture: Capture = Vec::new();
+        let mut keep = |f: u64, p: &[[f64; 3]]| capture_frame(&mut capture, f, p);
+        let r = run_particle_method(scene, &spec, None, budget, None, Some(&mut keep));
+        eprintln!(
+            "  beside: {} {}: {} ({}/{} frames, worst strain {:.3e}, {:.3} ms/frame)",
+            spec.method(),
+            spec.knob(),
+            r.status,
+            r.frames,
+            r.frames_total,
+            r.worst_strain,
+            r.ms_mean
+        );
+        panels.push(Panel {
+            method: format!("{} {}", spec.method(), spec.knob()),
+            capture,
+        });
+    }
+    panels
+}
+
 fn main() {
     let mut ramp = false;
     let mut generated = false;
     let mut adapt = false;
     let mut jobs = default_workers();
     let mut pictures: Option<PathBuf> = None;
+    let mut beside: Option<Vec<ParticleRecord>> = None;
     let mut args: Vec<String> = Vec::new();
     let mut given = std::env::args();
     while let Some(a) = given.next() {
@@ -88,8 +146,26 @@ fn main() {
                     std::process::exit(2);
                 }
             },
+            "--beside" => match given.next().map(|f| {
+                let read = std::fs::read_to_string(&f).map_err(|e| e.to_string());
+                (read.and_then(|csv| records_from_csv(&csv)), f)
+            }) {
+                Some((Ok(records), _)) => beside = Some(records),
+                Some((Err(e), f)) => {
+                    eprintln!("whole_scenes: {f}: {e}");
+                    std::process::exit(1);
+                }
+                None => {
+                    eprintln!("whole_scenes: --beside needs a benchmark CSV");
+                    std::process::exit(2);
+                }
+            },
             _ => args.push(a),
         }
+    }
+    if beside.is_some() && pictures.is_none() {
+        eprintln!("whole_scenes: --beside draws pictures: it needs --pictures DIR");
+        std::process::exit(2);
     }
     if let Some(dir) = &pictures
         && let Err(e) = std::fs::create_dir_all(dir)
@@ -102,7 +178,7 @@ fn main() {
             None => default,
             Some(a) => a.parse().unwrap_or_else(|_| {
                 eprintln!(
-                    "whole_scenes: `{a}` is not a number (usage: whole_scenes [--ramp | --adapt | --generated] [--jobs N] [--pictures DIR] [EPS C BUDGET [TEXT]])"
+                    "whole_scenes: `{a}` is not a number (usage: whole_scenes [--ramp | --adapt | --generated] [--jobs N] [--pictures DIR [--beside CSV]] [EPS C BUDGET [TEXT]])"
                 );
                 std::process::exit(2);
             }),
@@ -150,12 +226,27 @@ fn main() {
         if let Some(dir) = &pictures {
             let stem = format!("{}_{}", scene.stem(), spec.method());
             if r.complete() && !left_a_guarantee(&r) {
-                let panel = dae_bench::particle_bench::Panel {
+                let panel = Panel {
                     method: format!("{} {}", spec.method(), spec.knob()),
                     capture,
                 };
                 let marks = dae_bench::particle_bench::Marks::of(scene);
-                match write_pictures(dir, &stem, scene.system.links(), &marks, &panel, eps) {
+                let links = scene.system.links();
+                let mut panels = vec![panel];
+                let mut gif_stem = stem.clone();
+                if let Some(records) = &beside {
+                    panels.extend(peers(scene, records, eps, budget));
+                    gif_stem = format!("{}_side_by_side", scene.stem());
+                }
+                let drawn = write_stills(dir, &stem, links, &marks, &panels[0], eps).and_then(
+                    |mut files| {
+                        files.extend(write_side_by_side(
+                            dir, &gif_stem, links, &marks, &panels, eps,
+                        )?);
+                        Ok(files)
+                    },
+                );
+                match drawn {
                     Ok(files) => eprintln!("  pictures: {}", files.join(", ")),
                     Err(e) => picture_error = Some(format!("pictures {stem}: {e}")),
                 }

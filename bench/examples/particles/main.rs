@@ -6,7 +6,7 @@
 //! it.
 //!
 //! ```text
-//! cargo run --release -p dae-bench --example particles [-- --large] [--studies] [--jobs N] [--budget SECS] [--only TEXT] [--method TEXT] [--slack S] [DIR]
+//! cargo run --release -p dae-bench --example particles [-- --large] [--studies] [--jobs N] [--budget SECS] [--only TEXT] [--method TEXT] [--slack S] [--pictures-from CSV] [DIR]
 //! ```
 //!
 //! `--large` adds C1 at N = 1,000 (end-mass ratios 1e2, 1e4) and 10,000, C2 1,000 x 32,
@@ -43,6 +43,12 @@
 //! thread's from its start to its end, and the CSV, tables and charts are the same
 //! whatever N, but for the wall times (docs/particles.md measures what the second run
 //! beside costs each).
+//!
+//! `--pictures-from CSV` runs no sweep: it reads the runs of an earlier benchmark's CSV
+//! (`docs/results/particles.csv`), chooses each scene's pictures from them as the
+//! benchmark does and draws them into `DIR/particles/` (the kept scenes' PNG stills and
+//! `<scene>_side_by_side.gif`; nothing else is written). The pictures' runs are run
+//! again, so they are those of the CSV where the code is the CSV's.
 
 mod sweep;
 
@@ -61,10 +67,11 @@ use dae_bench::{
     particle_bench::frame_tied_draws, particle_bench::heavy_chain_choices,
     particle_bench::holding_brackets, particle_bench::index_one, particle_bench::kept_both,
     particle_bench::parallel_map, particle_bench::particle_pilot, particle_bench::ratio_chart,
-    particle_bench::run_particle_method, particle_bench::run_series, particle_bench::scene_groups,
-    particle_bench::scene_title, particle_bench::stability_table, particle_bench::strain_chart,
+    particle_bench::records_from_csv, particle_bench::run_particle_method,
+    particle_bench::run_series, particle_bench::scene_groups, particle_bench::scene_title,
+    particle_bench::stability_table, particle_bench::strain_chart,
     particle_bench::timed_repeatedly, particle_bench::write_particles_csv,
-    particle_bench::write_pictures, particle_bench::write_side_by_side,
+    particle_bench::write_side_by_side, particle_bench::write_stills,
     particle_methods::PilotBounds,
 };
 use dae_particles::{FAR_EDGE_SLACK, GridPins};
@@ -85,6 +92,9 @@ struct Options {
     method: Option<String>,
     /// The far edge's slack of the cloths with two pinned corners.
     slack: f64,
+    /// Draw the pictures only, choosing their runs from this benchmark CSV
+    /// (`--pictures-from`) instead of running the sweeps.
+    pictures_from: Option<PathBuf>,
     dir: PathBuf,
 }
 
@@ -110,6 +120,7 @@ fn options() -> Result<Options, String> {
         only: None,
         method: None,
         slack: FAR_EDGE_SLACK,
+        pictures_from: None,
         dir: Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/results"),
     };
     let mut dir = None;
@@ -133,6 +144,11 @@ fn options() -> Result<Options, String> {
                 o.slack = v
                     .parse()
                     .map_err(|_| format!("--slack {v}: not a number"))?;
+            }
+            "--pictures-from" => {
+                o.pictures_from = Some(PathBuf::from(
+                    args.next().ok_or("--pictures-from needs a benchmark CSV")?,
+                ));
             }
             d if !d.starts_with('-') => dir = Some(PathBuf::from(d)),
             other => return Err(format!("unknown option {other}")),
@@ -511,6 +527,29 @@ fn main() {
         })
         .collect();
     let prepared = parallel_map(kept.len(), o.jobs, |i| prepare(kept[i], &o));
+    if let Some(csv) = &o.pictures_from {
+        let records = match std::fs::read_to_string(csv)
+            .map_err(|e| e.to_string())
+            .and_then(|text| records_from_csv(&text))
+        {
+            Ok(r) => r,
+            Err(e) => {
+                eprintln!("particles: {}: {e}", csv.display());
+                std::process::exit(1);
+            }
+        };
+        parallel_map(kept.len(), o.jobs, |i| {
+            draw_pictures(kept[i], &prepared[i], &records, &pictures)
+        });
+        println!(
+            "{:.0} s: pictures of {} scenes from the {} runs of {}",
+            clock.elapsed().as_secs_f64(),
+            kept.len(),
+            records.len(),
+            csv.display()
+        );
+        return;
+    }
     println!(
         "{:.0} s: references and pilots of {} scenes, {} at a time",
         clock.elapsed().as_secs_f64(),
@@ -689,7 +728,8 @@ fn main() {
 /// frame-tied design) at the loosest eps that ran through holding its strain and its
 /// s-layer, the cheapest of those; else the cheapest complete index-1 run; and the
 /// cheapest settings of XPBD by colour, VBD and AVBD that held the same worst strain
-/// (or 1e-2) over the whole scene; each alone and all side by side.
+/// (or 1e-2) over the whole scene: each one's PNG stills, and one GIF of all side by
+/// side (`<scene>_side_by_side.gif`).
 fn draw_pictures(
     scene: &ParticleScene,
     prep: &Prepared,
@@ -762,7 +802,7 @@ fn draw_pictures(
             method: format!("{} {}", spec.method(), spec.knob()),
             capture,
         };
-        match write_pictures(pictures, &stem, links, &marks, &panel, scale) {
+        match write_stills(pictures, &stem, links, &marks, &panel, scale) {
             Ok(files) => println!("  pictures {} ({}): {}", stem, r.status, files.join(", ")),
             Err(e) => println!("  pictures {stem}: {e}"),
         }

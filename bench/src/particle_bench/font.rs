@@ -97,11 +97,8 @@ where
             for col in 0..GLYPH.0 {
                 if bits & (0x10 >> col) != 0 {
                     let (px, py) = (x0 + col * scale, y + row as i32 * scale);
-                    area.draw(&Rectangle::new(
-                        [(px, py), (px + scale - 1, py + scale - 1)],
-                        style,
-                    ))
-                    .map_err(|e| e.to_string())?;
+                    area.draw(&Rectangle::new([(px, py), (px + scale, py + scale)], style))
+                        .map_err(|e| e.to_string())?;
                 }
             }
         }

@@ -21,11 +21,12 @@ pub use charts::{
 };
 pub use draws::{Draws, FrameTied, NUDGES, Spread, frame_tied_draws};
 pub use peers::{PEER_LEVELS, PEERS, peers_section};
-pub use pictures::{Capture, Panel, capture_frame, write_pictures, write_side_by_side};
+pub use pictures::{Capture, Panel, capture_frame, write_side_by_side, write_stills};
 pub use pool::{default_workers, parallel_map, parse_workers};
 pub use report::{
     CSV_COLUMNS, bound_held, cheapest, cheapest_table, dbsmc_runs_table, fitted_exponent,
-    kept_both, left_a_guarantee, scene_groups, scene_title, stability_table, write_particles_csv,
+    kept_both, left_a_guarantee, records_from_csv, scene_groups, scene_title, stability_table,
+    write_particles_csv,
 };
 pub use retime::{MAX_TIMINGS, RETIME_BELOW_MS, timed_repeatedly};
 pub use run::{

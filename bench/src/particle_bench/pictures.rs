@@ -1,9 +1,18 @@
-//! Pictures of runs: PNG frames and animated GIFs (plotters' bitmap and GIF backends,
-//! the `png` crate for the frames), one method alone or several side by side, drawn by
+//! Pictures of runs: one method's PNG stills and an animated GIF of several methods side
+//! by side (plotters' bitmap backend draws, the `png` and `gif` crates encode), drawn by
 //! [`view`](super::view): an orthographic camera over a ground grid, links coloured by
 //! strain relative to a bound with its legend, pinned and grabbed particles marked, the
 //! time, the method and its worst strain so far in each frame.
+//!
+//! The GIF keeps each picture's exact colours (a local palette of at most 255, the
+//! rarest mapped to the nearest kept one where a picture has more) and writes only the
+//! rectangle that changed since the picture before, its unchanged pixels transparent:
+//! the scenes' white background, grid and legend are written once.
 
+use std::borrow::Cow;
+use std::collections::HashMap;
+use std::fs::File;
+use std::io::BufWriter;
 use std::path::Path;
 
 use dae_particles::Link;
@@ -31,8 +40,9 @@ const CAPTURE_EVERY: u64 = 5;
 const FPS: f64 = 60.0;
 /// The frames written as PNG: the start, 1 s, 2.5 s and 5 s.
 const PNG_FRAMES: [u64; 4] = [0, 60, 150, 300];
-/// The GIF's delay per picture (ms): five frames of 1/60 s, about real time.
-const GIF_DELAY_MS: u32 = 83;
+/// The GIF's delay per picture (hundredths of a second): five frames of 1/60 s, about
+/// real time.
+const GIF_DELAY_CS: u16 = 8;
 
 /// Keeps `frame` in `capture` if the pictures use it (every fifth frame): call it from a
 /// run's [`FrameObserver`](super::FrameObserver).
@@ -178,6 +188,122 @@ fn frames_of(panels: &[Panel]) -> Vec<u64> {
     frames
 }
 
+/// `frame` of `picture` drawn into an RGB buffer of `size` pixels.
+fn render(picture: &Picture<'_>, frame: u64, size: (u32, u32)) -> Result<Vec<u8>, String> {
+    let mut buf = vec![255u8; (size.0 * size.1 * 3) as usize];
+    {
+        let area = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
+        picture.draw(&area, frame)?;
+        area.present().map_err(|e| e.to_string())?;
+    }
+    Ok(buf)
+}
+
+/// An animated GIF written picture by picture ([`GifWriter::add`]): each picture the
+/// rectangle that changed since the one before, in its own exact colours.
+struct GifWriter {
+    encoder: gif::Encoder<BufWriter<File>>,
+    size: (u32, u32),
+    previous: Option<Vec<u8>>,
+}
+
+impl GifWriter {
+    fn create(path: &Path, size: (u32, u32)) -> Result<GifWriter, String> {
+        let file = File::create(path).map_err(|e| e.to_string())?;
+        let mut encoder =
+            gif::Encoder::new(BufWriter::new(file), size.0 as u16, size.1 as u16, &[])
+                .map_err(|e| e.to_string())?;
+        encoder
+            .set_repeat(gif::Repeat::Infinite)
+            .map_err(|e| e.to_string())?;
+        Ok(GifWriter {
+            encoder,
+            size,
+            previous: None,
+        })
+    }
+
+    /// Append the picture `rgb` (`size`, RGB).
+    fn add(&mut self, rgb: &[u8]) -> Result<(), String> {
+        let (w, h) = (self.size.0 as usize, self.size.1 as usize);
+        let pixel = |buf: &[u8], x: usize, y: usize| -> [u8; 3] {
+            let i = (y * w + x) * 3;
+            [buf[i], buf[i + 1], buf[i + 2]]
+        };
+        let changed = |x: usize, y: usize| {
+            self.previous
+                .as_ref()
+                .is_none_or(|p| pixel(p, x, y) != pixel(rgb, x, y))
+        };
+        // The rectangle that changed (a pixel of it where nothing did: the delay holds).
+        let (mut x0, mut y0, mut x1, mut y1) = (w, h, 0, 0);
+        for y in 0..h {
+            for x in 0..w {
+                if changed(x, y) {
+                    (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x + 1), y1.max(y + 1));
+                }
+            }
+        }
+        if x0 >= x1 {
+            (x0, y0, x1, y1) = (0, 0, 1, 1);
+        }
+        // Its colours, the most frequent first; the 256th index is the transparent one.
+        let mut counts: HashMap<[u8; 3], u32> = HashMap::new();
+        for y in y0..y1 {
+            for x in x0..x1 {
+                if changed(x, y) {
+                    *counts.entry(pixel(rgb, x, y)).or_default() += 1;
+                }
+            }
+        }
+        let mut colours: Vec<([u8; 3], u32)> = counts.into_iter().collect();
+        colours.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+        let kept: Vec<[u8; 3]> = colours.iter().take(255).map(|c| c.0).collect();
+        let index: HashMap<[u8; 3], u8> = colours
+            .iter()
+            .map(|&(c, _)| {
+                let dist = |k: &[u8; 3]| {
+                    (0..3)
+                        .map(|i| (c[i] as i32 - k[i] as i32).pow(2))
+                        .sum::<i32>()
+                };
+                let nearest = (0..kept.len()).min_by_key(|&i| dist(&kept[i])).unwrap_or(0);
+                (c, nearest as u8)
+            })
+            .collect();
+        let transparent = kept.len() as u8;
+        let mut indices = Vec::with_capacity((x1 - x0) * (y1 - y0));
+        for y in y0..y1 {
+            for x in x0..x1 {
+                indices.push(if changed(x, y) {
+                    index[&pixel(rgb, x, y)]
+                } else {
+                    transparent
+                });
+            }
+        }
+        let mut palette: Vec<u8> = kept.iter().flatten().copied().collect();
+        palette.extend([255, 255, 255]);
+        let frame = gif::Frame {
+            delay: GIF_DELAY_CS,
+            dispose: gif::DisposalMethod::Keep,
+            transparent: self.previous.is_some().then_some(transparent),
+            left: x0 as u16,
+            top: y0 as u16,
+            width: (x1 - x0) as u16,
+            height: (y1 - y0) as u16,
+            palette: Some(palette),
+            buffer: Cow::Owned(indices),
+            ..gif::Frame::default()
+        };
+        self.encoder
+            .write_frame(&frame)
+            .map_err(|e| e.to_string())?;
+        self.previous = Some(rgb.to_vec());
+        Ok(())
+    }
+}
+
 /// Write `stem.gif`: the `panels` side by side (each `PANEL` pixels), one camera and
 /// one window for all, every frame any of them captured at about real time; a panel
 /// whose run stopped shows its last frame and the time it stopped at. Links coloured by
@@ -196,20 +322,18 @@ pub fn write_side_by_side(
     let picture = Picture::new(links, marks, panels, bound);
     let name = format!("{stem}.gif");
     let size = (PANEL.0 * panels.len() as u32, PANEL.1);
-    let root = BitMapBackend::gif(dir.join(&name), size, GIF_DELAY_MS)
-        .map_err(|e| format!("{name}: {e}"))?
-        .into_drawing_area();
+    let mut gif = GifWriter::create(&dir.join(&name), size).map_err(|e| format!("{name}: {e}"))?;
     for f in frames_of(panels) {
-        picture.draw(&root, f).map_err(|e| format!("{name}: {e}"))?;
-        root.present().map_err(|e| format!("{name}: {e}"))?;
+        let rgb = render(&picture, f, size).map_err(|e| format!("{name}: {e}"))?;
+        gif.add(&rgb).map_err(|e| format!("{name}: {e}"))?;
     }
     Ok(vec![name])
 }
 
-/// Write `stem_t<time>.png` for the captured frames at 0, 1, 2.5 and 5 s and `stem.gif`
-/// of all captured frames of one method's run (`panel`), drawn as one panel of
-/// [`write_side_by_side`]. Returns the files' names.
-pub fn write_pictures(
+/// Write `stem_t<time>.png` for the captured frames at 0, 1, 2.5 and 5 s of one
+/// method's run (`panel`), drawn as one panel of [`write_side_by_side`] (whose GIF is
+/// the run's animation). Returns the files' names.
+pub fn write_stills(
     dir: &Path,
     stem: &str,
     links: &[Link],
@@ -225,15 +349,10 @@ pub fn write_pictures(
         if !panel.capture.iter().any(|(g, _)| *g == f) {
             continue;
         }
-        let mut buf = vec![255u8; (w * h * 3) as usize];
-        {
-            let area = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-            picture.draw(&area, f)?;
-            area.present().map_err(|e| e.to_string())?;
-        }
+        let buf = render(&picture, f, PANEL)?;
         let name = format!("{stem}_t{:.2}.png", f as f64 / FPS);
-        let file = std::fs::File::create(dir.join(&name)).map_err(|e| format!("{name}: {e}"))?;
-        let mut enc = png::Encoder::new(std::io::BufWriter::new(file), w, h);
+        let file = File::create(dir.join(&name)).map_err(|e| format!("{name}: {e}"))?;
+        let mut enc = png::Encoder::new(BufWriter::new(file), w, h);
         enc.set_color(png::ColorType::Rgb);
         enc.set_depth(png::BitDepth::Eight);
         let mut wr = enc.write_header().map_err(|e| format!("{name}: {e}"))?;
@@ -241,7 +360,6 @@ pub fn write_pictures(
             .map_err(|e| format!("{name}: {e}"))?;
         written.push(name);
     }
-    written.extend(write_side_by_side(dir, stem, links, marks, panels, bound)?);
     Ok(written)
 }
 

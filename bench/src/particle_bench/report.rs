@@ -135,6 +135,130 @@ pub fn write_particles_csv<W: Write>(records: &[ParticleRecord], mut out: W) -> 
     Ok(())
 }
 
+/// The rows of a CSV `text` as [`write_particles_csv`] writes it (fields quoted where
+/// they hold a comma, a quote or a line break; `""` a quote within).
+fn csv_rows(text: &str) -> Vec<Vec<String>> {
+    let mut rows = Vec::new();
+    let (mut row, mut field) = (Vec::new(), String::new());
+    let (mut quoted, mut chars) = (false, text.chars().peekable());
+    while let Some(c) = chars.next() {
+        match (quoted, c) {
+            (true, '"') if chars.peek() == Some(&'"') => {
+                chars.next();
+                field.push('"');
+            }
+            (true, '"') => quoted = false,
+            (true, c) => field.push(c),
+            (false, '"') => quoted = true,
+            (false, ',') => row.push(std::mem::take(&mut field)),
+            (false, '\n') => {
+                row.push(std::mem::take(&mut field));
+                rows.push(std::mem::take(&mut row));
+            }
+            (false, '\r') => {}
+            (false, c) => field.push(c),
+        }
+    }
+    if !field.is_empty() || !row.is_empty() {
+        row.push(field);
+        rows.push(row);
+    }
+    rows
+}
+
+/// The records of a benchmark CSV `text` ([`write_particles_csv`]) as far as the tables
+/// and the pictures' choices read them: the scene, the method and its setting, the
+/// strain, the cost, the frames, the status and the `s`-layer (the other counters are
+/// zero, the accuracy and energy `None`). An error names a missing column or a row of
+/// the wrong length.
+pub fn records_from_csv(text: &str) -> Result<Vec<ParticleRecord>, String> {
+    let rows = csv_rows(text);
+    let Some((head, rows)) = rows.split_first() else {
+        return Ok(Vec::new());
+    };
+    let col = |name: &str| {
+        head.iter()
+            .position(|h| h == name)
+            .ok_or(format!("no column `{name}`"))
+    };
+    let [
+        scene,
+        size,
+        method,
+        knob,
+        eps,
+        worst,
+        ms,
+        ms_max,
+        variant,
+        param,
+        frames,
+        total,
+    ] = [
+        "scene",
+        "size",
+        "method",
+        "knob",
+        "eps",
+        "worst_strain",
+        "ms_per_frame_mean",
+        "ms_per_frame_max",
+        "variant",
+        "param",
+        "frames",
+        "frames_total",
+    ]
+    .map(col);
+    let [status, lost, ratio] = ["status", "s_layer_lost_at", "s_layer_worst_ratio"].map(col);
+    let (scene, size, method, knob, eps, worst, ms, ms_max) =
+        (scene?, size?, method?, knob?, eps?, worst?, ms?, ms_max?);
+    let (variant, param, frames, total, status, lost, ratio) =
+        (variant?, param?, frames?, total?, status?, lost?, ratio?);
+    let opt = |f: &str| f.parse::<f64>().ok();
+    let num = |f: &str| opt(f).unwrap_or(f64::NAN);
+    rows.iter()
+        .enumerate()
+        .filter(|(_, r)| !(r.len() == 1 && r[0].is_empty()))
+        .map(|(i, r)| {
+            if r.len() != head.len() {
+                return Err(format!(
+                    "row {}: {} fields, not {}",
+                    i + 2,
+                    r.len(),
+                    head.len()
+                ));
+            }
+            let sliding = r[method]
+                .starts_with("dbsmc")
+                .then(|| dae_particles::SlidingCounters {
+                    layer_lost_at: opt(&r[lost]),
+                    layer_worst_ratio: opt(&r[ratio]),
+                    ..Default::default()
+                });
+            Ok(ParticleRecord {
+                scene: r[scene].clone(),
+                variant: r[variant].clone(),
+                size: r[size].parse().unwrap_or(0),
+                param: num(&r[param]),
+                method: r[method].clone(),
+                knob: r[knob].clone(),
+                eps: opt(&r[eps]),
+                worst_strain: num(&r[worst]),
+                ms_mean: num(&r[ms]),
+                ms_max: num(&r[ms_max]),
+                frames: r[frames].parse().unwrap_or(0),
+                frames_total: r[total].parse().unwrap_or(0),
+                status: r[status].clone(),
+                counters: dae_particles::Counters {
+                    sliding,
+                    ..Default::default()
+                },
+                ..ParticleRecord::default()
+            })
+        })
+        .collect()
+}
+
 /// The records grouped by `key`, groups in order of first appearance, in one pass (a
 /// benchmark writes hundreds of rows; a scan of all rows per group would be quadratic).
 pub(super) fn grouped<'a, K: std::hash::Hash + Eq + Clone>(
@@ -375,6 +499,49 @@ mod tests {
             energy_drift: Some(-0.5),
             ..ParticleRecord::for_tests(method, knob, eps, strain)
         }
+    }
+
+    #[test]
+    fn the_records_are_read_back_from_the_csv() {
+        let mut lost = rec("dbsmc-ramp", "eps=1e-2 c=4", Some(1e-2), 5e-3, 0.5, "ok");
+        lost.counters.sliding = Some(dae_particles::SlidingCounters {
+            layer_lost_at: Some(1.5),
+            layer_worst_ratio: Some(1.2),
+            ..Default::default()
+        });
+        let records = vec![
+            rec("xpbd-coloured", "k=64", None, 2e-2, 1.0, "ok"),
+            rec("xpbd-coloured", "k=256", None, 8e-3, 4.0, "ok"),
+            rec("xpbd-coloured", "k=128", None, 5e-3, 2.0, "budget"),
+            rec("xpbd-coloured", "k=512", None, 2e-3, 8.0, "ok"),
+            rec(
+                "vbd",
+                "k=4",
+                None,
+                9e-3,
+                3.0,
+                "failed: a, \"quoted\"\nstatus",
+            ),
+            lost,
+        ];
+        let mut csv = Vec::new();
+        write_particles_csv(&records, &mut csv).unwrap();
+        let csv = String::from_utf8(csv).unwrap();
+        let back = records_from_csv(&csv).unwrap();
+        assert_eq!(back.len(), records.len());
+        assert_eq!(back[4].status, "failed: a, \"quoted\"\nstatus");
+        assert_eq!(back[5].counters.layer_lost_at(), Some(1.5));
+        assert!(back[4].counters.sliding.is_none());
+        let title = "C1 N=10 r=1";
+        let knob = |m: &str, level: f64| cheapest(&back, title, m, level).map(|r| r.knob.as_str());
+        assert_eq!(knob("xpbd-coloured", 1e-2), Some("k=256"));
+        assert_eq!(knob("xpbd-coloured", 4e-3), Some("k=512"));
+        assert_eq!(knob("xpbd-coloured", 1e-3), None);
+        assert_eq!(knob("vbd", 1e-2), None);
+        // A run that left its s-layer holds nothing.
+        assert_eq!(knob("dbsmc-ramp", 1e-2), None);
+        assert!(cheapest(&back, "C1 N=100 r=1", "xpbd-coloured", 1e-2).is_none());
+        assert!(records_from_csv("scene,size\nC1,10\n").is_err());
     }
 
     #[test]

@@ -1,7 +1,7 @@
-//! The pictures of particle runs: a side-by-side GIF and one method's PNG frames of a
-//! tiny two-link chain, decoded again.
+//! The pictures of particle runs: a side-by-side GIF and one method's PNG stills of a
+//! tiny two-link chain, decoded again (the GIF's pictures composed as a viewer does).
 
-use dae_bench::particle_bench::{Capture, Marks, Panel, write_pictures, write_side_by_side};
+use dae_bench::particle_bench::{Capture, Marks, Panel, write_side_by_side, write_stills};
 use dae_particles::Link;
 
 fn links() -> Vec<Link> {
@@ -73,13 +73,25 @@ fn a_side_by_side_gif_has_every_frame_and_both_panels() {
         .unwrap();
     let (w, h) = (dec.width() as usize, dec.height() as usize);
     assert_eq!((w, h), (880, 400));
+    // Each picture is the rectangle that changed, its unchanged pixels transparent:
+    // laid over the one before, as a viewer does.
     let mut frames = 0;
-    let mut last = Vec::new();
+    let mut last = vec![0u8; w * h * 4];
     while let Some(f) = dec.read_next_frame().unwrap() {
         frames += 1;
-        last = f.buffer.to_vec();
+        let (left, top, fw) = (f.left as usize, f.top as usize, f.width as usize);
+        for (i, px) in f.buffer.chunks(4).enumerate() {
+            if px[3] != 0 {
+                let (x, y) = (left + i % fw, top + i / fw);
+                last[(y * w + x) * 4..(y * w + x) * 4 + 4].copy_from_slice(px);
+            }
+        }
+        if frames == 1 {
+            assert_eq!((f.left, f.top, f.width, f.height), (0, 0, 880, 400));
+        }
     }
     assert_eq!(frames, 13);
+    assert!(last.chunks(4).all(|px| px[3] == 255), "every pixel drawn");
     // The last frame: the stopped run's strain (5 times the bound) is magenta in the
     // right panel only.
     let magenta = |px: &[u8]| px[0] > 150 && px[1] < 60 && px[2] > 150;
@@ -96,24 +108,24 @@ fn a_side_by_side_gif_has_every_frame_and_both_panels() {
 }
 
 #[test]
-fn one_methods_pictures_are_png_frames_and_a_gif() {
+fn one_methods_stills_are_png_frames_and_no_gif() {
     let dir = scratch("one");
     // 61 captured frames: 0 to 5 s.
     let panel = Panel {
         method: "xpbd k=16".into(),
         capture: swing(61, 0.0),
     };
-    let files = write_pictures(&dir, "one", &links(), &marks(), &panel, 1e-2).unwrap();
+    let files = write_stills(&dir, "one", &links(), &marks(), &panel, 1e-2).unwrap();
     assert_eq!(
         files,
         [
             "one_t0.00.png",
             "one_t1.00.png",
             "one_t2.50.png",
-            "one_t5.00.png",
-            "one.gif"
+            "one_t5.00.png"
         ]
     );
+    assert!(!dir.join("one.gif").exists());
     let dec = png::Decoder::new(std::fs::File::open(dir.join("one_t1.00.png")).unwrap());
     let mut reader = dec.read_info().unwrap();
     let mut buf = vec![0; reader.output_buffer_size()];
