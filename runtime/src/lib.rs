@@ -73,7 +73,9 @@
 //! * [`design`]: guaranteed update periods, gains and `mu` from bounds (T 3.14, T 4.4),
 //!   and the automatic design from pilot runs.
 //! * [`solve`]: the solvers of `J_s` at the updates (dense, sparse direct, linear-time
-//!   on trees, approximate inverses checked by the robustness condition T 3.22).
+//!   on trees, approximate inverses checked by the robustness condition T 3.22), the
+//!   constraints a singular `J_s` makes redundant ([`solve::Redundancy`]) and the
+//!   choice of solving without them ([`solve::RedundantRows`], `Settings::redundant`).
 //! * [`trace`]: where samples go (in memory, streamed to CSV, decimated).
 //! * [`summary`], [`error`], [`model`]: what a run reports, how it fails, the model
 //!   seam. A [`Summary`] prints (`Display`, `summary.to_string()`) as the text `daec
