@@ -402,7 +402,19 @@ pub(crate) fn runnable(
             );
             return Err(Reported);
         }
-        return scalar_with_params(compiled, sets).map(|m| Box::new(m) as Box<dyn Model>);
+        // Each `--set` replaces the value written in the declaration and the model is
+        // checked and analysed again, so that the parameters whose defaults read it
+        // follow (setting the field of a compiled parameter would leave them as they
+        // were).
+        let compiled = if sets.is_empty() {
+            compiled
+        } else {
+            let (_, analysis) = crate::check_set::analysed(&name, &src, wanted, sets)?
+                .pop()
+                .expect("one model");
+            dae_lang::compile(&analysis)
+        };
+        return Ok(Box::new(dae_runtime::family::Interpreted::new(compiled)));
     }
     let topology = topology.map(read_topology).transpose()?;
     let Some(kernels) = Interpreter::new(compiled) else {
@@ -441,33 +453,6 @@ pub(crate) fn runnable(
             Err(r)
         }
     }
-}
-
-/// A version-1 model with `--set` applied to its parameters.
-fn scalar_with_params(
-    compiled: CompiledModel,
-    sets: &[(String, f64)],
-) -> Result<dae_runtime::family::Interpreted, Reported> {
-    let mut m = dae_runtime::family::Interpreted::new(compiled);
-    for (name, value) in sets {
-        match m.param_index(name) {
-            Some(i) => m.set_param(i, *value),
-            None => {
-                let params: Vec<&str> = (0..m.n_params()).map(|i| m.param_name(i)).collect();
-                error!(
-                    "--set {name}={value}: `{}` has no parameter `{name}` (a version-1 model has no sizes)\n  hint: its parameters: {}",
-                    m.name(),
-                    if params.is_empty() {
-                        "none".to_string()
-                    } else {
-                        params.join(", ")
-                    }
-                );
-                return Err(Reported);
-            }
-        }
-    }
-    Ok(m)
 }
 
 /// What `daec check` says about a family model beyond its templates: the model built at

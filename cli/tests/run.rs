@@ -627,3 +627,21 @@ fn every_cuts_the_run_at_its_grid_and_writes_only_those_samples() {
     assert_eq!(bad.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("--every"));
 }
+
+/// `--set` on a version-1 model replaces the value in the declaration, so a parameter
+/// whose default reads it follows: `b = 2 a` with `a = 5` integrates to `x(1) = 10`.
+#[test]
+fn set_reaches_the_parameters_whose_defaults_read_it() {
+    let dir = temp_dir();
+    let file = dir.join("derived_param.dae");
+    std::fs::write(
+        &file,
+        "model Derived {\n param a = 1;\n param b = 2 * a;\n state x = 0;\n der(x) = b;\n}\n",
+    )
+    .unwrap();
+    let file = file.display().to_string();
+    let v = json(&daec(&[
+        "run", &file, "--t-end", "1", "--eps", "0.1", "--set", "a=5", "--json",
+    ]));
+    assert!((num(&v["x_final"][0]) - 10.0).abs() < 1e-12, "{v}");
+}
