@@ -557,4 +557,4 @@ pub(crate) fn check_finite(
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

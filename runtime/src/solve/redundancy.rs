@@ -418,19 +418,8 @@ impl Redundancy {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::solve::tests::Lcg;
     use nalgebra::DMatrix;
-
-    /// A deterministic pseudo-random sequence in [-1, 1).
-    struct Lcg(u64);
-    impl Lcg {
-        fn next(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-        }
-    }
 
     /// The pattern (nonzeros) and values of a dense matrix.
     fn sparse(a: &DMatrix<f64>) -> (Vec<(usize, usize)>, Vec<f64>) {

@@ -3,10 +3,11 @@
 
 use super::*;
 
-/// A deterministic pseudo-random sequence in [-1, 1).
-struct Lcg(u64);
+/// A deterministic pseudo-random sequence in [-1, 1) (the solver modules' tests share
+/// it).
+pub(crate) struct Lcg(pub(crate) u64);
 impl Lcg {
-    fn next(&mut self) -> f64 {
+    pub(crate) fn next(&mut self) -> f64 {
         self.0 = self
             .0
             .wrapping_mul(6364136223846793005)
