@@ -32,7 +32,7 @@ use serde::{Deserialize, Serialize};
 
 use reduced::Reduced;
 pub use reduced::RedundantRows;
-pub use redundancy::{IMPLIED_TOL, Redundancy};
+pub use redundancy::Redundancy;
 pub(crate) use structure::Structure;
 
 use approx::{Cg, GaussSeidel, Ilu0, Jacobi};

@@ -10,9 +10,14 @@
 //! elimination: each kept row has its pivot on its diagonal where that entry is at least
 //! a tenth of the row's largest, else at its largest, and is zero at the pivots of the
 //! rows kept before it, so that reducing in the order the rows were kept never brings
-//! back a pivot already cleared). A row whose remainder falls to [`IMPLIED_TOL`] of the
-//! largest magnitude met while reducing it is implied by the rows before it; otherwise
-//! it is kept. The multipliers are recorded, so that the combination of rows that
+//! back a pivot already cleared). A row is implied by the rows before it when its
+//! remainder is negligible: on a symmetric `J_Omega` that behaves as a semidefinite one
+//! (the particle models' `-G M^-1 G^T`; a sign no such matrix has switches to the other
+//! test), when the remainder's diagonal, a squared distance of the row's factor from
+//! the span of those before it, falls to `1e-10` of the row's diagonal (the pivot is
+//! then always the diagonal); otherwise when its largest entry falls to `1e-10` of the
+//! largest magnitude met while reducing it. Otherwise it is kept. The multipliers are
+//! recorded, so that the combination of rows that
 //! annihilates an implied row (`y^T J_Omega = 0`) can be written out afterwards
 //! ([`Redundancy::combination`]).
 //!
@@ -34,7 +39,7 @@ use super::Structure;
 
 /// Relative size of a remainder below which a row counts as implied: a few hundred
 /// roundings of the magnitudes the elimination met.
-pub const IMPLIED_TOL: f64 = 1e-10;
+const IMPLIED_TOL: f64 = 1e-10;
 
 /// For a symmetric semidefinite matrix, the relative size of the remainder's diagonal
 /// (a squared distance: `1e-10` is a distance of `1e-5` of the row's factor from the
