@@ -20,6 +20,9 @@ pub(crate) struct Redundant {
     pub(crate) implied: Vec<usize>,
     /// Whether "before" is in the order of the families (see [`Redundancy::by_class`]).
     pub(crate) by_family: bool,
+    /// The state derivatives the algebraic unknowns act on (the degrees of freedom the
+    /// constraints hold), counted by one evaluation of `f` with every unknown moved.
+    pub(crate) reached: usize,
     /// The dependency of the first implied constraint: rows and coefficients `y` with
     /// `y^T J_Omega = 0`, its own coefficient 1.
     pub(crate) first: Vec<(usize, f64)>,
@@ -59,6 +62,18 @@ impl Redundant {
         if r.rank() == m {
             return None;
         }
+        // Every unknown moved by a different amount, so that no derivative it reaches
+        // can stay put by cancellation but by accident.
+        let n = model.n_states();
+        let (mut f0, mut f1) = (vec![0.0; n], vec![0.0; n]);
+        model.rhs(t, x, z, &mut f0);
+        let moved: Vec<f64> = z
+            .iter()
+            .enumerate()
+            .map(|(k, v)| v + (1.0 + v.abs()) * 1e-3 * (1.0 + 0.618 * k as f64).fract().max(0.1))
+            .collect();
+        model.rhs(t, x, &moved, &mut f1);
+        let reached = f0.iter().zip(&f1).filter(|(a, b)| a != b).count();
         for &i in r.implied() {
             families[class[i]].2.push(i);
         }
@@ -68,12 +83,14 @@ impl Redundant {
             rank: r.rank(),
             implied: r.implied().to_vec(),
             by_family: r.by_class(),
+            reached,
             first,
             families,
         })
     }
 
-    /// `rank 29 of 42: 13 constraints are implied by the ones before them` (the families
+    /// `rank 29 of 42 (42 constraints on the 42 state derivatives ...): 13 constraints
+    /// are implied by the ones before them` (the families
     /// declared before, and the constraints of its own family taken before it).
     pub(crate) fn counts(&self) -> String {
         let d = self.implied.len();
@@ -83,9 +100,11 @@ impl Redundant {
             (false, _) => "the others",
         };
         format!(
-            "rank {} of {}: {d} constraint{} implied by {by}",
+            "rank {} of {} ({} constraints on the {} state derivatives the algebraic unknowns act on): {d} constraint{} implied by {by}",
             self.rank,
             self.m,
+            self.m,
+            self.reached,
             if d == 1 { " is" } else { "s are" },
         )
     }
