@@ -607,9 +607,7 @@ pub(crate) fn at_default_sizes(
             let at = format!("t = 0 with the {which} sizes ({sizes})");
             match Redundant::at(&model, 0.0, &x, &z) {
                 Some(r) => {
-                    let families = &model.kernels().construction().constraints;
-                    let d = singular_diagnostic(&model, &name, &at, &r, families);
-                    source::report(file, src, &[d]);
+                    source::report(file, src, &[singular_diagnostic(&model, &name, &at, &r)]);
                 }
                 None => error!(
                     "J_Omega of `{name}` is singular at {at}: the rows of {} are dependent\n  hint: the algebraic unknowns do not determine these constraints at the initial point (a link of length zero? two links along one line at a particle with no other support?)",
@@ -633,10 +631,12 @@ fn singular_diagnostic(
     name: &str,
     at: &str,
     r: &Redundant,
-    families: &[dae_lang::family::ConstraintInfo],
 ) -> dae_lang::Diagnostic {
     let span_of = |family: &str| {
-        families
+        model
+            .kernels()
+            .construction()
+            .constraints
             .iter()
             .find(|c| c.name == family)
             .map_or(dae_lang::ast::Span::new(0, 0), |c| c.span)

@@ -2,9 +2,8 @@
 //! ones before them imply (grouped by constraint family), and one dependency written
 //! out, so that a user sees which constraints to remove (or to make forces) and why.
 
-use std::collections::HashMap;
-
 use dae_runtime::Model;
+use dae_runtime::model::{constraint_families, constraint_family};
 use dae_runtime::solve::Redundancy;
 
 /// At most this many names are listed per family, and terms per combination.
@@ -31,11 +30,6 @@ pub(crate) struct Redundant {
     pub(crate) families: Vec<(String, usize, Vec<usize>)>,
 }
 
-/// The constraint family of a constraint's name: `shear[3]` is in `shear`, `rod` alone.
-pub(crate) fn family_of(name: &str) -> &str {
-    name.split_once('[').map_or(name, |(f, _)| f)
-}
-
 impl Redundant {
     /// `J_Omega` of `model` at `(t, x, z)`; `None` when it has full rank there (then the
     /// caller's own message stands).
@@ -44,20 +38,16 @@ impl Redundant {
         let pattern = model.jacobian_pattern();
         let mut values = vec![0.0; pattern.len()];
         model.jacobian(t, x, z, &mut values);
-        // Families in the order of their first constraint.
+        // Families in the order of their first constraint: name, size, implied rows.
+        let class = constraint_families(model);
         let mut families: Vec<(String, usize, Vec<usize>)> = Vec::new();
-        let mut index: HashMap<&str, usize> = HashMap::new();
-        let class: Vec<usize> = (0..m)
-            .map(|i| {
-                let f = family_of(model.constraint_name(i));
-                let k = *index.entry(f).or_insert_with(|| {
-                    families.push((f.to_string(), 0, Vec::new()));
-                    families.len() - 1
-                });
-                families[k].1 += 1;
-                k
-            })
-            .collect();
+        for (i, &k) in class.iter().enumerate() {
+            if k == families.len() {
+                let name = constraint_family(model.constraint_name(i));
+                families.push((name.to_string(), 0, Vec::new()));
+            }
+            families[k].1 += 1;
+        }
         let r = Redundancy::of(m, pattern, &values, &class).ok()?;
         if r.rank() == m {
             return None;

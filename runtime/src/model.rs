@@ -274,14 +274,19 @@ pub fn w_offsets(indices: &[usize]) -> Vec<usize> {
     out
 }
 
-/// The constraint family of each constraint, numbered in the order of first appearance:
-/// `link[3]` is in `link` (the naming of family instances), `rod` alone.
-pub(crate) fn constraint_families<M: Model + ?Sized>(model: &M) -> Vec<usize> {
+/// The constraint family of a constraint's name: `link[3]` is in `link` (the naming of
+/// family instances), `rod` alone.
+pub fn constraint_family(name: &str) -> &str {
+    name.split_once('[').map_or(name, |(f, _)| f)
+}
+
+/// The constraint family ([`constraint_family`]) of each constraint, numbered in the
+/// order of first appearance.
+pub fn constraint_families<M: Model + ?Sized>(model: &M) -> Vec<usize> {
     let mut index: std::collections::HashMap<&str, usize> = std::collections::HashMap::new();
     (0..model.n_constraints())
         .map(|i| {
-            let name = model.constraint_name(i);
-            let family = name.split_once('[').map_or(name, |(f, _)| f);
+            let family = constraint_family(model.constraint_name(i));
             let next = index.len();
             *index.entry(family).or_insert(next)
         })

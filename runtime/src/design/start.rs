@@ -210,9 +210,10 @@ impl<'a, M: Model + ?Sized> Newton<'a, M> {
         let m = model.n_constraints();
         let offsets = w_offsets(model.indices());
         let pattern = model.jacobian_pattern();
+        let families = crate::model::constraint_families(model);
         let solver = Solver::new(m, pattern, SolverChoice::Auto)
-            .map_err(|e| StartError::Mismatch(format!("the pattern of J_Omega: {e}")))?
-            .redundant_rows(rows, pattern, crate::model::constraint_families(model));
+            .and_then(|s| s.redundant_rows(rows, pattern, &families))
+            .map_err(|e| StartError::Mismatch(format!("the pattern of J_Omega: {e}")))?;
         Ok(Newton {
             model,
             t,

@@ -215,19 +215,16 @@ impl Controller {
                 field: "solver",
                 reason: e.to_string(),
             })?
-            .redundant_rows(redundant, &pattern, families);
+            .redundant_rows(redundant, &pattern, &families)
+            .map_err(bad_pattern)?;
         // The same symbolic analysis where the choices agree (it is most of the set-up
         // of a large sparse pattern).
         let zsolver = if solver.choice() == SolverChoice::Auto {
             solver.clone()
         } else {
             Solver::new(m, &pattern, SolverChoice::Auto)
+                .and_then(|s| s.redundant_rows(redundant, &pattern, &families))
                 .map_err(bad_pattern)?
-                .redundant_rows(
-                    redundant,
-                    &pattern,
-                    crate::model::constraint_families(model),
-                )
         };
         let offs = w_offsets(r);
         let mu_pow = mu_powers(model, mu)?;

@@ -332,15 +332,20 @@ impl Solver {
     /// What a singular `J_s` does: with [`RedundantRows::Drop`], the rows the others
     /// imply are set aside and the rest solved (`class[i]`: the constraint family of row
     /// `i`, the later family the one set aside; `pattern` as given to [`Solver::new`]).
+    /// The pattern's structure and row orders are found here, once.
     pub(crate) fn redundant_rows(
         mut self,
         rows: RedundantRows,
         pattern: &[(usize, usize)],
-        class: Vec<usize>,
-    ) -> Self {
-        self.reduced = (rows == RedundantRows::Drop)
-            .then(|| Box::new(Reduced::new(pattern, SolverChoice::Auto, class)));
-        self
+        class: &[usize],
+    ) -> Result<Self, SolveError> {
+        self.reduced = match rows {
+            RedundantRows::Refuse => None,
+            RedundantRows::Drop => {
+                Some(Box::new(Reduced::new(pattern, SolverChoice::Auto, class)?))
+            }
+        };
+        Ok(self)
     }
 
     fn reduced_active(&mut self) -> Option<&mut Reduced> {

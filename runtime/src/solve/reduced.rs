@@ -15,6 +15,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::redundancy::{CLASS_ORDER_BUDGET, Orders};
 use super::{LinearSolver, Redundancy, SolveError, Solver, SolverChoice};
 
 /// What the solver does when `J_s` is singular.
@@ -32,9 +33,12 @@ pub enum RedundantRows {
 /// The reduced system of the last singular factorisation.
 #[derive(Clone)]
 pub(crate) struct Reduced {
-    /// The class of each row (its constraint family), for [`Redundancy::of`].
-    class: Vec<usize>,
+    /// The structure and row orders of the pattern for [`Redundancy`], found once (the
+    /// classes are the constraint families).
+    orders: Orders,
     pattern: Vec<(usize, usize)>,
+    /// The values of `J_s`, for the analysis.
+    scaled: Vec<f64>,
     choice: SolverChoice,
     /// Whether the last factorisation went through the reduced system.
     pub(crate) active: bool,
@@ -54,10 +58,15 @@ pub(crate) struct Reduced {
 }
 
 impl Reduced {
-    pub(crate) fn new(pattern: &[(usize, usize)], choice: SolverChoice, class: Vec<usize>) -> Self {
-        Self {
-            class,
+    pub(crate) fn new(
+        pattern: &[(usize, usize)],
+        choice: SolverChoice,
+        class: &[usize],
+    ) -> Result<Self, SolveError> {
+        Ok(Self {
+            orders: Orders::new(class.len(), pattern, class)?,
             pattern: pattern.to_vec(),
+            scaled: vec![0.0; pattern.len()],
             choice,
             active: false,
             rows: Vec::new(),
@@ -69,20 +78,16 @@ impl Reduced {
             values: Vec::new(),
             scale: Vec::new(),
             b: Vec::new(),
-        }
+        })
     }
 
     /// Factor the reduced system of `J_s = diag(row_scale) J_Omega` (`values` in the
     /// order of the whole pattern).
     pub(crate) fn factor(&mut self, values: &[f64], row_scale: &[f64]) -> Result<(), SolveError> {
-        let m = self.class.len();
-        let scaled: Vec<f64> = self
-            .pattern
-            .iter()
-            .zip(values)
-            .map(|(&(i, _), v)| row_scale[i] * v)
-            .collect();
-        let red = Redundancy::of(m, &self.pattern, &scaled, &self.class)?;
+        for ((s, &(i, _)), v) in self.scaled.iter_mut().zip(&self.pattern).zip(values) {
+            *s = row_scale[i] * v;
+        }
+        let red = Redundancy::with_orders(&self.orders, &self.scaled, CLASS_ORDER_BUDGET);
         if red.implied() != self.dropped.as_slice() || self.solver.is_none() {
             self.rebuild(&red)?;
         }
@@ -108,7 +113,7 @@ impl Reduced {
     }
 
     fn rebuild(&mut self, red: &Redundancy) -> Result<(), SolveError> {
-        let m = self.class.len();
+        let m = self.orders.rows();
         self.dropped = red.implied().to_vec();
         // In the rows' own order: on a semidefinite `J_s` the reduced system is then the
         // principal submatrix as it stands, factored as the model without the implied
@@ -192,7 +197,8 @@ mod tests {
         ));
         let mut drop = Solver::new(3, &pattern, SolverChoice::Auto)
             .unwrap()
-            .redundant_rows(RedundantRows::Drop, &pattern, vec![0, 0, 1]);
+            .redundant_rows(RedundantRows::Drop, &pattern, &[0, 0, 1])
+            .unwrap();
         drop.factor(&values, &ones).unwrap();
         let b = [1.0, -2.0, -1.0];
         let mut x = [0.0; 3];

@@ -101,11 +101,55 @@ fn symmetric(st: &Structure, values: &[f64]) -> bool {
             .all(|(e, &t)| (values[e] - values[t]).abs() <= 1e-9 * top)
 }
 
+/// What the analysis needs of a pattern, found once: its structure, the order of its
+/// rows by class (within a class, the solver's fill-reducing order) and that order
+/// alone.
+#[derive(Clone)]
+pub(crate) struct Orders {
+    st: Structure,
+    by_class: Vec<usize>,
+    elimination: Vec<usize>,
+}
+
+impl Orders {
+    /// The orders of an `m x m` pattern whose rows have the classes `class`.
+    pub(crate) fn new(
+        m: usize,
+        pattern: &[(usize, usize)],
+        class: &[usize],
+    ) -> Result<Self, SolveError> {
+        if class.len() != m {
+            return Err(SolveError::Pattern(format!(
+                "{} classes for {m} rows",
+                class.len()
+            )));
+        }
+        let st = Structure::new(m, pattern)?;
+        let (elimination, _) = super::order::elimination_order(&st);
+        let mut position = vec![0usize; m];
+        for (k, &i) in elimination.iter().enumerate() {
+            position[i] = k;
+        }
+        let mut by_class: Vec<usize> = (0..m).collect();
+        by_class.sort_unstable_by_key(|&i| (class[i], position[i]));
+        Ok(Orders {
+            st,
+            by_class,
+            elimination,
+        })
+    }
+
+    /// The rows of the pattern.
+    pub(crate) fn rows(&self) -> usize {
+        self.st.m
+    }
+}
+
 /// The multiply-adds the elimination in the order of the classes may spend before it
 /// gives way to the solver's order (about a tenth of a second): a row implied by rows
 /// of earlier classes is reduced against all of them, which on a cloth with rigid
 /// diagonals costs about the whole factor per diagonal, `O(m^2)` in all.
-const CLASS_ORDER_BUDGET: u64 = 100_000_000;
+pub(crate) const CLASS_ORDER_BUDGET: u64 = 100_000_000;
 
 impl Redundancy {
     /// The analysis of the `m x m` matrix with `pattern` and `values` (in pattern
@@ -129,38 +173,33 @@ impl Redundancy {
         class: &[usize],
         budget: u64,
     ) -> Result<Self, SolveError> {
-        if class.len() != m || values.len() != pattern.len() {
+        if values.len() != pattern.len() {
             return Err(SolveError::Pattern(format!(
-                "{} classes and {} values for {m} rows and {} entries",
-                class.len(),
+                "{} values for {} entries",
                 values.len(),
                 pattern.len()
             )));
         }
-        let st = Structure::new(m, pattern)?;
-        let (elimination, _) = super::order::elimination_order(&st);
-        let mut position = vec![0usize; m];
-        for (k, &i) in elimination.iter().enumerate() {
-            position[i] = k;
-        }
-        let mut order: Vec<usize> = (0..m).collect();
-        order.sort_unstable_by_key(|&i| (class[i], position[i]));
-        let mut test = if symmetric(&st, values) {
+        let orders = Orders::new(m, pattern, class)?;
+        Ok(Self::with_orders(&orders, values, budget))
+    }
+
+    /// The analysis with the orders of the pattern found once ([`Orders`]), for a
+    /// pattern analysed at many values (the reduced solver's factorisations).
+    pub(crate) fn with_orders(orders: &Orders, values: &[f64], budget: u64) -> Self {
+        let (st, order, elimination) = (&orders.st, &orders.by_class, &orders.elimination);
+        let mut test = if symmetric(st, values) {
             Test::Diagonal
         } else {
             Test::Row
         };
         let mut budget = Some(budget);
         loop {
-            let rows = if budget.is_some() {
-                &order
-            } else {
-                &elimination
-            };
-            match Self::in_order(&st, values, rows, budget, test) {
+            let rows = if budget.is_some() { order } else { elimination };
+            match Self::in_order(st, values, rows, budget, test) {
                 Outcome::Done(mut r) => {
                     r.by_class = budget.is_some();
-                    return Ok(r);
+                    return r;
                 }
                 Outcome::OverBudget => budget = None,
                 Outcome::Indefinite => test = Test::Row,
