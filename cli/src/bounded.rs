@@ -102,7 +102,7 @@ mod tests {
             sizes: vec![("N".into(), 3000)],
             ..Spec::default()
         };
-        let chain = FamilyInstance::interpreted(Interpreter::new(c).unwrap(), &spec).unwrap();
+        let chain = FamilyInstance::interpreted(Interpreter::new(c), &spec).unwrap();
         let columns = 1 + 6 * 3001 + 4 * 3000;
         for steps in [10, 1_000, 1_000_000] {
             let every = trace_every(&chain, steps, 200_000);

@@ -414,12 +414,12 @@ pub(crate) fn runnable(
                 .expect("one model");
             dae_lang::compile(&analysis)
         };
-        return Ok(Box::new(dae_runtime::family::Interpreted::new(compiled)));
+        let model = dae_runtime::family::Interpreted::from_compiled(compiled, &Spec::default())
+            .map_err(|e| source::report(&name, &src, &[e.to_diagnostic()]))?;
+        return Ok(Box::new(model));
     }
     let topology = topology.map(read_topology).transpose()?;
-    let Some(kernels) = Interpreter::new(compiled) else {
-        unreachable!("a family model has its compiled form")
-    };
+    let kernels = Interpreter::new(compiled);
     let spec = spec_for(kernels.construction(), sets, topology.as_ref())?;
     let c = kernels.construction();
     let c_given: Vec<String> = c
@@ -514,9 +514,10 @@ pub(crate) fn at_default_sizes(
 ) -> Result<Option<DefaultSizes>, Reported> {
     use dae_runtime::{solve::LinearSolver, solve::Solver, solve::SolverChoice};
     let name = compiled.name.clone();
-    let Some(kernels) = Interpreter::new(compiled) else {
+    if !compiled.is_family() {
         return Ok(None);
-    };
+    }
+    let kernels = Interpreter::new(compiled);
     let c = kernels.construction();
     if !c.self_contained() && topology.is_none() {
         return Ok(None);

@@ -6,6 +6,7 @@
 use std::path::Path;
 
 use dae_runtime::family::{FamilyInstance, Interpreted, Interpreter, Spec};
+use dae_runtime::settings::{Dbsmc, Update};
 use dae_runtime::{Model, Settings, Simulator, Summary, model::w_offsets, trace::NoTrace};
 use daec::interpret_source;
 
@@ -18,7 +19,7 @@ fn source(file: &str) -> String {
 
 fn family(file: &str) -> FamilyInstance<Interpreter> {
     let c = dae_lang::compile_source(&source(file)).unwrap().remove(0);
-    FamilyInstance::interpreted(Interpreter::new(c).unwrap(), &Spec::default()).unwrap()
+    FamilyInstance::interpreted(Interpreter::new(c), &Spec::default()).unwrap()
 }
 
 fn scalar(file: &str) -> Interpreted {
@@ -138,11 +139,11 @@ fn runs_agree(f: &dyn Model, s: &dyn Model, map: &[Option<usize>], settings: Set
     let b = simulate(s, settings);
     assert_eq!(a.steps, b.steps);
     assert!(a.updates > 10);
-    // Round-off of a different evaluation order may move an update by a step; the
-    // motions stay together.
+    // Round-off of a different evaluation order may move an update by a step (or add
+    // or drop one); the motions stay together.
     let du = a.updates.abs_diff(b.updates);
     assert!(
-        du * 50 <= a.updates,
+        du <= 1 || du * 50 <= a.updates,
         "updates {} vs {}",
         a.updates,
         b.updates
@@ -180,9 +181,14 @@ fn family_chain5_is_chain5_planar() {
         (_, c) => format!("v{c}{k}"),
     });
     agree_at_random_points(&f, &s, &map);
+    // Updates at a fixed period: with the monitor, the round-off of the two
+    // formulations' `J_Omega` (one derivative against the kernels' sum of products)
+    // can make a grazing crossing an update in one run and not in the other, after
+    // which the runs are different (equally valid) motions inside the layers.
     let settings = Settings::new(vec![0.01; 5], vec![0.05; 5], vec![2.0; 5])
         .step(1e-4)
-        .t_end(0.3);
+        .t_end(0.3)
+        .law(Dbsmc::default().update(Update::Fixed { period: 0.005 }));
     runs_agree(&f, &s, &map, settings);
 }
 

@@ -21,7 +21,11 @@ model NonlinearRC {
 
 fn run(integrator: Integrator) -> (Result<dae_runtime::Summary, SimError>, u64) {
     let compiled = dae_lang::compile_source(STALLING_RC).expect("the model compiles");
-    let model = dae_runtime::family::Interpreted::new(compiled.into_iter().next().unwrap());
+    let model = dae_runtime::family::Interpreted::from_compiled(
+        compiled.into_iter().next().unwrap(),
+        &Default::default(),
+    )
+    .expect("constructed at its sizes");
     let m = model.n_constraints();
     // A step limit turns a stall into a failure of this test instead of a hang.
     let settings = Settings::new(vec![0.1; m], vec![0.1; m], vec![1.0; m])
@@ -71,7 +75,11 @@ fn a_run_in_pieces_sees_the_bound_loss_before_finish() {
     let src = "model JSingT2 { state x = 0.0; alg z = 1.0; der(x) = z * cos(t); \
                constraint x = sin(t) + t^2 / 2; }";
     let compiled = dae_lang::compile_source(src).expect("the model compiles");
-    let model = dae_runtime::family::Interpreted::new(compiled.into_iter().next().unwrap());
+    let model = dae_runtime::family::Interpreted::from_compiled(
+        compiled.into_iter().next().unwrap(),
+        &Default::default(),
+    )
+    .expect("constructed at its sizes");
     let settings = Settings::new(vec![0.05], vec![0.1], vec![2.0])
         .integrator(Integrator::DormandPrince)
         .t_end(3.0);

@@ -101,13 +101,13 @@ pub use expand::{compile_file_to_out_dir, expand_dae, expand_dae_file};
 pub use literals::rust_ident;
 pub use tokens::TokenSource;
 
-/// The tokens of the generated type and its `Model` implementation; for a family model
-/// (`model.family` set), the kernels type implementing `dae_runtime::family::Kernels`
-/// (see the crate documentation).
+/// The tokens of the generated type and its `Model` implementation (a model without
+/// sets, from its tapes); for a family model, the kernels type implementing
+/// `dae_runtime::family::Kernels` (see the crate documentation).
 pub fn generate(model: &CompiledModel) -> TokenStream {
-    match &model.family {
-        Some(fam) => family::generate_family(model, fam),
-        None => rust::generate_scalar(model),
+    match &model.tapes {
+        Some(tapes) => rust::generate_scalar(model, tapes),
+        None => family::generate_family(model, &model.programs),
     }
 }
 

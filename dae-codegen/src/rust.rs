@@ -14,13 +14,13 @@ use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 
 use dae_lang::tape::{Operand, Tape};
-use dae_lang::{CompiledModel, VarRef};
+use dae_lang::{CompiledModel, Tapes, VarRef};
 
 use crate::literals::{lets, number, rust_ident, slot, usize_lit};
 
 /// The tokens of the generated type of a version-1 model and its `Model`
 /// implementation.
-pub(crate) fn generate_scalar(model: &CompiledModel) -> TokenStream {
+pub(crate) fn generate_scalar(model: &CompiledModel, tapes: &Tapes) -> TokenStream {
     let ty = format_ident!("{}", rust_ident(&model.name));
     let name = &model.name;
     let fields: Vec<Ident> = model
@@ -43,18 +43,18 @@ pub(crate) fn generate_scalar(model: &CompiledModel) -> TokenStream {
     let np = usize_lit(model.params.len());
     let nw_len = model.w_len();
     let nw = usize_lit(nw_len);
-    let nj = usize_lit(model.jacobian_pattern.len());
+    let nj = usize_lit(tapes.jacobian_pattern.len());
     let state_names = &model.states;
     let alg_names = &model.algs;
     let constraint_names = &model.constraints;
     let param_names: Vec<&String> = model.params.iter().map(|(p, _)| p).collect();
     let indices: Vec<Literal> = model.indices.iter().map(|r| usize_lit(*r)).collect();
-    let rows: Vec<Literal> = model
+    let rows: Vec<Literal> = tapes
         .jacobian_pattern
         .iter()
         .map(|e| usize_lit(e.0))
         .collect();
-    let cols: Vec<Literal> = model
+    let cols: Vec<Literal> = tapes
         .jacobian_pattern
         .iter()
         .map(|e| usize_lit(e.1))
@@ -74,18 +74,18 @@ pub(crate) fn generate_scalar(model: &CompiledModel) -> TokenStream {
     );
 
     let one = |tape: &Tape, out| body(tape, &fields, &[(out, tape.outputs().len())]);
-    let init_state = one(&model.init_state, quote!(x));
-    let init_alg = one(&model.init_alg, quote!(z));
-    let rhs = one(&model.rhs, quote!(dx));
-    let jac = one(&model.jacobian, quote!(values));
-    let beta = one(&model.beta, quote!(beta));
+    let init_state = one(&tapes.init_state, quote!(x));
+    let init_alg = one(&tapes.init_alg, quote!(z));
+    let rhs = one(&tapes.rhs, quote!(dx));
+    let jac = one(&tapes.jacobian, quote!(values));
+    let beta = one(&tapes.beta, quote!(beta));
     let m_len = model.algs.len();
     let sliding_outs = [
         (quote!(w), nw_len),
         (quote!(s), m_len),
         (quote!(alpha_hat), m_len),
     ];
-    let sliding = body(&model.sliding, &fields, &sliding_outs);
+    let sliding = body(&tapes.sliding, &fields, &sliding_outs);
 
     quote! {
         #[doc = #doc]

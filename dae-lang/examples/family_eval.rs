@@ -55,7 +55,7 @@ fn main() {
         });
         let a = analyse();
         let c = compile(&a);
-        let f = c.family.as_ref().unwrap();
+        let f = &c.programs;
         let ops: Vec<String> = f
             .programs()
             .iter()
@@ -72,7 +72,7 @@ fn main() {
     let src = std::fs::read_to_string(models_dir().join("chain.dae")).unwrap();
     let m = dae_lang::check_source(&src).unwrap();
     let c = compile(&analyze(&m[0], &AnalysisOptions::default()).unwrap());
-    let f = c.family.as_ref().unwrap();
+    let f = &c.programs;
     println!();
     println!("| links | rhs | sliding | jacobian | rate | all four, per link |");
     println!("|---|---|---|---|---|---|");

@@ -6,7 +6,7 @@ fn main() {
     let m = dae_lang::check_source(&src).unwrap();
     let a = dae_lang::analyze(&m[0], &dae_lang::AnalysisOptions::default()).unwrap();
     let c = dae_lang::compile(&a);
-    let f = c.family.as_ref().unwrap();
+    let f = &c.programs;
     for (name, p) in f.programs() {
         println!(
             "{name}: {} arrays {:?}",

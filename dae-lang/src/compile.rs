@@ -1,24 +1,42 @@
-//! From the analysis to the compiled form: each function's outputs emitted as a tape
-//! (`crate::tape::emit`), for a version-1 model, or as the programs over sets of a
-//! family model (`crate::family`).
+//! From the analysis to the compiled form: the programs over sets of every model
+//! (`crate::family`) and, for a model without sets, each function's outputs emitted as
+//! a tape (`crate::tape::emit`).
 
 use crate::analysis::{ConstraintAnalysis, SymbolicModel};
-use crate::compiled::{CompiledModel, DENSE_JACOBIAN_MAX};
+use crate::compiled::{CompiledModel, DENSE_JACOBIAN_MAX, Tapes};
 use crate::model::Model;
 use crate::sym::Id;
 use crate::tape::emit::{emit, emit_outputs};
+
 /// Build the compiled form of an analysed model: `sym` holds its expressions and
-/// `constraints` the constraints' names and indices. Of `model` only the names and
-/// parameter defaults are read: every expression, the initial values included, was
-/// lowered once by the analysis.
+/// `constraints` the constraints' names and indices. Of `model` only the declarations
+/// are read: every expression, the initial values included, was lowered once by the
+/// analysis.
 pub(crate) fn compile(
     model: &Model,
     constraints: &[ConstraintAnalysis],
     sym: &SymbolicModel,
 ) -> CompiledModel {
-    if model.is_family() {
-        return crate::family::compile(model, constraints, sym);
+    let programs = crate::family::compile(model, constraints, sym);
+    CompiledModel {
+        name: model.name.clone(),
+        params: model
+            .params
+            .iter()
+            .filter(|p| p.family.over.is_none())
+            .map(|p| (p.name.clone(), p.default))
+            .collect(),
+        states: model.states.iter().map(|s| s.name.clone()).collect(),
+        algs: model.algs.iter().map(|a| a.name.clone()).collect(),
+        constraints: model.constraints.iter().map(|c| c.name.clone()).collect(),
+        indices: constraints.iter().map(|c| c.index).collect(),
+        programs: Box::new(programs),
+        tapes: (!model.is_family()).then(|| Box::new(tapes(sym))),
     }
+}
+
+/// The tapes of a model without sets.
+fn tapes(sym: &SymbolicModel) -> Tapes {
     let arena = &sym.arena;
     let m = sym.constraints.len();
     let mut pattern: Vec<(usize, usize)> = Vec::new();
@@ -50,18 +68,7 @@ pub(crate) fn compile(
     sliding.extend(sym.constraints.iter().map(|c| c.s));
     sliding.extend(sym.constraints.iter().map(|c| c.alpha_hat));
     let beta: Vec<Id> = sym.constraints.iter().map(|c| c.beta).collect();
-
-    CompiledModel {
-        name: model.name.clone(),
-        params: model
-            .params
-            .iter()
-            .map(|p| (p.name.clone(), p.default))
-            .collect(),
-        states: sym.names.states.clone(),
-        algs: sym.names.algs.clone(),
-        constraints: constraints.iter().map(|c| c.name.clone()).collect(),
-        indices: constraints.iter().map(|c| c.index).collect(),
+    Tapes {
         jacobian_pattern: pattern,
         init_state: emit(arena, &sym.init_state),
         init_alg: emit(arena, &sym.init_alg),
@@ -69,6 +76,5 @@ pub(crate) fn compile(
         sliding: emit(arena, &sliding),
         jacobian: emit_outputs(arena, &jac_ids),
         beta: emit(arena, &beta),
-        family: None,
     }
 }

@@ -1,36 +1,50 @@
-//! The compiled form of a model: names, structure and one [`Tape`] per function.
+//! The compiled form of a model: names, structure, the programs every back end can run
+//! and, for a model without sets, one [`Tape`] per function.
 //!
-//! This is the hand-off between the analysis and its two back ends: the Rust code
-//! generator (crate `dae-codegen`) and the interpreter (which evaluates the tapes
-//! directly). Both implement the runtime's `Model` trait from the same `CompiledModel`,
-//! so they can be checked against each other.
-//!
-//! A family model (language version 2) is compiled into
-//! [`CompiledModel::family`] ([`crate::family::FamilyModel`]: programs over sets and
-//! everything construction needs); its version-1 tapes are then empty, and the name
-//! lists hold the templates' names (component families), not the instance's.
+//! This is the hand-off between the analysis and its back ends: the interpreter (which
+//! runs the programs) and the Rust code generator (crate `dae-codegen`). Both implement
+//! the runtime's `Model` trait from the same `CompiledModel`, so they can be checked
+//! against each other.
 
+use crate::family::FamilyModel;
 use crate::tape::Tape;
 
-/// Models with at most this many constraints get a dense `J_Omega` (every entry listed,
-/// structural zeros included); larger ones list only the structural nonzeros.
+/// Models with at most this many constraints get a dense `J_Omega` in their tapes (every
+/// entry listed, structural zeros included); larger ones list only the structural
+/// nonzeros.
 pub const DENSE_JACOBIAN_MAX: usize = 8;
 
-/// Everything needed to evaluate a model, as straight-line programs.
+/// Everything needed to evaluate a model.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CompiledModel {
     /// Model name.
     pub name: String,
-    /// Parameters with their default values, in declaration order.
+    /// The scalar parameters with their default values (at the default sizes), in
+    /// declaration order.
     pub params: Vec<(String, f64)>,
-    /// State names.
+    /// The state declarations' names (of a family: the family's, e.g. `x`).
     pub states: Vec<String>,
-    /// Algebraic names.
+    /// The algebraic declarations' names.
     pub algs: Vec<String>,
-    /// Constraint names.
+    /// The constraint declarations' names.
     pub constraints: Vec<String>,
-    /// Index `r_i` of each constraint.
+    /// Index `r_i` of each constraint declaration.
     pub indices: Vec<usize>,
+    /// The four programs over sets and the construction data (sizes, sets, maps,
+    /// declarations, couplings of `J_Omega`): what the interpreter runs at any sizes. A
+    /// model without sets has programs of one group each, run once.
+    pub programs: Box<FamilyModel>,
+    /// A model without sizes, sets or inputs (language version 1): its functions as
+    /// straight-line tapes, which the code generator prints as a Rust type over
+    /// fixed-size arrays and the analysis evaluates at the initial point. `None` for a
+    /// family model, which only construction at given sizes can evaluate.
+    pub tapes: Option<Box<Tapes>>,
+}
+
+/// The functions of a model without sets as straight-line programs over its flat
+/// vectors (see [`CompiledModel::tapes`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tapes {
     /// `(row, col)` entries of `J_Omega`, row-major sorted.
     pub jacobian_pattern: Vec<(usize, usize)>,
     /// Initial states from parameters (outputs: one per state).
@@ -46,25 +60,24 @@ pub struct CompiledModel {
     pub jacobian: Tape,
     /// Outputs: `beta` (m).
     pub beta: Tape,
-    /// The compiled form of a family model (`None` for a model without families). When
-    /// set, the tapes above are empty, `params` lists the scalar parameters with their
-    /// values at the default sizes, `states`, `algs` and `constraints` the names of the
-    /// component families and constraint families, `indices` the index of each
-    /// constraint family, and `jacobian_pattern` is empty (built at construction).
-    pub family: Option<Box<crate::family::FamilyModel>>,
 }
 
 impl CompiledModel {
-    /// Whether this is a family model (see [`CompiledModel::family`]).
+    /// Whether this is a family model: one that needs sizes to be evaluated (it has no
+    /// [`CompiledModel::tapes`]).
     pub fn is_family(&self) -> bool {
-        self.family.is_some()
+        self.tapes.is_none()
     }
 
-    /// Total length of the flat w-derivative array (`sum r_i`).
+    /// Total length of the flat w-derivative array (`sum r_i`) of a model without
+    /// sets (of a family model: per element of each constraint family, summed over the
+    /// declarations).
     pub fn w_len(&self) -> usize {
         self.indices.iter().sum()
     }
+}
 
+impl Tapes {
     /// The tapes with their names, in the order the code generator emits them.
     pub fn functions(&self) -> [(&'static str, &Tape); 6] {
         [

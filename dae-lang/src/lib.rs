@@ -26,11 +26,14 @@
 //!
 //! [`compile_source`] runs the whole pipeline: [`analyze`] finds each constraint's index,
 //! differentiates symbolically and builds the realization (`s`, `J_Omega`, `beta`,
-//! `alpha`, `alpha_hat`; the method is in `docs/method.md`), and compiles every function
-//! of the model into a straight-line program ([`tape::Tape`]) of a [`CompiledModel`]. The
-//! tapes are the hand-off to the two back ends: the interpreter evaluates them
-//! ([`tape::Tape::eval`]), and the `dae-codegen` crate prints them as the Rust type
-//! implementing `dae_runtime::Model` that `dae!`, `dae_file!` and build scripts compile.
+//! `alpha`, `alpha_hat`; the method is in `docs/method.md`), and compiles it into a
+//! [`CompiledModel`]: for every model the four programs over sets
+//! ([`family::FamilyModel`]: `rhs`, `sliding`, `jacobian` and the rate `Omega'`, with the
+//! data construction needs), which the runtime's interpreter runs at any sizes, and for a
+//! model without sets also one straight-line [`tape::Tape`] per function
+//! ([`CompiledModel::tapes`]), which the `dae-codegen` crate prints as the Rust type
+//! implementing `dae_runtime::Model` that `dae!`, `dae_file!` and build scripts compile
+//! (a family model's programs become a `Kernels` type).
 //!
 //! ```
 //! let src = "
@@ -53,9 +56,10 @@
 //!     mu: &[0.1],
 //!     t: 0.0,
 //! };
-//! let mut slots = vec![0.0; m.jacobian.n_slots()];
+//! let tapes = m.tapes.as_ref().expect("a model without sets");
+//! let mut slots = vec![0.0; tapes.jacobian.n_slots()];
 //! let mut j = [0.0];
-//! m.jacobian.eval(&inputs, &mut slots, &mut j);
+//! tapes.jacobian.eval(&inputs, &mut slots, &mut j);
 //! assert_eq!(j, [1.0]);
 //! ```
 //!
@@ -126,7 +130,7 @@ pub use sym::{
     jacobian_terms,
 };
 
-pub use compiled::{CompiledModel, DENSE_JACOBIAN_MAX};
+pub use compiled::{CompiledModel, DENSE_JACOBIAN_MAX, Tapes};
 
 /// Analyse a checked model: index, `J_Omega`, `beta`, `s`, `alpha`, `alpha_hat`, its
 /// compiled form, and the checks at the initial point. Every problem found is returned,

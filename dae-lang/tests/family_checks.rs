@@ -22,8 +22,7 @@ fn compiled(src: &str) -> CompiledModel {
 }
 
 fn instance(c: &CompiledModel, spec: &Spec) -> Instance {
-    construct(&c.family.as_ref().expect("family").construction, spec)
-        .unwrap_or_else(|e| panic!("{e}"))
+    construct(&c.programs.construction, spec).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// A point of evaluation in an instance's layout.
@@ -85,7 +84,7 @@ fn run(p: &Program, inst: &Instance, x: &Point, lens: &[usize]) -> Vec<Vec<f64>>
 
 /// J_Omega of an instance at a point, dense (rows x columns).
 fn jacobian(c: &CompiledModel, inst: &Instance, x: &Point) -> Vec<Vec<f64>> {
-    let f = c.family.as_ref().unwrap();
+    let f = &c.programs;
     let values = run(&f.jacobian, inst, x, &[inst.jacobian.entries.len()]).remove(0);
     let mut j = vec![vec![0.0; inst.layout.n_algs]; inst.layout.n_rows];
     for (&(r, col), v) in inst.jacobian.entries.iter().zip(values) {
@@ -96,7 +95,7 @@ fn jacobian(c: &CompiledModel, inst: &Instance, x: &Point) -> Vec<Vec<f64>> {
 
 /// `Omega` of every row (the last derivative of w).
 fn omega(c: &CompiledModel, inst: &Instance, x: &Point) -> Vec<f64> {
-    let f = c.family.as_ref().unwrap();
+    let f = &c.programs;
     let l = &inst.layout;
     let w = run(&f.sliding, inst, x, &[l.n_w, l.n_rows, l.n_rows]).remove(0);
     let mut out = Vec::with_capacity(l.n_rows);
@@ -130,7 +129,7 @@ fn particle_jacobian_has_the_closed_form_of_the_method() {
         let j = jacobian(&c, &inst, &x);
         // Positions, masses and pins of the particles, ends of the links (layout: x
         // first, three components per particle; params m / mass and free).
-        let f = c.family.as_ref().unwrap();
+        let f = &c.programs;
         let cons = &f.construction;
         let find = |name: &str| cons.params.iter().position(|p| p.name == name);
         let free_p = find("free").expect("free");
@@ -207,7 +206,7 @@ fn jacobian_and_beta_match_finite_differences() {
         ..Spec::default()
     };
     let inst = instance(&c, &spec);
-    let f = c.family.as_ref().unwrap();
+    let f = &c.programs;
     let mut rng = Rng::new(11);
     let x = Point::random(&inst, &mut rng, 0.05);
     // J_Omega = dOmega/dz (central differences).
@@ -291,15 +290,20 @@ fn scalar_outputs(
         mu,
         t,
     };
-    [&c.rhs, &c.sliding, &c.jacobian, &c.beta]
-        .iter()
-        .map(|tape| {
-            let mut slots = vec![0.0; tape.n_slots()];
-            let mut out = vec![0.0; tape.outputs().len()];
-            tape.eval(&inputs, &mut slots, &mut out);
-            out
-        })
-        .collect()
+    [
+        &c.tapes.as_deref().unwrap().rhs,
+        &c.tapes.as_deref().unwrap().sliding,
+        &c.tapes.as_deref().unwrap().jacobian,
+        &c.tapes.as_deref().unwrap().beta,
+    ]
+    .iter()
+    .map(|tape| {
+        let mut slots = vec![0.0; tape.n_slots()];
+        let mut out = vec![0.0; tape.outputs().len()];
+        tape.eval(&inputs, &mut slots, &mut out);
+        out
+    })
+    .collect()
 }
 
 /// A family model and its scalar version agree: states matched by name (`scalar(name)`
@@ -309,7 +313,7 @@ fn agree(family_file: &str, scalar_file: &str, scalar: impl Fn(&str) -> Option<S
     let c = compiled(&example(family_file));
     let s = compiled(&example(scalar_file));
     let inst = instance(&c, &Spec::default());
-    let f = c.family.as_ref().unwrap();
+    let f = &c.programs;
     let l = &inst.layout;
     // The family's state names in layout order, mapped to the scalar ones.
     let mut names = vec![String::new(); l.n_states];
@@ -372,7 +376,14 @@ fn agree(family_file: &str, scalar_file: &str, scalar: impl Fn(&str) -> Option<S
             assert!(close(*a, *b, 1e-12), "sliding {flat:?} vs {:?}", so[1]);
         }
         let j = jacobian(&c, &inst, &x);
-        for (k, &(r, col)) in s.jacobian_pattern.iter().enumerate() {
+        for (k, &(r, col)) in s
+            .tapes
+            .as_deref()
+            .unwrap()
+            .jacobian_pattern
+            .iter()
+            .enumerate()
+        {
             assert!(
                 close(j[r][col], so[2][k], 1e-12),
                 "J({r}, {col}) {} vs {}",
@@ -485,7 +496,7 @@ fn input_values_are_derivative_major() {
             },
         );
         let l = &inst.layout;
-        let cons = &c.family.as_ref().unwrap().construction;
+        let cons = &c.programs.construction;
         let first = cons
             .inputs
             .iter()

@@ -299,8 +299,7 @@ fn construct_error(src: &str, spec: Spec, message: &str, text: &str) {
     let models = dae_lang::check_source(src).unwrap_or_else(|e| panic!("{e:#?}"));
     let a = analyze(&models[0], &AnalysisOptions::default()).unwrap_or_else(|e| panic!("{e:#?}"));
     let c = compile(&a);
-    let err = construct(&c.family.as_ref().unwrap().construction, &spec)
-        .expect_err("a construction error");
+    let err = construct(&c.programs.construction, &spec).expect_err("a construction error");
     assert!(err.message.contains(message), "{err}");
     let d = err.to_diagnostic();
     located(src, &d, text, "");

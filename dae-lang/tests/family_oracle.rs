@@ -47,7 +47,7 @@ fn family(src: &str) -> (Model, CompiledModel) {
 }
 
 fn eval_family(c: &CompiledModel, inst: &Instance, p: &Point) -> Outputs {
-    let f = c.family.as_ref().expect("a family model");
+    let f = &c.programs;
     let l = &inst.layout;
     let x = Values {
         params: &p.params,
@@ -119,18 +119,25 @@ fn eval_scalar(c: &CompiledModel, params: &[f64], p: &Point) -> Outputs {
     };
     let m = c.algs.len();
     let nw = c.w_len();
-    let sliding = run(&c.sliding);
-    let values = run(&c.jacobian);
+    let sliding = run(&c.tapes.as_deref().unwrap().sliding);
+    let values = run(&c.tapes.as_deref().unwrap().jacobian);
     let mut jacobian = vec![0.0; m * m];
-    for (&(r, col), v) in c.jacobian_pattern.iter().zip(values) {
+    for (&(r, col), v) in c
+        .tapes
+        .as_deref()
+        .unwrap()
+        .jacobian_pattern
+        .iter()
+        .zip(values)
+    {
         jacobian[r * m + col] = v;
     }
-    let beta = run(&c.beta);
+    let beta = run(&c.tapes.as_deref().unwrap().beta);
     let rate = (0..m)
         .map(|r| beta[r] + (0..m).map(|k| jacobian[r * m + k] * p.zdot[k]).sum::<f64>())
         .collect();
     Outputs {
-        rhs: run(&c.rhs),
+        rhs: run(&c.tapes.as_deref().unwrap().rhs),
         w: sliding[..nw].to_vec(),
         s: sliding[nw..nw + m].to_vec(),
         alpha_hat: sliding[nw + m..].to_vec(),
@@ -155,8 +162,7 @@ fn assert_close(what: &str, a: &[f64], b: &[f64], tol: f64) {
 /// Compares the template programs with the expanded model at `points` random points.
 fn compare(src: &str, spec: &Spec, seed: u64, points: usize) {
     let (m, c) = family(src);
-    let mut inst =
-        construct(&c.family.as_ref().unwrap().construction, spec).unwrap_or_else(|e| panic!("{e}"));
+    let mut inst = construct(&c.programs.construction, spec).unwrap_or_else(|e| panic!("{e}"));
     let mut rng = Rng::new(seed);
     // Start away from the examples' symmetric starts (a flat cloth pinned at two corners
     // has a straight edge between them, where J_Omega is singular and the expanded
@@ -328,7 +334,7 @@ fn sums_into_one_codomain_share_an_accumulator_and_agree_with_the_expansion() {
         constraint link[l in L]: norm(d[l]) = 1;
     }";
     let (_, c) = family(src);
-    let rhs = &c.family.as_ref().unwrap().rhs;
+    let rhs = &c.programs.rhs;
     let sinks = || rhs.groups.iter().flat_map(|g| &g.sinks);
     let count = |f: fn(&Sink) -> bool| sinks().filter(|s| f(s)).count();
     // Eight sums: the x components of the tension sums stay apart (the first is read

@@ -57,7 +57,11 @@ fn main() {
         fmi2FreeInstance(c);
         wall
     };
-    let model = Interpreted::new(dae_lang::compile_source(&src).unwrap().remove(0));
+    let model = Interpreted::from_compiled(
+        dae_lang::compile_source(&src).unwrap().remove(0),
+        &Default::default(),
+    )
+    .expect("constructed at its sizes");
     let direct_run = || {
         let (mut x0, mut z0) = (vec![0.0; model.n_states()], vec![0.0; 2]);
         model.initial_state(&mut x0);

@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 
 use crate::config::{CONFIG_FILE, Config, SOURCE_FILE};
 use crate::instance::{Instance, Status};
-use crate::model::{Driven, Loaded, load};
+use crate::model::{Driven, load};
 
 /// `fmi2Status`.
 pub type Fmi2Status = c_int;
@@ -185,10 +185,7 @@ fn instantiate(resources: &Path, guid: &str) -> Result<Box<dyn Component>, Strin
         ));
     }
     let src = read(SOURCE_FILE)?;
-    Ok(match load(&src, &config)? {
-        Loaded::Scalar(m) => Box::new(Instance::new(*m, config)),
-        Loaded::Family(m) => Box::new(Instance::new(*m, config)),
-    })
+    Ok(Box::new(Instance::new(*load(&src, &config)?, config)))
 }
 
 unsafe fn text(p: *const c_char) -> String {

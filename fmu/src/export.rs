@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use crate::archive::write_zip;
 use crate::config::{CONFIG_FILE, Config, SOURCE_FILE};
 use crate::description::model_description;
-use crate::model::{Loaded, load};
+use crate::model::load;
 use crate::variables::{self, Variable};
 
 /// The name of this crate's library as cargo builds it on Linux.
@@ -71,10 +71,7 @@ fn files(src: &str, mut config: Config) -> Result<(Vec<File>, Exported), String>
     config.check()?;
     config.guid.clear();
     config.guid = guid(src, &config);
-    let vars = match load(src, &config)? {
-        Loaded::Scalar(m) => variables::of(&*m, config.eps),
-        Loaded::Family(m) => variables::of(&*m, config.eps),
-    };
+    let vars = variables::of(&*load(src, &config)?, config.eps);
     let identifier = model_identifier(&config.model);
     let generation = format!("daec {} (dae-fmu)", env!("CARGO_PKG_VERSION"));
     let description = model_description(&config, &identifier, &vars, &generation);

@@ -32,8 +32,6 @@ pub(crate) trait Driven: Model {
     }
 }
 
-impl Driven for Interpreted {}
-
 impl Driven for FamilyInstance<Interpreter> {
     fn n_inputs(&self) -> usize {
         FamilyInstance::n_inputs(self)
@@ -52,13 +50,9 @@ impl Driven for FamilyInstance<Interpreter> {
     }
 }
 
-/// The model of an FMU, of one kind or the other.
-pub(crate) enum Loaded {
-    /// A version-1 model.
-    Scalar(Box<Interpreted>),
-    /// A family model at the sizes of the configuration.
-    Family(Box<FamilyInstance<Interpreter>>),
-}
+/// The model of an FMU: the interpreted model at the sizes and parameters of the
+/// configuration.
+pub(crate) type Loaded = Box<Interpreted>;
 
 /// Compiles `config.model` of `src` and applies `config.sets`. Every failure is one
 /// message naming what is wrong (a diagnostic is rendered with its line).
@@ -78,20 +72,8 @@ pub(crate) fn load(src: &str, config: &Config) -> Result<Loaded, String> {
             names.join(", ")
         ));
     };
-    if !compiled.is_family() {
-        let mut m = Interpreted::new(compiled);
-        for (name, value) in &config.sets {
-            let i = m.param_index(name).ok_or_else(|| {
-                format!(
-                    "`{}` has no parameter `{name}` (a version-1 model has no sizes)",
-                    m.name()
-                )
-            })?;
-            m.set_param(i, *value);
-        }
-        return Ok(Loaded::Scalar(Box::new(m)));
-    }
-    let kernels = Interpreter::new(compiled).ok_or("a family model without its compiled form")?;
+    let version_1 = !compiled.is_family();
+    let kernels = Interpreter::new(compiled);
     let c = kernels.construction();
     let mut spec = dae_lang::family::Spec::default();
     for (name, value) in &config.sets {
@@ -100,6 +82,10 @@ pub(crate) fn load(src: &str, config: &Config) -> Result<Loaded, String> {
             AssignError::PerElement(family) => {
                 format!("`{family}` is a per-element parameter: it is set through its formula")
             }
+            AssignError::Unknown if version_1 => format!(
+                "`{}` has no parameter `{name}` (a version-1 model has no sizes)",
+                config.model
+            ),
             AssignError::Unknown => format!("the model has no size or scalar parameter `{name}`"),
         })?;
     }
@@ -120,7 +106,7 @@ pub(crate) fn load(src: &str, config: &Config) -> Result<Loaded, String> {
         ));
     }
     FamilyInstance::interpreted(kernels, &spec)
-        .map(|m| Loaded::Family(Box::new(m)))
+        .map(Box::new)
         .map_err(|e| {
             e.to_diagnostic()
                 .render(crate::config::SOURCE_FILE, src, false)

@@ -144,7 +144,11 @@ fn the_double_pendulum_steps_as_the_runtime_runs_it() {
 
     // The oracle: the simulator itself, with the online settings and the same cuts.
     let src = std::fs::read_to_string(models().join("double_pendulum_3d.dae")).unwrap();
-    let model = Interpreted::new(dae_lang::compile_source(&src).unwrap().remove(0));
+    let model = Interpreted::from_compiled(
+        dae_lang::compile_source(&src).unwrap().remove(0),
+        &Default::default(),
+    )
+    .expect("constructed at its sizes");
     let mut settings = Online::frame(h).settings(vec![1e-3; 2]).unwrap().t_end(1.0);
     let (mut x0, mut z0) = (vec![0.0; model.n_states()], vec![0.0; 2]);
     model.initial_state(&mut x0);

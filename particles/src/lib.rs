@@ -103,7 +103,7 @@
 //!     "/../examples/models/chain.dae"
 //! ))?;
 //! let compiled = dae_lang::compile_source(&src).expect("chain.dae compiles").remove(0);
-//! let kernels = Interpreter::new(compiled).expect("a family model");
+//! let kernels = Interpreter::new(compiled);
 //! let spec = Spec {
 //!     sizes: vec![("N".into(), links as i64)],
 //!     params: vec![("m_end".into(), end_mass_ratio)],

@@ -19,7 +19,7 @@ fn chain_dae(links: usize, end_mass_ratio: f64) -> FamilyInstance<Interpreter> {
         params: vec![("m_end".into(), end_mass_ratio)],
         ..Spec::default()
     };
-    FamilyInstance::interpreted(Interpreter::new(compiled).unwrap(), &spec).unwrap()
+    FamilyInstance::interpreted(Interpreter::new(compiled), &spec).unwrap()
 }
 
 /// The frames of the fall before the grab.

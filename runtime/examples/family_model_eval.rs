@@ -25,8 +25,7 @@ fn model(file: &str, size: (&str, i64)) -> FamilyInstance<Interpreter> {
         sizes: vec![(size.0.into(), size.1)],
         ..Spec::default()
     };
-    FamilyInstance::interpreted(Interpreter::new(c).expect("a family model"), &spec)
-        .expect("the model builds")
+    FamilyInstance::interpreted(Interpreter::new(c), &spec).expect("the model builds")
 }
 
 /// Seconds per step (rhs + sliding + jacobian + beta) and per function.

@@ -61,7 +61,7 @@
 //! ))
 //! .unwrap();
 //! let compiled = dae_lang::compile_source(&src).unwrap().remove(0);
-//! let kernels = Interpreter::new(compiled).expect("a family model");
+//! let kernels = Interpreter::new(compiled);
 //! let spec = Spec {
 //!     sizes: vec![("N".into(), 1000)],
 //!     ..Spec::default()
@@ -93,7 +93,7 @@
 //! .unwrap();
 //! let compiled = dae_lang::compile_source(&src).unwrap().remove(0);
 //! let pendulum =
-//!     FamilyInstance::interpreted(Interpreter::new(compiled).unwrap(), &Spec::default())
+//!     FamilyInstance::interpreted(Interpreter::new(compiled), &Spec::default())
 //!         .unwrap();
 //! let pivot_x = pendulum.input_index("pivot.x").unwrap();
 //! assert_eq!(pendulum.input_order(pivot_x), 3);

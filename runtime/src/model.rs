@@ -154,9 +154,10 @@ pub trait Model {
     /// With located crossings the simulator needs `s'` at the end of every step, and an
     /// update only at some: a model that evaluates this in one pass (a particle system:
     /// one pass over its links, where `J_Omega` has an entry per pair of links sharing
-    /// a particle) spares `J_Omega` at every step that ends without an update. Family
-    /// models give it (their compiled rate program, in
-    /// `family::FamilyInstance`, feature `families`); version-1 models do not.
+    /// a particle) spares `J_Omega` at every step that ends without an update. The
+    /// interpreter gives it for every model (the compiled rate program, in
+    /// `family::FamilyInstance`, feature `families`), as does the generated code of a
+    /// family model; the generated code of a model without sets does not.
     fn omega_rate(&self, t: f64, x: &[f64], z: &[f64], zdot: &[f64], rate: &mut [f64]) -> bool {
         let _ = (t, x, z, zdot, rate);
         false

@@ -11,7 +11,7 @@ fn example(name: &str) -> Interpreter {
     let c = dae_lang::compile_source(&src)
         .unwrap_or_else(|e| panic!("{e:#?}"))
         .remove(0);
-    Interpreter::new(c).expect("a family model")
+    Interpreter::new(c)
 }
 
 fn sized(name: &str, sizes: &[(&str, i64)]) -> FamilyInstance<Interpreter> {

@@ -48,7 +48,7 @@ fn chain(n: i64) -> FamilyInstance<Interpreter> {
         sizes: vec![("N".into(), n)],
         ..Spec::default()
     };
-    FamilyInstance::interpreted(Interpreter::new(c).unwrap(), &spec).unwrap()
+    FamilyInstance::interpreted(Interpreter::new(c), &spec).unwrap()
 }
 
 #[test]

@@ -1,6 +1,6 @@
 //! Cost of the generated code: nanoseconds per evaluation of each `Model` function for
 //! the 3-D double pendulum and a planar chain of 5 links, the same functions through the
-//! interpreter (`dae_runtime::family::Interpreted`, evaluating the same tapes), and, printed before the
+//! interpreter (`dae_runtime::family::Interpreted`, running the same model's programs), and, printed before the
 //! timings, the operation count of the generated code (tape instructions, shared
 //! sub-expressions computed once) against the same outputs written as trees.
 //!
@@ -27,6 +27,7 @@ fn print_op_counts(label: &str, src: &str) {
     let analysis =
         dae_lang::analyze(model, &dae_lang::AnalysisOptions::default()).expect("analysable model");
     let compiled = dae_lang::compile(&analysis);
+    let tapes = compiled.tapes.as_ref().expect("a version-1 model");
     let sym = analysis.symbolic();
     let cs = &sym.constraints;
     let sliding: Vec<_> = cs
@@ -41,10 +42,10 @@ fn print_op_counts(label: &str, src: &str) {
         .collect();
     let beta: Vec<_> = cs.iter().map(|c| c.beta).collect();
     let rows = [
-        ("rhs", &compiled.rhs, sym.f.clone()),
-        ("sliding", &compiled.sliding, sliding),
-        ("jacobian", &compiled.jacobian, jacobian),
-        ("beta", &compiled.beta, beta),
+        ("rhs", &tapes.rhs, sym.f.clone()),
+        ("sliding", &tapes.sliding, sliding),
+        ("jacobian", &tapes.jacobian, jacobian),
+        ("beta", &tapes.beta, beta),
     ];
     println!("{label}: operation counts (generated code vs expression trees)");
     for (name, tape, roots) in rows {

@@ -126,7 +126,7 @@ fn interpreter(file: &str) -> Interpreter {
     let model = dae_lang::compile_source(&source(file))
         .expect("compiles")
         .remove(0);
-    Interpreter::new(model).expect("a family model")
+    Interpreter::new(model)
 }
 
 fn sized(n: i64) -> Spec {

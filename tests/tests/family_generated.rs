@@ -28,7 +28,7 @@ fn compiled_at(path: &std::path::Path) -> FamilyModel {
     let stem = path.file_stem().expect("a file").to_string_lossy();
     let src = std::fs::read_to_string(path).expect("model file");
     let mut models = dae_lang::compile_source(&src).unwrap_or_else(|e| panic!("{stem}: {e:?}"));
-    *models.remove(0).family.expect("a family model")
+    *models.remove(0).programs
 }
 
 /// One evaluation's vectors.
@@ -254,7 +254,7 @@ fn generated_chain_model_agrees_with_the_interpreted_one() {
         };
         let mut code = generated::Chain::new(&spec).expect("chain");
         let src = std::fs::read_to_string(dae_tests::models_dir().join("chain.dae")).unwrap();
-        let interp = Interpreter::new(dae_lang::compile_source(&src).unwrap().remove(0)).unwrap();
+        let interp = Interpreter::new(dae_lang::compile_source(&src).unwrap().remove(0));
         let mut oracle = FamilyInstance::new(interp, &spec).expect("chain");
         assert_eq!(code.name(), "Chain");
         assert_eq!(code.n_states(), 6 * (n as usize + 1));

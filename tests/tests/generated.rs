@@ -1,8 +1,9 @@
 //! The Rust code generated for every example model (compiled here through
 //! `dae_runtime::dae_file!`) against two oracles:
-//! * the interpreter (`dae_runtime::family::Interpreted`), which evaluates the same compiled tapes
-//!   without generating code: every output of every `Model` function must agree to
-//!   1e-12 relative, also after parameter changes;
+//! * the interpreter (`dae_runtime::family::Interpreted`), which runs the model's programs
+//!   (scheduled apart from the tapes the code is printed from, `beta` from the rate
+//!   program) without generating code: every output of every `Model` function must
+//!   agree to 1e-12 relative, also after parameter changes (the initial values too);
 //! * finite differences, which know nothing of the symbolic pipeline: `J_Omega` is the
 //!   derivative of `Omega` (the last w-derivative of each constraint) in `z`, and `beta`
 //!   the derivative of `Omega` along `(t + d, x + d f)` with `z` fixed.
@@ -283,6 +284,42 @@ fn beta_is_the_derivative_of_omega_along_the_flow_with_z_fixed() {
                 .fold(0.0, |a: f64, b| a.max(b.abs()));
             for (i, (b, d)) in beta.iter().zip(&fd).enumerate() {
                 assert_fd(&stem, &format!("beta[{i}]"), *b, *d, scale * speed);
+            }
+        }
+    }
+}
+
+/// The interpreter gives `Omega'` from the rate program (the simulator then skips
+/// `J_Omega` at the steps without an update); the generated code of a version-1 model
+/// does not, and its `J_Omega` and `beta` give the same rate as `beta + J_Omega z'`.
+#[test]
+fn the_interpreters_omega_rate_is_beta_plus_j_omega_zdot() {
+    let mut rng = Rng::new(0x5eed_0004);
+    for (stem, code, int) in pairs() {
+        let k = code.n_constraints();
+        let pattern = code.jacobian_pattern().to_vec();
+        let mut rate = vec![0.0; k];
+        assert!(
+            !code.omega_rate(0.0, &[], &[], &[], &mut []),
+            "{stem}: the generated code leaves Omega' to the simulator"
+        );
+        for _ in 0..50 {
+            let (t, x, z, _) = random_point(code.as_ref(), &mut rng);
+            let zdot: Vec<f64> = (0..k).map(|_| rng.uniform(-3.0, 3.0)).collect();
+            let mut values = vec![0.0; pattern.len()];
+            let mut expected = vec![0.0; k];
+            code.jacobian(t, &x, &z, &mut values);
+            code.beta(t, &x, &z, &mut expected);
+            for (&(r, c), v) in pattern.iter().zip(&values) {
+                expected[r] += v * zdot[c];
+            }
+            assert!(int.omega_rate(t, &x, &z, &zdot, &mut rate), "{stem}");
+            for (r, (a, b)) in rate.iter().zip(&expected).enumerate() {
+                let scale = values.iter().fold(b.abs(), |m, v| m.max(v.abs() * 3.0));
+                assert!(
+                    (a - b).abs() <= 1e-11 * (1.0 + scale),
+                    "{stem}: Omega'[{r}] interpreted {a:e}, beta + J z' {b:e}"
+                );
             }
         }
     }

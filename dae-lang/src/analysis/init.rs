@@ -9,7 +9,7 @@ use nalgebra::DMatrix;
 use super::{ConstraintAnalysis, InitialPoint, text::wname};
 use crate::analysis::AnalysisOptions;
 use crate::ast::Span;
-use crate::compiled::CompiledModel;
+use crate::compiled::{CompiledModel, Tapes};
 use crate::diag::Diagnostic;
 use crate::model::{Model, VarDef};
 use crate::tape::{Inputs, Tape};
@@ -61,6 +61,7 @@ pub(super) fn check_initial_point(
     model: &Model,
     constraints: &[ConstraintAnalysis],
     compiled: &CompiledModel,
+    tapes: &Tapes,
     opts: &AnalysisOptions,
 ) -> Result<AtInitial, Vec<Diagnostic>> {
     let mut errors = Vec::new();
@@ -76,8 +77,8 @@ pub(super) fn check_initial_point(
         mu: &no_mu,
         t: 0.0,
     };
-    let states = run(&compiled.init_state, &before);
-    let algs = run(&compiled.init_alg, &before);
+    let states = run(&tapes.init_state, &before);
+    let algs = run(&tapes.init_alg, &before);
     check_finite(&states, &model.states, "initial value", &mut errors);
     check_finite(&algs, &model.algs, "initial guess", &mut errors);
     if !errors.is_empty() {
@@ -92,18 +93,18 @@ pub(super) fn check_initial_point(
         mu: &no_mu,
         t: 0.0,
     };
-    let f = run(&compiled.rhs, &at);
+    let f = run(&tapes.rhs, &at);
     for (k, (v, d)) in f.iter().zip(&model.ders).enumerate() {
         if !v.is_finite() {
             let name = &compiled.states[k];
             errors.push(non_finite(d.span, format!("der({name})"), *v));
         }
     }
-    let w = run(&compiled.sliding, &at);
-    let entries = run(&compiled.jacobian, &at);
-    let beta = run(&compiled.beta, &at);
+    let w = run(&tapes.sliding, &at);
+    let entries = run(&tapes.jacobian, &at);
+    let beta = run(&tapes.beta, &at);
     let mut jac = vec![0.0; m * m];
-    for (&(row, col), &v) in compiled.jacobian_pattern.iter().zip(&entries) {
+    for (&(row, col), &v) in tapes.jacobian_pattern.iter().zip(&entries) {
         jac[row * m + col] = v;
     }
     let mut w_start = 0;
@@ -114,7 +115,7 @@ pub(super) fn check_initial_point(
             .map(|j| (wname(&c.name, j, c.index), w[w_start + j]))
             .collect();
         w_start += c.index;
-        for (&(_, col), &v) in compiled
+        for (&(_, col), &v) in tapes
             .jacobian_pattern
             .iter()
             .zip(&entries)

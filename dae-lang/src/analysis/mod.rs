@@ -76,15 +76,15 @@ pub struct ConstraintExprs {
     /// The non-zero entries `(column = algebraic unknown, dOmega/dz_column)` of this row
     /// of `J_Omega`, by column (version 1; empty for a family model).
     pub jacobian_row: Vec<(AlgId, Id)>,
-    /// The kernels of this constraint's rows of `J_Omega` (a family model; empty for a
-    /// version-1 model), one per coupling.
+    /// The kernels of this constraint's rows of `J_Omega`, one per coupling (a
+    /// version-1 model: one per entry of `jacobian_row`, that entry times 1).
     pub kernels: Vec<Kernel>,
     /// `beta = dOmega/dt + (dOmega/dx) f` (may contain z).
     pub beta: Id,
     /// `Omega' = beta + J_Omega z'`, the rate of `Omega` with the algebraic unknowns
-    /// moving at `z'` (the leaves [`VarRef::AlgRate`](crate::VarRef::AlgRate)): a family
-    /// model's rate program; `None` for a version-1 model, whose tapes do not include it.
-    pub rate: Option<Id>,
+    /// moving at `z'` (the leaves [`VarRef::AlgRate`](crate::VarRef::AlgRate)): the rate
+    /// program's output.
+    pub rate: Id,
     /// The realization parameter `mu` of this constraint (a leaf, printed `mu<i+1>`).
     pub mu: Id,
     /// Sliding surface `s`.
@@ -230,7 +230,9 @@ pub(crate) fn derive(
     let (init_state, init_alg) = if is_family {
         (Vec::new(), Vec::new())
     } else {
-        lower::lower_initial(&mut arena, model)
+        let init = lower::lower_initial(&mut arena, model);
+        scalar_programs_exprs(&mut arena, &mut derivatives, model, &mut exprs);
+        init
     };
     let symbolic = SymbolicModel {
         arena,
@@ -262,16 +264,19 @@ impl Analysis {
         compiled: CompiledModel,
         opts: &AnalysisOptions,
     ) -> Result<Analysis, Vec<Diagnostic>> {
-        let (initial, jacobian_at_initial, condition_number) = if model.is_family() {
-            let empty = InitialPoint {
-                params: Vec::new(),
-                states: Vec::new(),
-                algs: Vec::new(),
-            };
-            (empty, Vec::new(), f64::NAN)
-        } else {
-            let at = init::check_initial_point(model, &constraints, &compiled, opts)?;
-            (at.point, at.jacobian, at.condition_number)
+        let (initial, jacobian_at_initial, condition_number) = match &compiled.tapes {
+            None => {
+                let empty = InitialPoint {
+                    params: Vec::new(),
+                    states: Vec::new(),
+                    algs: Vec::new(),
+                };
+                (empty, Vec::new(), f64::NAN)
+            }
+            Some(tapes) => {
+                let at = init::check_initial_point(model, &constraints, &compiled, tapes, opts)?;
+                (at.point, at.jacobian, at.condition_number)
+            }
         };
         Ok(Analysis {
             model_name: model.name.clone(),
@@ -340,7 +345,12 @@ fn realize(
         (jacobian_row(arena, derivatives, omega, &cols), Vec::new())
     };
     let beta = derivatives.dt(arena, omega);
-    let rate = is_family.then(|| derivatives.dt_moving(arena, omega));
+    // A version-1 model's `Omega'` is derived last (`scalar_programs_exprs`).
+    let rate = if is_family {
+        derivatives.dt_moving(arena, omega)
+    } else {
+        omega
+    };
     let mu = arena.mu(ConstraintId::new(i));
     let (s, alpha, alpha_hat) = sliding_exprs(arena, &w, beta, mu);
     let summary = ConstraintAnalysis {
@@ -362,6 +372,33 @@ fn realize(
         alpha_hat,
     };
     Ok((summary, exprs))
+}
+
+/// What the programs of a version-1 model need beyond its tapes: `Omega'` of every
+/// constraint and its row of `J_Omega` as kernels of one term each (the entry times 1,
+/// rows and columns meeting in the unit). Built after everything the tapes and the
+/// derivation text read, so that their nodes keep their ids.
+fn scalar_programs_exprs(
+    arena: &mut Arena,
+    derivatives: &mut DiffContext,
+    model: &Model,
+    exprs: &mut [ConstraintExprs],
+) {
+    let one = arena.num(1.0);
+    let unit = arena.maps_mut().identity(None, model.span);
+    for e in exprs {
+        e.rate = derivatives.dt_moving(arena, e.omega);
+        e.kernels = e
+            .jacobian_row
+            .iter()
+            .map(|&(alg, entry)| Kernel {
+                alg,
+                row_map: unit,
+                col_map: unit,
+                terms: vec![(entry, one)],
+            })
+            .collect();
+    }
 }
 
 /// The non-zero entries `(k, dOmega/dz_k)` of a row of `J_Omega`.

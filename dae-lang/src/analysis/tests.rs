@@ -446,10 +446,20 @@ fn the_initial_point_is_what_the_compiled_tapes_compute() {
             mu: &vec![f64::NAN; m],
             t: 0.0,
         };
-        assert_eq!(run(&c.init_state, &inputs), p.states);
-        assert_eq!(run(&c.init_alg, &inputs), p.algs);
+        assert_eq!(
+            run(&c.tapes.as_deref().unwrap().init_state, &inputs),
+            p.states
+        );
+        assert_eq!(run(&c.tapes.as_deref().unwrap().init_alg, &inputs), p.algs);
         let mut dense = vec![0.0; m * m];
-        for (&(i, k), v) in c.jacobian_pattern.iter().zip(run(&c.jacobian, &inputs)) {
+        for (&(i, k), v) in c
+            .tapes
+            .as_deref()
+            .unwrap()
+            .jacobian_pattern
+            .iter()
+            .zip(run(&c.tapes.as_deref().unwrap().jacobian, &inputs))
+        {
             dense[i * m + k] = v;
         }
         assert_eq!(dense, a.jacobian_at_initial, "{}", model.name);

@@ -89,7 +89,10 @@ impl Analysis {
     /// conditions they hold in (`J(link[l], z[k]) = ... when b[l] == a[k]`).
     pub fn derive_text(&self) -> String {
         let sym = &self.symbolic;
-        let family = self.compiled.family.as_ref().map(|f| &f.construction);
+        let family = self
+            .compiled
+            .is_family()
+            .then_some(&self.compiled.programs.construction);
         let mut out = String::new();
         let indices: Vec<String> = self.indices().iter().map(|r| r.to_string()).collect();
         let (noun, tail) = match family {
@@ -203,7 +206,8 @@ impl Analysis {
             let col = k.index();
             let _ = writeln!(out, "J({i}, {col}) = {text}  // {} / {z}", c.name);
         }
-        for k in &e.kernels {
+        // A version-1 model's kernels are its entries again (printed above).
+        for k in e.kernels.iter().filter(|_| names.family.is_some()) {
             let line = kernel_line(arena, names, all, &c.name, set, &elem, k);
             let _ = writeln!(out, "{line}");
         }

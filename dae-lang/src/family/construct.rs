@@ -486,8 +486,12 @@ pub fn construct(c: &Construction, spec: &Spec) -> Result<Instance, ConstructErr
         inputs,
         jacobian: JacobianPattern::default(),
     };
-    // 9. the pattern
+    // 9. the pattern; a small model without sets lists every entry, as its tapes do
     inst.jacobian = JacobianPattern::build(&c.couplings, &inst);
+    let m = inst.layout.n_rows;
+    if c.sets.is_empty() && m <= crate::DENSE_JACOBIAN_MAX {
+        inst.jacobian = inst.jacobian.dense(m);
+    }
     Ok(inst)
 }
 
@@ -607,6 +611,23 @@ impl JacobianPattern {
             }
             lists[ci as usize].push([(entries.len() - 1) as u32, l, k]);
         }
+        JacobianPattern { entries, lists }
+    }
+
+    /// The same pattern with every entry of the `m x m` matrix listed (the structural
+    /// zeros too), row-major; each coupling's list points at the same places.
+    fn dense(self, m: usize) -> JacobianPattern {
+        let at = |(r, c): (usize, usize)| (r * m + c) as u32;
+        let lists = self
+            .lists
+            .iter()
+            .map(|list| {
+                list.iter()
+                    .map(|&[e, l, k]| [at(self.entries[e as usize]), l, k])
+                    .collect()
+            })
+            .collect();
+        let entries = (0..m).flat_map(|r| (0..m).map(move |c| (r, c))).collect();
         JacobianPattern { entries, lists }
     }
 }

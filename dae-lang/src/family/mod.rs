@@ -1,7 +1,8 @@
 //! The compiled form of family models (language version 2), and what runs it.
 //!
 //! A family model is compiled once, as templates, whatever its sizes: a
-//! [`CompiledModel`](crate::CompiledModel) whose `family` holds a [`FamilyModel`]:
+//! [`CompiledModel`](crate::CompiledModel) whose `programs` are a [`FamilyModel`] (a
+//! model without sets has one too, whose programs are one group each, run once):
 //!
 //! * the [`Construction`]: sizes, sets, maps, parameters, initial values, inputs, the
 //!   constraint families with their indices, the incidence checks and the
@@ -15,8 +16,9 @@
 //!   gathers, scatter-adds and the kernel loops of `J_Omega`. [`Program::eval`] is the
 //!   vectorised interpreter (each instruction over chunks of elements).
 //!
-//! The layout of the runtime's vectors is [`Layout`]. A model without families has
-//! `family = None` and keeps the version-1 form.
+//! The layout of the runtime's vectors is [`Layout`]. A model without sets also keeps
+//! its functions as tapes ([`CompiledModel::tapes`](crate::CompiledModel::tapes)), for
+//! the code generator.
 //!
 //! [`expand`] is the oracle of the tests: a family model at given sizes and maps
 //! written out as the equivalent scalar (version-1) model.

@@ -11,8 +11,8 @@
 //! Sums into one codomain that only a linear combination reads, with equal or opposite
 //! coefficients there, share one array: the chain's `sum(l where a[l] == p) z[l] u[l] -
 //! sum(l where b[l] == p) z[l] u[l]` is one accumulator, added into at `a[l]` and
-//! subtracted from at `b[l]` ([`shared_accumulators`]). A version-1 model is never
-//! scheduled here (it keeps one straight-line tape per function).
+//! subtracted from at `b[l]` ([`shared_accumulators`]). A version-1 model is scheduled
+//! here too: it has no sets, so each program is one group run once.
 
 use std::collections::{BTreeMap, HashMap};
 
@@ -318,12 +318,13 @@ pub(crate) fn program(
     })
 }
 
-/// The compiled form of an analysed family model.
+/// The programs and construction data of an analysed model (every model has them: a
+/// version-1 model's are those of a family model without sets).
 pub(crate) fn compile(
     model: &crate::model::Model,
     constraints: &[crate::analysis::ConstraintAnalysis],
     sym: &crate::analysis::SymbolicModel,
-) -> crate::compiled::CompiledModel {
+) -> super::FamilyModel {
     use super::{ConstraintInfo, Construction, Coupling, FamilyModel};
     use crate::{ConstraintId, StateId};
     let arena = &sym.arena;
@@ -350,9 +351,7 @@ pub(crate) fn compile(
         }
         sliding.push(Root::Out(c.s, Dest::S(id), set));
         sliding.push(Root::Out(c.alpha_hat, Dest::AlphaHat(id), set));
-        // The family analysis derives `Omega'` for every constraint (`realize`).
-        let omega_rate = c.rate.expect("a family constraint's Omega'");
-        rate.push(Root::Out(omega_rate, Dest::Rate(id), set));
+        rate.push(Root::Out(c.rate, Dest::Rate(id), set));
         for k in &c.kernels {
             for &(r, col) in &k.terms {
                 factors.push(Root::Factor(r));
@@ -381,32 +380,11 @@ pub(crate) fn compile(
         })
         .collect();
     construction.couplings = couplings;
-    let family = FamilyModel {
+    FamilyModel {
         rhs: program(arena, &rhs, &[]),
         sliding: program(arena, &sliding, &[]),
         jacobian: program(arena, &factors, &kernels),
         rate: program(arena, &rate, &[]),
         construction,
-    };
-    crate::compiled::CompiledModel {
-        name: model.name.clone(),
-        params: model
-            .params
-            .iter()
-            .filter(|p| p.family.over.is_none())
-            .map(|p| (p.name.clone(), p.default))
-            .collect(),
-        states: model.states.iter().map(|s| s.name.clone()).collect(),
-        algs: model.algs.iter().map(|a| a.name.clone()).collect(),
-        constraints: model.constraints.iter().map(|c| c.name.clone()).collect(),
-        indices: constraints.iter().map(|c| c.index).collect(),
-        jacobian_pattern: Vec::new(),
-        init_state: crate::tape::Tape::new(),
-        init_alg: crate::tape::Tape::new(),
-        rhs: crate::tape::Tape::new(),
-        sliding: crate::tape::Tape::new(),
-        jacobian: crate::tape::Tape::new(),
-        beta: crate::tape::Tape::new(),
-        family: Some(Box::new(family)),
     }
 }

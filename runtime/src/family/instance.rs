@@ -231,7 +231,47 @@ impl<K: Kernels> FamilyInstance<K> {
     pub fn set_param_named(&mut self, name: &str, value: f64) -> Result<(), UnknownName> {
         let i = self.param_index(name)?;
         self.inst.params[i] = value;
+        self.initial_values_follow();
         Ok(())
+    }
+
+    /// A model without sets, inputs or vector parameters (a version-1 model) computes
+    /// its initial values from its parameters as they are now, as its generated code
+    /// does: they are evaluated again after a parameter changes (a value that is not
+    /// finite then is NaN, which the start of a run reports). A family model keeps the
+    /// initial values of its construction (give such parameters in the [`Spec`]).
+    fn initial_values_follow(&mut self) {
+        let c = self.kernels.construction();
+        let scalar =
+            c.sets.is_empty() && c.inputs.is_empty() && c.params.iter().all(|p| p.family.dim <= 1);
+        if !scalar {
+            return;
+        }
+        let spec = Spec {
+            sizes: c
+                .sizes
+                .iter()
+                .zip(&self.inst.size_values)
+                .map(|(s, &v)| (s.name.clone(), v))
+                .collect(),
+            params: c
+                .params
+                .iter()
+                .zip(&self.inst.params)
+                .map(|(p, &v)| (p.name.clone(), v))
+                .collect(),
+            ..Spec::default()
+        };
+        match construct(c, &spec) {
+            Ok(at) => {
+                self.inst.states = at.states;
+                self.inst.algs = at.algs;
+            }
+            Err(_) => {
+                self.inst.states.fill(f64::NAN);
+                self.inst.algs.fill(f64::NAN);
+            }
+        }
     }
 
     /// The flat index of the state called `name` (`x[3].y`, or a scalar's name).
@@ -396,6 +436,7 @@ impl<K: Kernels> Model for FamilyInstance<K> {
     }
     fn set_param(&mut self, i: usize, value: f64) {
         self.inst.params[i] = value;
+        self.initial_values_follow();
     }
     fn initial_state(&self, x: &mut [f64]) {
         x.copy_from_slice(&self.inst.states);
