@@ -112,3 +112,41 @@ pub(crate) fn load(src: &str, config: &Config) -> Result<Loaded, String> {
                 .render(crate::config::SOURCE_FILE, src, false)
         })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dae_runtime::Model;
+
+    const SRC: &str = "model Decay {
+        param a = 2;
+        param b = 3 * a;
+        state x = b;
+        alg z = 0;
+        der(x) = z - x;
+        constraint hold: x = b;
+    }";
+
+    #[test]
+    fn a_version_1_parameter_set_in_the_configuration_reaches_those_that_read_it() {
+        let mut config = Config::new("Decay", 1e-3, 1.0);
+        config.sets = vec![("a".into(), 5.0)];
+        let m = load(SRC, &config).unwrap();
+        let b = m.param_index("b").unwrap();
+        assert_eq!(m.param(b), 15.0);
+        let mut x = [0.0];
+        m.initial_state(&mut x);
+        assert_eq!(x, [15.0]);
+    }
+
+    #[test]
+    fn an_unknown_parameter_of_a_version_1_model_is_named() {
+        let mut config = Config::new("Decay", 1e-3, 1.0);
+        config.sets = vec![("N".into(), 5.0)];
+        let err = load(SRC, &config).err().unwrap();
+        assert!(
+            err.contains("`Decay` has no parameter `N` (a version-1 model has no sizes)"),
+            "{err}"
+        );
+    }
+}
