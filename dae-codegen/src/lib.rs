@@ -1,10 +1,13 @@
 //! `dae-codegen`: Rust code generation for DAE models, on top of `dae-lang`.
 //!
-//! `dae-lang` compiles a `.dae` model into a [`CompiledModel`]: one straight-line program
-//! (tape) per function of the runtime's `Model` trait. This crate prints those tapes as
-//! Rust ([`generate`], [`emit_rust`]): one type per model, a struct whose public fields
-//! are the model's parameters, implementing `::dae_runtime::Model` with straight-line
-//! code on fixed-size arrays (no allocation, shared sub-expressions computed once).
+//! `dae-lang` compiles a `.dae` model into a [`CompiledModel`]: its programs (the
+//! straight-line groups the interpreter runs, for `rhs`, `sliding`, `jacobian` and the
+//! rate `Omega'`). This crate prints them as Rust ([`generate`], [`emit_rust`]). For a
+//! model without sets: one type per model, a struct whose public fields are the model's
+//! parameters, implementing `::dae_runtime::Model` with straight-line code on
+//! fixed-size arrays (the layout and the entries of `J_Omega` fixed at generation; no
+//! allocation, shared sub-expressions computed once; `beta` and `omega_rate` from the
+//! rate program, the initial values from the model's initial-value tapes).
 //!
 //! It also holds everything that turns Rust tokens or files into that code, so that the
 //! proc-macro crate `dae-macros` stays a thin shim (as `pest_derive` over
@@ -38,7 +41,7 @@
 //!
 //! * a kernels type named after the model (`Chain`) implementing
 //!   `dae_runtime::family::Kernels`: one function per program (`rhs`, `sliding`,
-//!   `jacobian`, `beta`), each a sequence of loops `for e in 0..inst.set_sizes[S]`, one
+//!   `jacobian`, `omega_rate`), each a sequence of loops `for e in 0..inst.set_sizes[S]`, one
 //!   per group of the compiled program, around the group's straight-line code (one `let`
 //!   per instruction, as for version 1). Inside a loop a family variable is read at
 //!   `offset + stride * e` (offsets read from the instance's layout before the loops,

@@ -35,9 +35,9 @@ pub struct CompiledModel {
     /// model without sets has programs of one group each, run once.
     pub programs: Box<FamilyModel>,
     /// A model without sizes, sets or inputs (language version 1): its functions as
-    /// straight-line tapes, which the code generator prints as a Rust type over
-    /// fixed-size arrays and the analysis evaluates at the initial point. `None` for a
-    /// family model, which only construction at given sizes can evaluate.
+    /// straight-line tapes, which the analysis evaluates at the initial point (and whose
+    /// initial values the code generator prints). `None` for a family model, which only
+    /// construction at given sizes can evaluate.
     pub tapes: Option<Box<Tapes>>,
 }
 

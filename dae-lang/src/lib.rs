@@ -29,11 +29,11 @@
 //! `alpha`, `alpha_hat`; the method is in `docs/method.md`), and compiles it into a
 //! [`CompiledModel`]: for every model the four programs over sets
 //! ([`family::FamilyModel`]: `rhs`, `sliding`, `jacobian` and the rate `Omega'`, with the
-//! data construction needs), which the runtime's interpreter runs at any sizes, and for a
-//! model without sets also one straight-line [`tape::Tape`] per function
-//! ([`CompiledModel::tapes`]), which the `dae-codegen` crate prints as the Rust type
-//! implementing `dae_runtime::Model` that `dae!`, `dae_file!` and build scripts compile
-//! (a family model's programs become a `Kernels` type).
+//! data construction needs), which the runtime's interpreter runs at any sizes and the
+//! `dae-codegen` crate prints as the Rust type implementing `dae_runtime::Model` that
+//! `dae!`, `dae_file!` and build scripts compile (for a family model a `Kernels` type),
+//! and for a model without sets also one straight-line [`tape::Tape`] per function
+//! ([`CompiledModel::tapes`]), which the analysis evaluates at the initial point.
 //!
 //! ```
 //! let src = "
