@@ -1,5 +1,5 @@
-//! The compiled form of a model: names, structure, the programs every back end can run
-//! and, for a model without sets, one [`Tape`] per function.
+//! The compiled form of a model: names, structure, the programs every back end runs
+//! and, for a model without sets, its initial values as [`Tape`]s.
 //!
 //! This is the hand-off between the analysis and its back ends: the interpreter (which
 //! runs the programs) and the Rust code generator (crate `dae-codegen`). Both implement
@@ -9,9 +9,8 @@
 use crate::family::FamilyModel;
 use crate::tape::Tape;
 
-/// Models with at most this many constraints get a dense `J_Omega` in their tapes (every
-/// entry listed, structural zeros included); larger ones list only the structural
-/// nonzeros.
+/// A model without sets with at most this many constraints lists every entry of
+/// `J_Omega` (structural zeros included); larger ones list only the structural nonzeros.
 pub const DENSE_JACOBIAN_MAX: usize = 8;
 
 /// Everything needed to evaluate a model.
@@ -34,32 +33,22 @@ pub struct CompiledModel {
     /// declarations, couplings of `J_Omega`): what the interpreter runs at any sizes. A
     /// model without sets has programs of one group each, run once.
     pub programs: Box<FamilyModel>,
-    /// A model without sizes, sets or inputs (language version 1): its functions as
-    /// straight-line tapes, which the analysis evaluates at the initial point (and whose
-    /// initial values the code generator prints). `None` for a family model, which only
-    /// construction at given sizes can evaluate.
+    /// A model without sizes, sets or inputs (language version 1): its initial values as
+    /// straight-line tapes over the parameters, which the analysis checks at the
+    /// initial point and the code generator prints (so that they follow the fields of
+    /// the generated type). `None` for a family model, whose initial values are
+    /// computed at construction.
     pub tapes: Option<Box<Tapes>>,
 }
 
-/// The functions of a model without sets as straight-line programs over its flat
-/// vectors (see [`CompiledModel::tapes`]).
+/// The initial values of a model without sets as straight-line programs over its
+/// parameters (see [`CompiledModel::tapes`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Tapes {
-    /// `(row, col)` entries of `J_Omega`, row-major sorted.
-    pub jacobian_pattern: Vec<(usize, usize)>,
     /// Initial states from parameters (outputs: one per state).
     pub init_state: Tape,
     /// Initial algebraic guesses from parameters (outputs: one per algebraic).
     pub init_alg: Tape,
-    /// `f(t, x, z)` (outputs: one per state).
-    pub rhs: Tape,
-    /// Outputs: the w-derivatives (flat, constraint by constraint), then `s` (m), then
-    /// the cheap `alpha_hat` (m). Reads `mu`.
-    pub sliding: Tape,
-    /// Outputs: the values of `J_Omega` at `jacobian_pattern`.
-    pub jacobian: Tape,
-    /// Outputs: `beta` (m).
-    pub beta: Tape,
 }
 
 impl CompiledModel {
@@ -74,19 +63,5 @@ impl CompiledModel {
     /// declarations).
     pub fn w_len(&self) -> usize {
         self.indices.iter().sum()
-    }
-}
-
-impl Tapes {
-    /// The tapes with their names, in the order the code generator emits them.
-    pub fn functions(&self) -> [(&'static str, &Tape); 6] {
-        [
-            ("initial_state", &self.init_state),
-            ("initial_alg", &self.init_alg),
-            ("rhs", &self.rhs),
-            ("sliding", &self.sliding),
-            ("jacobian", &self.jacobian),
-            ("beta", &self.beta),
-        ]
     }
 }

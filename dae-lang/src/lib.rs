@@ -32,8 +32,8 @@
 //! data construction needs), which the runtime's interpreter runs at any sizes and the
 //! `dae-codegen` crate prints as the Rust type implementing `dae_runtime::Model` that
 //! `dae!`, `dae_file!` and build scripts compile (for a family model a `Kernels` type),
-//! and for a model without sets also one straight-line [`tape::Tape`] per function
-//! ([`CompiledModel::tapes`]), which the analysis evaluates at the initial point.
+//! and for a model without sets also its initial values as straight-line
+//! [`tape::Tape`]s over the parameters ([`CompiledModel::tapes`]).
 //!
 //! ```
 //! let src = "
@@ -49,17 +49,21 @@
 //! assert_eq!(m.indices, [2]); // x' holds z: differentiate once to reach it
 //!
 //! // J_Omega = dOmega/dz at t = 0, x = 0, z = 1: Omega = w' = z - x - a cos(t), so 1.
-//! let inputs = dae_lang::tape::Inputs {
+//! // The jacobian program at the model's sizes (a model without sets has none to give).
+//! use dae_lang::family::{Scratch, Spec, Values, construct};
+//! let inst = construct(&m.programs.construction, &Spec::default()).expect("built");
+//! let at = Values {
 //!     params: &[1.0],
 //!     states: &[0.0],
 //!     algs: &[1.0],
+//!     alg_rates: &[],
 //!     mu: &[0.1],
+//!     inputs: &[],
 //!     t: 0.0,
 //! };
-//! let tapes = m.tapes.as_ref().expect("a model without sets");
-//! let mut slots = vec![0.0; tapes.jacobian.n_slots()];
+//! let jacobian = &m.programs.jacobian;
 //! let mut j = [0.0];
-//! tapes.jacobian.eval(&inputs, &mut slots, &mut j);
+//! jacobian.eval(&inst, &at, &mut Scratch::new(jacobian, &inst), &mut [&mut j]);
 //! assert_eq!(j, [1.0]);
 //! ```
 //!
@@ -141,11 +145,12 @@ pub fn analyze(model: &model::Model, opts: &AnalysisOptions) -> Result<Analysis,
     Analysis::checked(model, constraints, symbolic, compiled, opts)
 }
 
-/// The compiled form of an analysed model: its functions as straight-line programs (the
-/// input of the code generator and of the interpreter).
+/// The compiled form of an analysed model: its programs (the input of the code generator
+/// and of the interpreter).
 ///
-/// The analysis emitted these tapes from its expressions and evaluated them at the
-/// initial point, so what runs is what was checked; this hands them over.
+/// The analysis compiled them from its expressions and, for a model without sets,
+/// evaluated them at the initial point, so what runs is what was checked; this hands
+/// them over.
 pub fn compile(analysis: &Analysis) -> CompiledModel {
     analysis.compiled.clone()
 }
@@ -174,8 +179,8 @@ pub fn analyze_source(src: &str) -> Result<Vec<(model::Model, Analysis)>, Vec<Di
 /// The whole pipeline for every model of a source text: parse, check, analyse (with
 /// default [`AnalysisOptions`]) and compile. All errors of all models are returned.
 ///
-/// Each model's analysis (its symbolic expressions) is dropped as soon as its tapes are
-/// made, so that the memory held is that of the tapes, not of every derivation.
+/// Each model's analysis (its symbolic expressions) is dropped as soon as its programs
+/// are made, so that the memory held is that of the programs, not of every derivation.
 pub fn compile_source(src: &str) -> Result<Vec<CompiledModel>, Vec<Diagnostic>> {
     let models = check_source(src)?;
     let opts = AnalysisOptions::default();

@@ -5,7 +5,6 @@
 //! examples' starts (nonsingular once expanded, which the runtime's check needs).
 
 use dae_lang::family::{Instance, Program, Scratch, Spec, Values, construct, expand};
-use dae_lang::tape::Inputs;
 use dae_lang::{AnalysisOptions, CompiledModel, analyze, compile};
 
 mod common;
@@ -274,7 +273,17 @@ fn jacobian_and_beta_match_finite_differences() {
     );
 }
 
-/// Evaluates a version-1 compiled model (all functions) at a point.
+/// The entries of `J_Omega` of a model without sets, in the order of its values.
+fn scalar_pattern(c: &CompiledModel) -> Vec<(usize, usize)> {
+    construct(&c.programs.construction, &Spec::default())
+        .expect("a model without sets builds")
+        .jacobian
+        .entries
+}
+
+/// Evaluates a version-1 compiled model (all functions: its programs, scheduled
+/// without sets) at a point: `rhs`, `w ++ s ++ alpha_hat`, the values of `J_Omega` at
+/// [`scalar_pattern`], `beta`.
 fn scalar_outputs(
     c: &CompiledModel,
     params: &[f64],
@@ -283,27 +292,31 @@ fn scalar_outputs(
     mu: &[f64],
     t: f64,
 ) -> Vec<Vec<f64>> {
-    let inputs = Inputs {
-        params,
-        states: x,
-        algs: z,
-        mu,
-        t,
+    let inst = construct(&c.programs.construction, &Spec::default()).expect("builds");
+    let l = &inst.layout;
+    let zero = vec![0.0; l.n_algs];
+    let run = |prog: &Program, alg_rates: &[f64], lens: &[usize]| {
+        let v = Values {
+            params,
+            states: x,
+            algs: z,
+            alg_rates,
+            mu,
+            inputs: &[],
+            t,
+        };
+        let mut outs: Vec<Vec<f64>> = lens.iter().map(|&n| vec![0.0; n]).collect();
+        let mut refs: Vec<&mut [f64]> = outs.iter_mut().map(|o| o.as_mut_slice()).collect();
+        prog.eval(&inst, &v, &mut Scratch::new(prog, &inst), &mut refs);
+        outs.concat()
     };
-    [
-        &c.tapes.as_deref().unwrap().rhs,
-        &c.tapes.as_deref().unwrap().sliding,
-        &c.tapes.as_deref().unwrap().jacobian,
-        &c.tapes.as_deref().unwrap().beta,
+    let p = &c.programs;
+    vec![
+        run(&p.rhs, &[], &[l.n_states]),
+        run(&p.sliding, &[], &[l.n_w, l.n_rows, l.n_rows]),
+        run(&p.jacobian, &[], &[inst.jacobian.entries.len()]),
+        run(&p.rate, &zero, &[l.n_rows]),
     ]
-    .iter()
-    .map(|tape| {
-        let mut slots = vec![0.0; tape.n_slots()];
-        let mut out = vec![0.0; tape.outputs().len()];
-        tape.eval(&inputs, &mut slots, &mut out);
-        out
-    })
-    .collect()
 }
 
 /// A family model and its scalar version agree: states matched by name (`scalar(name)`
@@ -376,14 +389,7 @@ fn agree(family_file: &str, scalar_file: &str, scalar: impl Fn(&str) -> Option<S
             assert!(close(*a, *b, 1e-12), "sliding {flat:?} vs {:?}", so[1]);
         }
         let j = jacobian(&c, &inst, &x);
-        for (k, &(r, col)) in s
-            .tapes
-            .as_deref()
-            .unwrap()
-            .jacobian_pattern
-            .iter()
-            .enumerate()
-        {
+        for (k, &(r, col)) in scalar_pattern(&s).iter().enumerate() {
             assert!(
                 close(j[r][col], so[2][k], 1e-12),
                 "J({r}, {col}) {} vs {}",

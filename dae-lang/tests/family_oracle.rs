@@ -5,9 +5,8 @@
 //! the expanded model at random points, for sizes 1..6; and the rate program (`Omega'`
 //! along a random `z'`) with the expanded model's `beta + J_Omega z'`.
 
-use dae_lang::family::{Instance, Scratch, Sink, Spec, Values, construct, expand};
+use dae_lang::family::{Instance, Program, Scratch, Sink, Spec, Values, construct, expand};
 use dae_lang::model::Model;
-use dae_lang::tape::Inputs;
 use dae_lang::{AnalysisOptions, CompiledModel, analyze, compile};
 
 mod common;
@@ -103,44 +102,49 @@ fn eval_family(c: &CompiledModel, inst: &Instance, p: &Point) -> Outputs {
     }
 }
 
+/// The expanded (scalar) model's outputs: its own programs, scheduled without sets,
+/// with `Omega'` from its `J_Omega` and `beta` (not from a rate program).
 fn eval_scalar(c: &CompiledModel, params: &[f64], p: &Point) -> Outputs {
-    let inputs = Inputs {
-        params,
-        states: &p.states,
-        algs: &p.algs,
-        mu: &p.mu,
-        t: p.t,
+    let inst = construct(&c.programs.construction, &Spec::default()).expect("the expansion");
+    let (n, m, nw) = (inst.layout.n_states, c.algs.len(), c.w_len());
+    let zero = vec![0.0; m];
+    let run = |prog: &Program, alg_rates: &[f64], outs: &mut [&mut [f64]]| {
+        let v = Values {
+            params,
+            states: &p.states,
+            algs: &p.algs,
+            alg_rates,
+            mu: &p.mu,
+            inputs: &[],
+            t: p.t,
+        };
+        prog.eval(&inst, &v, &mut Scratch::new(prog, &inst), outs);
     };
-    let run = |tape: &dae_lang::tape::Tape| {
-        let mut slots = vec![0.0; tape.n_slots()];
-        let mut out = vec![0.0; tape.outputs().len()];
-        tape.eval(&inputs, &mut slots, &mut out);
-        out
-    };
-    let m = c.algs.len();
-    let nw = c.w_len();
-    let sliding = run(&c.tapes.as_deref().unwrap().sliding);
-    let values = run(&c.tapes.as_deref().unwrap().jacobian);
+    let programs = &c.programs;
+    let mut rhs = vec![0.0; n];
+    run(&programs.rhs, &[], &mut [&mut rhs]);
+    let (mut w, mut s, mut alpha_hat) = (vec![0.0; nw], vec![0.0; m], vec![0.0; m]);
+    run(
+        &programs.sliding,
+        &[],
+        &mut [&mut w, &mut s, &mut alpha_hat],
+    );
+    let mut values = vec![0.0; inst.jacobian.entries.len()];
+    run(&programs.jacobian, &[], &mut [&mut values]);
     let mut jacobian = vec![0.0; m * m];
-    for (&(r, col), v) in c
-        .tapes
-        .as_deref()
-        .unwrap()
-        .jacobian_pattern
-        .iter()
-        .zip(values)
-    {
+    for (&(r, col), v) in inst.jacobian.entries.iter().zip(values) {
         jacobian[r * m + col] = v;
     }
-    let beta = run(&c.tapes.as_deref().unwrap().beta);
+    let mut beta = vec![0.0; m];
+    run(&programs.rate, &zero, &mut [&mut beta]);
     let rate = (0..m)
         .map(|r| beta[r] + (0..m).map(|k| jacobian[r * m + k] * p.zdot[k]).sum::<f64>())
         .collect();
     Outputs {
-        rhs: run(&c.tapes.as_deref().unwrap().rhs),
-        w: sliding[..nw].to_vec(),
-        s: sliding[nw..nw + m].to_vec(),
-        alpha_hat: sliding[nw + m..].to_vec(),
+        rhs,
+        w,
+        s,
+        alpha_hat,
         jacobian,
         beta,
         rate,

@@ -27,7 +27,6 @@ fn print_op_counts(label: &str, src: &str) {
     let analysis =
         dae_lang::analyze(model, &dae_lang::AnalysisOptions::default()).expect("analysable model");
     let compiled = dae_lang::compile(&analysis);
-    let tapes = compiled.tapes.as_ref().expect("a version-1 model");
     let sym = analysis.symbolic();
     let cs = &sym.constraints;
     let sliding: Vec<_> = cs
@@ -40,17 +39,18 @@ fn print_op_counts(label: &str, src: &str) {
         .iter()
         .flat_map(|c| c.jacobian_row.iter().map(|(_, id)| *id))
         .collect();
-    let beta: Vec<_> = cs.iter().map(|c| c.beta).collect();
+    let rate: Vec<_> = cs.iter().map(|c| c.rate).collect();
+    let p = &compiled.programs;
     let rows = [
-        ("rhs", &tapes.rhs, sym.f.clone()),
-        ("sliding", &tapes.sliding, sliding),
-        ("jacobian", &tapes.jacobian, jacobian),
-        ("beta", &tapes.beta, beta),
+        ("rhs", &p.rhs, sym.f.clone()),
+        ("sliding", &p.sliding, sliding),
+        ("jacobian", &p.jacobian, jacobian),
+        ("rate", &p.rate, rate),
     ];
     println!("{label}: operation counts (generated code vs expression trees)");
-    for (name, tape, roots) in rows {
+    for (name, program, roots) in rows {
         let tree = sym.arena.tree_op_count(&roots);
-        let shared = tape.op_count();
+        let shared: usize = program.groups.iter().map(|g| g.tape.op_count()).sum();
         println!(
             "  {name:<9} tape {shared:>6}   trees {tree:>10}   ratio {:>8.1}",
             tree as f64 / shared.max(1) as f64

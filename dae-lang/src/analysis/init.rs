@@ -1,8 +1,9 @@
 //! Checks at the initial point: finite values, and a well-conditioned `J_Omega`.
 //!
-//! The values are those of the compiled tapes, the code that will run (the interpreter
-//! evaluates exactly these, the generated Rust is checked against them), not of a
-//! separate evaluator.
+//! The values are those of the compiled programs, the code that will run (the
+//! interpreter runs exactly these, the generated Rust is printed from them), not of a
+//! separate evaluator; the initial values are those of the initial-value tapes, which
+//! the generated code prints.
 
 use nalgebra::DMatrix;
 
@@ -11,6 +12,7 @@ use crate::analysis::AnalysisOptions;
 use crate::ast::Span;
 use crate::compiled::{CompiledModel, Tapes};
 use crate::diag::Diagnostic;
+use crate::family::{Program, Scratch, Spec, Values, construct};
 use crate::model::{Model, VarDef};
 use crate::tape::{Inputs, Tape};
 
@@ -22,7 +24,7 @@ pub(super) struct AtInitial {
 }
 
 /// The outputs of `tape` at `inputs`.
-fn run(tape: &Tape, inputs: &Inputs<'_>) -> Vec<f64> {
+fn run_tape(tape: &Tape, inputs: &Inputs<'_>) -> Vec<f64> {
     let mut slots = vec![0.0; tape.n_slots()];
     let mut out = vec![0.0; tape.outputs().len()];
     tape.eval(inputs, &mut slots, &mut out);
@@ -77,54 +79,64 @@ pub(super) fn check_initial_point(
         mu: &no_mu,
         t: 0.0,
     };
-    let states = run(&tapes.init_state, &before);
-    let algs = run(&tapes.init_alg, &before);
+    let states = run_tape(&tapes.init_state, &before);
+    let algs = run_tape(&tapes.init_alg, &before);
     check_finite(&states, &model.states, "initial value", &mut errors);
     check_finite(&algs, &model.algs, "initial guess", &mut errors);
     if !errors.is_empty() {
         return Err(errors);
     }
+    let inst = construct(&compiled.programs.construction, &Spec::default())
+        .map_err(|e| vec![e.to_diagnostic()])?;
+    let l = &inst.layout;
     // `mu` is not part of the initial point: it enters only `s` and `alpha_hat`, which
     // are not checked here.
-    let at = Inputs {
-        params: &params,
-        states: &states,
-        algs: &algs,
-        mu: &no_mu,
-        t: 0.0,
+    let zero_rates = vec![0.0; l.n_algs];
+    let run = |p: &Program, alg_rates: &[f64], outs: &mut [&mut [f64]]| {
+        let at = Values {
+            params: &inst.params,
+            states: &states,
+            algs: &algs,
+            alg_rates,
+            mu: &no_mu,
+            inputs: &[],
+            t: 0.0,
+        };
+        p.eval(&inst, &at, &mut Scratch::new(p, &inst), outs);
     };
-    let f = run(&tapes.rhs, &at);
-    for (k, (v, d)) in f.iter().zip(&model.ders).enumerate() {
+    let p = &compiled.programs;
+    let mut f = vec![0.0; l.n_states];
+    run(&p.rhs, &[], &mut [&mut f]);
+    for (k, d) in model.ders.iter().enumerate() {
+        let v = f[l.states[k].offset];
         if !v.is_finite() {
             let name = &compiled.states[k];
-            errors.push(non_finite(d.span, format!("der({name})"), *v));
+            errors.push(non_finite(d.span, format!("der({name})"), v));
         }
     }
-    let w = run(&tapes.sliding, &at);
-    let entries = run(&tapes.jacobian, &at);
-    let beta = run(&tapes.beta, &at);
+    let (mut w, mut s, mut alpha_hat) = (vec![0.0; l.n_w], vec![0.0; m], vec![0.0; m]);
+    run(&p.sliding, &[], &mut [&mut w, &mut s, &mut alpha_hat]);
+    let pattern = &inst.jacobian.entries;
+    let mut entries = vec![0.0; pattern.len()];
+    run(&p.jacobian, &[], &mut [&mut entries]);
+    let mut beta = vec![0.0; m];
+    run(&p.rate, &zero_rates, &mut [&mut beta]);
     let mut jac = vec![0.0; m * m];
-    for (&(row, col), &v) in tapes.jacobian_pattern.iter().zip(&entries) {
+    for (&(row, col), &v) in pattern.iter().zip(&entries) {
         jac[row * m + col] = v;
     }
-    let mut w_start = 0;
     for (i, c) in constraints.iter().enumerate() {
         // Report the first non-finite quantity of each constraint, in the order of the
         // derivation (w, J_Omega, beta): later ones derive from it.
+        let (w_at, row) = (l.w[i].offset, l.rows[i].offset);
         let mut named: Vec<(String, f64)> = (0..c.index)
-            .map(|j| (wname(&c.name, j, c.index), w[w_start + j]))
+            .map(|j| (wname(&c.name, j, c.index), w[w_at + j]))
             .collect();
-        w_start += c.index;
-        for (&(_, col), &v) in tapes
-            .jacobian_pattern
-            .iter()
-            .zip(&entries)
-            .filter(|((row, _), _)| *row == i)
-        {
+        for (&(_, col), &v) in pattern.iter().zip(&entries).filter(|((r, _), _)| *r == row) {
             let z = compiled.algs[col].as_str();
             named.push((format!("J({i}, {col}) = dOmega_{}/d{z}", c.name), v));
         }
-        named.push((format!("beta_{}", c.name), beta[i]));
+        named.push((format!("beta_{}", c.name), beta[row]));
         if let Some((what, v)) = named.into_iter().find(|(_, v)| !v.is_finite()) {
             errors.push(non_finite(c.span, what, v));
         }

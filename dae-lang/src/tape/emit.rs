@@ -16,26 +16,18 @@ use crate::sym::{Arena, Id, Node};
 
 /// Emit the nodes reachable from `roots` as one tape whose outputs are the roots.
 pub(crate) fn emit(arena: &Arena, roots: &[Id]) -> Tape {
-    let roots: Vec<Option<Id>> = roots.iter().copied().map(Some).collect();
-    emit_outputs(arena, &roots)
-}
-
-/// [`emit`], where a `None` output is the literal 0 (a structural zero of a dense
-/// `J_Omega`).
-pub(crate) fn emit_outputs(arena: &Arena, roots: &[Option<Id>]) -> Tape {
-    let nodes: Vec<Id> = roots.iter().flatten().copied().collect();
     let mut e = Emitter {
         arena,
         tape: Tape::new(),
         done: HashMap::new(),
         powers: HashMap::new(),
     };
-    for &id in &arena.reachable(&nodes) {
+    for &id in &arena.reachable(roots) {
         let o = e.node(id);
         e.done.insert(id, o);
     }
     for r in roots {
-        let o = r.map_or(Operand::Const(0.0), |id| e.done[&id]);
+        let o = e.done[r];
         e.tape.push_output(o);
     }
     e.tape
