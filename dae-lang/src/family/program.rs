@@ -45,6 +45,8 @@
 //! Every element of every output family is written exactly once by the groups (the
 //! jacobian's values are accumulated). Arrays never carry values between evaluations.
 
+use std::collections::HashMap;
+
 use crate::tape::{BinaryOp, Instr, Operand, Tape, UnaryOp};
 use crate::{ArrayId, ConstraintId, MapId, SetId, StateId, VarRef};
 
@@ -212,6 +214,28 @@ impl Program {
     }
 }
 
+/// An operand read from outside the group's registers, as a hash key (constants and
+/// slots are not loaded).
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+enum OperandKey {
+    Input(VarRef),
+    Gather(VarRef, MapId),
+    Array(crate::ArrayId),
+    ArrayAt(crate::ArrayId, MapId),
+}
+
+impl OperandKey {
+    fn of(o: Operand) -> Option<OperandKey> {
+        match o {
+            Operand::Input(v) => Some(OperandKey::Input(v)),
+            Operand::Gather(v, m) => Some(OperandKey::Gather(v, m)),
+            Operand::Array(a) => Some(OperandKey::Array(a)),
+            Operand::ArrayAt(a, m) => Some(OperandKey::ArrayAt(a, m)),
+            Operand::Const(_) | Operand::Slot(_) => None,
+        }
+    }
+}
+
 fn plan(g: &Group, arrays: &[ArrayDef], is_family: &impl Fn(VarRef) -> bool) -> Plan {
     let mut loads: Vec<Operand> = Vec::new();
     let mut scalars: Vec<Operand> = Vec::new();
@@ -221,18 +245,23 @@ fn plan(g: &Group, arrays: &[ArrayDef], is_family: &impl Fn(VarRef) -> bool) -> 
         Operand::Array(a) => g.over.is_some() && arrays[a.index()].over.is_some(),
         Operand::Const(_) | Operand::Slot(_) => false,
     };
+    // Each distinct operand once, with its index (a hash map: a group of a model
+    // without sets reads every state and parameter, so a search of the lists would be
+    // quadratic).
+    let mut index: HashMap<OperandKey, u32> = HashMap::new();
     for o in g.tape.operands() {
-        if matches!(o, Operand::Const(_) | Operand::Slot(_)) {
+        let Some(key) = OperandKey::of(o) else {
             continue;
-        }
+        };
         let list = if per_element(&o) {
             &mut loads
         } else {
             &mut scalars
         };
-        if !list.contains(&o) {
+        index.entry(key).or_insert_with(|| {
             list.push(o);
-        }
+            (list.len() - 1) as u32
+        });
     }
     // Liveness of the slots: the last instruction reading each (outputs keep theirs to
     // the end of the chunk).
@@ -260,8 +289,14 @@ fn plan(g: &Group, arrays: &[ArrayDef], is_family: &impl Fn(VarRef) -> bool) -> 
     let arg = |o: Operand, reg_of: &[u32]| match o {
         Operand::Const(c) => Arg::Const(c),
         Operand::Slot(k) => Arg::Reg(reg_of[k as usize]),
-        o if per_element(&o) => Arg::Load(loads.iter().position(|x| *x == o).unwrap_or(0) as u32),
-        o => Arg::Scalar(scalars.iter().position(|x| *x == o).unwrap_or(0) as u32),
+        o => {
+            let at = OperandKey::of(o).map_or(0, |k| index[&k]);
+            if per_element(&o) {
+                Arg::Load(at)
+            } else {
+                Arg::Scalar(at)
+            }
+        }
     };
     let mut steps = Vec::with_capacity(instrs.len());
     for (i, ins) in instrs.iter().enumerate() {
