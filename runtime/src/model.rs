@@ -154,10 +154,10 @@ pub trait Model {
     /// With located crossings the simulator needs `s'` at the end of every step, and an
     /// update only at some: a model that evaluates this in one pass (a particle system:
     /// one pass over its links, where `J_Omega` has an entry per pair of links sharing
-    /// a particle) spares `J_Omega` at every step that ends without an update. The
-    /// interpreter gives it for every model (the compiled rate program, in
-    /// `family::FamilyInstance`, feature `families`), as does the generated code of a
-    /// family model; the generated code of a model without sets does not.
+    /// a particle) spares `J_Omega` at every step that ends without an update. Every
+    /// compiled model gives it (the rate program: in the generated code, and in
+    /// `family::FamilyInstance` for the interpreter and the family models, feature
+    /// `families`); a hand-written model may leave it to the simulator.
     fn omega_rate(&self, t: f64, x: &[f64], z: &[f64], zdot: &[f64], rate: &mut [f64]) -> bool {
         let _ = (t, x, z, zdot, rate);
         false
