@@ -17,7 +17,7 @@
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 
-use dae_lang::family::{Dest, Factor, Instance, Program, Sink, Spec, construct};
+use dae_lang::family::{Dest, Factor, Instance, Program, Sink, Slot, Spec, construct};
 use dae_lang::tape::{Operand, Tape};
 use dae_lang::{CompiledModel, Tapes, VarRef};
 
@@ -78,14 +78,13 @@ pub(crate) fn generate_scalar(model: &CompiledModel, tapes: &Tapes) -> TokenStre
         model.indices
     );
 
-    let one = |tape: &Tape, out| body(tape, &fields, &[(out, tape.outputs().len())]);
-    let init_state = one(&tapes.init_state, quote!(x));
-    let init_alg = one(&tapes.init_alg, quote!(z));
     let p = &model.programs;
     let at = Places {
         inst: &inst,
         fields: &fields,
     };
+    let init_state = at.initial(&tapes.init_state, quote!(x), &inst.layout.states);
+    let init_alg = at.initial(&tapes.init_alg, quote!(z), &inst.layout.algs);
     let rhs = at.program(&p.rhs, Rates::Absent, &[quote!(dx)]);
     let sliding = at.program(
         &p.sliding,
@@ -213,65 +212,6 @@ fn counted(n: usize, noun: &str) -> String {
     }
 }
 
-fn operand(o: Operand, fields: &[Ident]) -> TokenStream {
-    match o {
-        Operand::Const(c) => number(c),
-        Operand::Slot(k) => {
-            let v = slot(k);
-            quote!(#v)
-        }
-        Operand::Input(VarRef::Param(i)) => {
-            let f = &fields[i.index()];
-            quote!(self.#f)
-        }
-        Operand::Input(VarRef::State(i)) => {
-            let i = usize_lit(i.index());
-            quote!(x[#i])
-        }
-        Operand::Input(VarRef::Alg(i)) => {
-            let i = usize_lit(i.index());
-            quote!(z[#i])
-        }
-        Operand::Input(VarRef::Mu(i)) => {
-            let i = usize_lit(i.index());
-            quote!(mu[#i])
-        }
-        Operand::Input(VarRef::Time) => quote!(t),
-        // Family programs only: never in a version-1 tape (`generate` rejects family
-        // models first).
-        Operand::Input(
-            VarRef::Input(..) | VarRef::Elem(_) | VarRef::Size(_) | VarRef::AlgRate(_),
-        )
-        | Operand::Gather(..)
-        | Operand::Array(_)
-        | Operand::ArrayAt(..) => {
-            quote!(::core::compile_error!(
-                "an element path in a version-1 tape"
-            ))
-        }
-    }
-}
-
-/// Straight-line code writing the outputs of `tape`, in order, to the arrays `outs`,
-/// each `(array, length)`: the sliding tape writes `w`, then `s`, then `alpha_hat`.
-fn body(tape: &Tape, fields: &[Ident], outs: &[(TokenStream, usize)]) -> TokenStream {
-    debug_assert_eq!(
-        tape.outputs().len(),
-        outs.iter().map(|o| o.1).sum::<usize>()
-    );
-    let read = |o| operand(o, fields);
-    let lets = lets(tape, &read);
-    let places = outs
-        .iter()
-        .flat_map(|(out, n)| (0..*n).map(move |k| (out, k)));
-    let stores = tape.outputs().iter().zip(places).map(|(o, (out, k))| {
-        let e = read(*o);
-        let k = usize_lit(k);
-        quote!(#out[#k] = #e;)
-    });
-    quote!(#lets #(#stores)*)
-}
-
 /// How the rate program reads `z'`.
 #[derive(Clone, Copy)]
 enum Rates {
@@ -293,7 +233,7 @@ struct Places<'a> {
 impl Places<'_> {
     fn operand(&self, o: Operand, rates: Rates) -> TokenStream {
         let l = &self.inst.layout;
-        let at = |slot: &dae_lang::family::Slot| usize_lit(slot.offset);
+        let at = |slot: &Slot| usize_lit(slot.offset);
         match o {
             Operand::Const(c) => number(c),
             Operand::Slot(k) => {
@@ -342,6 +282,18 @@ impl Places<'_> {
                 quote!(::core::compile_error!("a map read in a model without sets"))
             }
         }
+    }
+
+    /// The initial-value tape `tape` (it reads the parameters' fields), writing its
+    /// output `i` to `out` at `slots[i]`.
+    fn initial(&self, tape: &Tape, out: TokenStream, slots: &[Slot]) -> TokenStream {
+        let read = |o| self.operand(o, Rates::Absent);
+        let lets = lets(tape, &read);
+        let stores = tape.outputs().iter().zip(slots).map(|(&o, slot)| {
+            let (e, k) = (read(o), usize_lit(slot.offset));
+            quote!(#out[#k] = #e;)
+        });
+        quote!(#lets #(#stores)*)
     }
 
     /// The straight-line code of program `p`: its groups in order (each run once),
