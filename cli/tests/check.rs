@@ -3,18 +3,10 @@
 
 mod common;
 
-use common::daec;
+use common::{daec, example};
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::{Command, Output};
-
-fn example(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../examples/models")
-        .join(name)
-        .display()
-        .to_string()
-}
 
 /// A file in a fresh temporary directory of this test process.
 fn temp_file(name: &str, contents: &[u8]) -> PathBuf {

@@ -3,16 +3,7 @@
 
 mod common;
 
-use common::daec;
-use std::path::Path;
-
-fn example(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../examples/models")
-        .join(name)
-        .display()
-        .to_string()
-}
+use common::{daec, example};
 
 /// The car axis problem's positions `xl, yl, xr, yr` at t = 3 (the test set's reference
 /// solution, `y(1..4)`).

@@ -4,19 +4,11 @@
 
 mod common;
 
-use common::daec;
+use common::{daec, example};
 
 use serde_json::Value;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Output;
-
-fn example(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../examples/models")
-        .join(name)
-        .display()
-        .to_string()
-}
 
 fn temp_file(name: &str, contents: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("daec-json-failure-{}", std::process::id()));

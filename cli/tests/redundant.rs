@@ -5,16 +5,9 @@
 
 mod common;
 
-use common::daec;
 use std::path::Path;
 
-fn fixture(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/fixtures")
-        .join(name)
-        .display()
-        .to_string()
-}
+use common::{daec, fixture};
 
 /// Runs `daec`, returns (status, stderr).
 fn run(args: &[&str]) -> (Option<i32>, String) {

@@ -181,6 +181,11 @@ pub fn records_from_csv(text: &str) -> Result<Vec<ParticleRecord>, String> {
             .position(|h| h == name)
             .ok_or(format!("no column `{name}`"))
     };
+    // The columns read, by name: the twelve that lead the CSV, then three more.
+    let mut first = [0usize; 12];
+    for (at, name) in first.iter_mut().zip(&CSV_COLUMNS) {
+        *at = col(name)?;
+    }
     let [
         scene,
         size,
@@ -194,26 +199,12 @@ pub fn records_from_csv(text: &str) -> Result<Vec<ParticleRecord>, String> {
         param,
         frames,
         total,
-    ] = [
-        "scene",
-        "size",
-        "method",
-        "knob",
-        "eps",
-        "worst_strain",
-        "ms_per_frame_mean",
-        "ms_per_frame_max",
-        "variant",
-        "param",
-        "frames",
-        "frames_total",
-    ]
-    .map(col);
-    let [status, lost, ratio] = ["status", "s_layer_lost_at", "s_layer_worst_ratio"].map(col);
-    let (scene, size, method, knob, eps, worst, ms, ms_max) =
-        (scene?, size?, method?, knob?, eps?, worst?, ms?, ms_max?);
-    let (variant, param, frames, total, status, lost, ratio) =
-        (variant?, param?, frames?, total?, status?, lost?, ratio?);
+    ] = first;
+    let (status, lost, ratio) = (
+        col("status")?,
+        col("s_layer_lost_at")?,
+        col("s_layer_worst_ratio")?,
+    );
     let opt = |f: &str| f.parse::<f64>().ok();
     let num = |f: &str| opt(f).unwrap_or(f64::NAN);
     rows.iter()

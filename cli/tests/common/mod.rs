@@ -12,6 +12,24 @@ pub fn daec(args: &[&str]) -> Output {
         .expect("daec runs")
 }
 
+/// The path of the example model `name` (`examples/models/`).
+pub fn example(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../examples/models")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+/// The path of the test fixture `name` (`cli/tests/fixtures/`).
+pub fn fixture(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures")
+        .join(name)
+        .display()
+        .to_string()
+}
+
 /// The code blocks of `docs/language.md`, in order (the user docs that the tests hold
 /// to what `daec` really prints).
 pub fn user_docs_code_blocks() -> Vec<String> {
