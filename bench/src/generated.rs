@@ -6,3 +6,5 @@ dae_runtime::dae_file!("../examples/models/double_pendulum_3d.dae");
 dae_runtime::dae_file!("../examples/models/chain5_planar.dae");
 dae_runtime::dae_file!("../examples/models/chain3_planar.dae");
 dae_runtime::dae_file!("../examples/models/car_axis.dae");
+dae_runtime::dae_file!("../examples/models/andrews.dae");
+dae_runtime::dae_file!("../examples/models/cart_pendulum.dae");

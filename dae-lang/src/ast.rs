@@ -115,6 +115,16 @@ pub enum Item {
         /// The whole item.
         span: Span,
     },
+    /// `mass [v1, v2] = [m11, m12; m21, m22];`: the derivatives of the listed states
+    /// solve `M der(v) = rhs`, where `rhs` are the right-hand sides of their `der` items.
+    Mass {
+        /// The states whose derivatives the matrix multiplies, in its column order.
+        states: Vec<Ident>,
+        /// The rows of the matrix, as written.
+        rows: Vec<Vec<Expr>>,
+        /// The whole item.
+        span: Span,
+    },
     /// `constraint NAME: lhs = rhs;`, `constraint lhs = rhs;` or a constraint family
     /// `constraint NAME[e in S]: lhs = rhs;`
     Constraint {
@@ -379,6 +389,11 @@ impl Item {
                 }
                 lhs.erase_spans();
                 rhs.erase_spans();
+            }
+            Item::Mass { states, rows, span } => {
+                *span = Span::default();
+                states.iter_mut().for_each(|s| s.span = Span::default());
+                rows.iter_mut().flatten().for_each(Expr::erase_spans);
             }
             Item::Size { name, value, span } => {
                 *span = Span::default();

@@ -259,6 +259,19 @@ pub struct DerDef {
     pub span: Span,
 }
 
+/// `mass [v1, ..., vn] = [...];`: the derivatives of `states` solve `M der(v) = rhs`,
+/// `rhs[i]` being the right-hand side of `der(states[i])`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MassDef {
+    /// The states, in the matrix's row and column order (distinct, each in one matrix).
+    pub states: Vec<crate::StateId>,
+    /// `M`, row-major, `n x n`: expressions over the parameters, the states, the lets
+    /// and `t` (never an algebraic unknown).
+    pub entries: Vec<RExpr>,
+    /// The whole item.
+    pub span: Span,
+}
+
 /// `constraint name: lhs = rhs;` as the residual `0 = lhs - rhs`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ConstraintDef {
@@ -287,8 +300,11 @@ pub struct Model {
     pub algs: Vec<VarDef>,
     /// Definitions, each using only earlier ones.
     pub lets: Vec<LetDef>,
-    /// `ders[i]` is the right-hand side for `states[i]`.
+    /// `ders[i]` is the right-hand side for `states[i]` (for a state in a mass matrix,
+    /// its row of `M der(v) = rhs`).
     pub ders: Vec<DerDef>,
+    /// The mass matrices (version 1; empty: every `der` is explicit).
+    pub mass: Vec<MassDef>,
     /// Constraints in declaration order; as many as `algs` (in a family model, as many
     /// constraints as algebraic unknowns once the sets have their sizes).
     pub constraints: Vec<ConstraintDef>,

@@ -265,3 +265,69 @@ fn circuit_satisfies_kirchhoff_at_a_hand_computed_point() {
     );
     close(&[eval(&m.ders[0].expr, &p)], &[1.0 / 220.0 / 1e-4]);
 }
+
+/// `x` with `a x = b` (`a` row-major), by elimination with partial pivoting: written here,
+/// apart from the compiler's elimination in the written order.
+fn solve_pivoting(mut a: Vec<f64>, mut b: Vec<f64>) -> Vec<f64> {
+    let n = b.len();
+    for k in 0..n {
+        let p = (k..n)
+            .max_by(|&i, &j| a[i * n + k].abs().total_cmp(&a[j * n + k].abs()))
+            .expect("k < n");
+        for j in 0..n {
+            a.swap(k * n + j, p * n + j);
+        }
+        b.swap(k, p);
+        for i in k + 1..n {
+            let l = a[i * n + k] / a[k * n + k];
+            for j in k..n {
+                a[i * n + j] -= l * a[k * n + j];
+            }
+            b[i] -= l * b[k];
+        }
+    }
+    let mut x = vec![0.0; n];
+    for k in (0..n).rev() {
+        let r: f64 = (k + 1..n).map(|j| a[k * n + j] * x[j]).sum();
+        x[k] = (b[k] - r) / a[k * n + k];
+    }
+    x
+}
+
+#[test]
+fn andrews_starts_at_the_test_sets_consistent_point() {
+    let m = load("andrews.dae");
+    assert_eq!((m.states.len(), m.algs.len(), m.mass.len()), (14, 6, 1));
+    let (x0, z0) = initial(&m);
+    let p = point(&m, x0, z0, 0.0);
+    // The position constraints hold at the test set's start (to its 30 digits).
+    for c in &m.constraints {
+        let r = eval(&c.residual, &p);
+        assert!(r.abs() < 1e-15, "{}: residual {r:e}", c.name);
+    }
+    // M(q0) q''(0) = f - G^T lambda gives the test set's initial accelerations
+    // y(15..21) (its file andrews.f): the mass matrix, the forces and G as written.
+    let mass = &m.mass[0];
+    let a: Vec<f64> = mass.entries.iter().map(|e| eval(e, &p)).collect();
+    let b: Vec<f64> = mass
+        .states
+        .iter()
+        .map(|s| eval(&m.ders[s.index()].expr, &p))
+        .collect();
+    let acc = solve_pivoting(a, b);
+    let expected = [
+        14_222.443_919_954_114,
+        -10_666.832_939_965_585,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+    ];
+    for (k, (x, y)) in acc.iter().zip(expected).enumerate() {
+        assert!(
+            (x - y).abs() <= 1e-9 * 14222.44,
+            "q''[{k}] = {x}, test set {y}"
+        );
+    }
+}

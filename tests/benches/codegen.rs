@@ -2,7 +2,10 @@
 //! the 3-D double pendulum and a planar chain of 5 links, the same functions through the
 //! interpreter (`dae_runtime::family::Interpreted`, running the same model's programs), and, printed before the
 //! timings, the operation count of the generated code (tape instructions, shared
-//! sub-expressions computed once) against the same outputs written as trees.
+//! sub-expressions computed once) against the same outputs written as trees; then the
+//! cart with a pendulum written with its mass matrix (`examples/models/cart_pendulum.dae`)
+//! against the same model with its accelerations written out
+//! (`tests/models/cart_pendulum_explicit.dae`).
 //!
 //! Run with `cargo bench -p dae-tests --bench codegen`.
 
@@ -14,6 +17,8 @@ use dae_runtime::Model;
 mod generated {
     dae_runtime::dae_file!("../examples/models/double_pendulum_3d.dae");
     dae_runtime::dae_file!("../examples/models/chain5_planar.dae");
+    dae_runtime::dae_file!("../examples/models/cart_pendulum.dae");
+    dae_runtime::dae_file!("models/cart_pendulum_explicit.dae");
 }
 
 fn source(file: &str) -> String {
@@ -124,5 +129,12 @@ fn main() {
     bench_model(&mut c, "chain5/generated", &generated::Chain5::default());
     let interp = daec::interpret_source(&chain).expect("valid").remove(0);
     bench_model(&mut c, "chain5/interpreted", &interp);
+    // A mass matrix against the same model with its accelerations written out.
+    bench_model(&mut c, "cart/mass", &generated::CartPendulum::default());
+    bench_model(
+        &mut c,
+        "cart/explicit",
+        &generated::CartPendulumExplicit::default(),
+    );
     c.final_summary();
 }

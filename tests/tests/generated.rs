@@ -12,7 +12,9 @@ use dae_runtime::{Model, model::w_offsets};
 use dae_tests::{Rng, close, scalar_example_sources};
 
 mod generated {
+    dae_runtime::dae_file!("../examples/models/andrews.dae");
     dae_runtime::dae_file!("../examples/models/car_axis.dae");
+    dae_runtime::dae_file!("../examples/models/cart_pendulum.dae");
     dae_runtime::dae_file!("../examples/models/chain3_planar.dae");
     dae_runtime::dae_file!("../examples/models/chain5_planar.dae");
     dae_runtime::dae_file!("../examples/models/circuit_index1.dae");
@@ -25,7 +27,9 @@ mod generated {
 /// The generated type of each example file, by file stem.
 fn generated(stem: &str) -> Box<dyn Model> {
     match stem {
+        "andrews" => Box::new(generated::Andrews::default()),
         "car_axis" => Box::new(generated::CarAxis::default()),
+        "cart_pendulum" => Box::new(generated::CartPendulum::default()),
         "chain3_planar" => Box::new(generated::Chain3::default()),
         "chain5_planar" => Box::new(generated::Chain5::default()),
         "circuit_index1" => Box::new(generated::NonlinearRC::default()),
@@ -40,7 +44,11 @@ fn generated(stem: &str) -> Box<dyn Model> {
 /// Every example: (stem, generated, interpreted).
 fn pairs() -> Vec<(String, Box<dyn Model>, dae_runtime::family::Interpreted)> {
     let sources = scalar_example_sources();
-    assert_eq!(sources.len(), 8, "a new example model: add it to this test");
+    assert_eq!(
+        sources.len(),
+        10,
+        "a new example model: add it to this test"
+    );
     sources
         .into_iter()
         .map(|(stem, text)| {

@@ -128,6 +128,7 @@ impl ModelBuilder {
                 algs: vec![],
                 lets: vec![],
                 ders: vec![],
+                mass: vec![],
                 constraints: vec![],
                 sizes: vec![],
                 sets: vec![],

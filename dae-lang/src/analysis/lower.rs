@@ -40,17 +40,69 @@ pub fn lower(model: &Model, simplify: bool) -> Lowered {
         lets.push(id);
     }
     let mut lowering = Lowering::new(model, &lets);
-    let f: Vec<Id> = model
+    let mut f: Vec<Id> = model
         .ders
         .iter()
         .map(|d| lowering.expr(&mut arena, &d.expr))
         .collect();
+    for m in &model.mass {
+        let entries: Vec<Id> = m
+            .entries
+            .iter()
+            .map(|e| lowering.expr(&mut arena, e))
+            .collect();
+        let rhs: Vec<Id> = m.states.iter().map(|s| f[s.index()]).collect();
+        for (s, x) in m.states.iter().zip(solve(&mut arena, entries, rhs)) {
+            f[s.index()] = x;
+        }
+    }
     let g = model
         .constraints
         .iter()
         .map(|c| lowering.expr(&mut arena, &c.residual))
         .collect();
     Lowered { arena, f, g, lets }
+}
+
+/// `x` with `M x = b` (`m`: `M` row-major), as expressions: Gaussian elimination in the
+/// order written, without row exchanges (the checker has found every pivot non-zero at
+/// the initial point), skipping the entries that are the constant 0, so that a block
+/// diagonal or banded matrix costs what its blocks cost and a 1 x 1 matrix is `b / m`.
+fn solve(arena: &mut Arena, mut m: Vec<Id>, mut b: Vec<Id>) -> Vec<Id> {
+    let n = b.len();
+    if n == 0 {
+        return b;
+    }
+    let is_zero = |arena: &Arena, id: Id| arena.as_const(id) == Some(0.0);
+    for k in 0..n {
+        let pivot = m[k * n + k];
+        for i in k + 1..n {
+            if is_zero(arena, m[i * n + k]) {
+                continue;
+            }
+            let l = arena.div(m[i * n + k], pivot);
+            for j in k + 1..n {
+                if !is_zero(arena, m[k * n + j]) {
+                    let d = arena.mul(l, m[k * n + j]);
+                    m[i * n + j] = arena.sub(m[i * n + j], d);
+                }
+            }
+            let d = arena.mul(l, b[k]);
+            b[i] = arena.sub(b[i], d);
+        }
+    }
+    let mut x = vec![b[0]; n];
+    for k in (0..n).rev() {
+        let mut r = b[k];
+        for j in k + 1..n {
+            if !is_zero(arena, m[k * n + j]) {
+                let d = arena.mul(m[k * n + j], x[j]);
+                r = arena.sub(r, d);
+            }
+        }
+        x[k] = arena.div(r, m[k * n + k]);
+    }
+    x
 }
 
 /// The sets of a family model's leaves.
@@ -174,5 +226,55 @@ impl<'a> Lowering<'a> {
         }
         let ids: Vec<Id> = args.iter().map(|a| self.expr(arena, a)).collect();
         arena.call(f, &ids)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::solve;
+    use crate::sym::Arena;
+
+    /// `solve` on numbers (the arena folds them) against `M x = b` multiplied out: a
+    /// dense non-symmetric matrix and one with structural zeros, which are skipped.
+    #[test]
+    fn solve_gives_x_with_m_x_equal_to_b() {
+        let n = 5;
+        let mut seed = 7_u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for sparse in [false, true] {
+            let m: Vec<f64> = (0..n * n)
+                .map(|k| {
+                    let (i, j) = (k / n, k % n);
+                    if i == j {
+                        3.0 + next()
+                    } else if sparse && (i + 2 * j) % 3 == 0 {
+                        0.0
+                    } else {
+                        next()
+                    }
+                })
+                .collect();
+            let b: Vec<f64> = (0..n).map(|_| next()).collect();
+            let mut arena = Arena::new();
+            let mi = m.iter().map(|&v| arena.num(v)).collect();
+            let bi = b.iter().map(|&v| arena.num(v)).collect();
+            let x: Vec<f64> = solve(&mut arena, mi, bi)
+                .into_iter()
+                .map(|id| arena.as_const(id).expect("numbers fold to a number"))
+                .collect();
+            for i in 0..n {
+                let mx: f64 = (0..n).map(|j| m[i * n + j] * x[j]).sum();
+                assert!(
+                    (mx - b[i]).abs() < 1e-13,
+                    "row {i}: M x = {mx}, b = {}",
+                    b[i]
+                );
+            }
+        }
     }
 }

@@ -56,6 +56,17 @@ pub(super) fn check(
             Item::Der { rhs, .. } => {
                 w.eval(rhs);
             }
+            Item::Mass { states, rows, span } => {
+                let values: Option<Vec<f64>> = rows
+                    .iter()
+                    .flatten()
+                    .map(|e| w.eval(e).map(|v| v.v))
+                    .collect();
+                if let Some(k) = values.and_then(|a| super::mass::zero_pivot(a, states.len())) {
+                    w.diags
+                        .push(singular_mass(states[k].name.as_str(), k, *span));
+                }
+            }
             Item::Constraint { lhs, rhs, span, .. } => {
                 if let (Some(l), Some(r)) = (w.eval(lhs), w.eval(rhs)) {
                     let residual = l.v - r.v;
@@ -182,6 +193,24 @@ impl Walk<'_, '_, '_, '_> {
             .push(Diagnostic::new(message, span, format!("this is {v}")).hint(hint));
         None
     }
+}
+
+/// The mass matrix's elimination in the written order meets pivot `k` (of `state`).
+fn singular_mass(state: &str, k: usize, at: Span) -> Diagnostic {
+    Diagnostic::new(
+        format!(
+            "the mass matrix is singular at the initial point: eliminated in the order \
+             written, its pivot {} (the row of `der({state})`) is zero",
+            k + 1
+        ),
+        at,
+        "singular here",
+    )
+    .hint(
+        "the matrix must be invertible wherever the model runs; it is eliminated without \
+         row exchanges, so list the states in an order whose leading blocks are invertible \
+         (any order serves a symmetric positive definite matrix)",
+    )
 }
 
 /// Why `a ^ b` is not finite.

@@ -9,12 +9,15 @@ mod domain;
 mod eval;
 mod family;
 mod lets;
+mod mass;
 mod names;
 mod resolve;
 
 use crate::ast::{Binder, Decl, Expr, File, Item, ModelAst, Span};
 use crate::diag::Diagnostic;
-use crate::model::{ConstraintDef, DerDef, Family, LetDef, Model, ParamDef, RExpr, VarDef};
+use crate::model::{
+    ConstraintDef, DerDef, Family, LetDef, MassDef, Model, ParamDef, RExpr, VarDef,
+};
 use resolve::{Ctx, Entry, Kind, Scope};
 use std::collections::{HashMap, HashSet};
 
@@ -132,6 +135,8 @@ pub(crate) fn check_model_with(m: &ModelAst, at_start: bool) -> Result<Model, Ve
     let let_order = order_lets(&decls.lets, &let_exprs, &mut diags);
 
     let ders = ders(m, &scope, &decls.states, &mut diags);
+    let let_uses_alg = mass::lets_using_algs(&let_exprs, &let_order);
+    let mass = mass::mass_matrices(m, &scope, &let_uses_alg, &mut diags);
     let constraints = constraints(m, &scope, &mut diags);
     if decls.algs.len() != constraints.len() {
         diags.push(count_mismatch(m, decls.algs.len(), constraints.len()));
@@ -197,6 +202,11 @@ pub(crate) fn check_model_with(m: &ModelAst, at_start: bool) -> Result<Model, Ve
     constraints_out
         .iter_mut()
         .for_each(|c| lets::renumber(&mut c.residual, &new_index));
+    let mut mass_out: Vec<MassDef> = mass.into_iter().flatten().collect();
+    mass_out
+        .iter_mut()
+        .flat_map(|m| &mut m.entries)
+        .for_each(|e| lets::renumber(e, &new_index));
     Ok(Model {
         name: m.name.name.clone(),
         span: m.name.span,
@@ -219,6 +229,7 @@ pub(crate) fn check_model_with(m: &ModelAst, at_start: bool) -> Result<Model, Ve
         algs: var_defs(&decls.algs, alg_inits),
         lets: lets_out,
         ders: ders_out,
+        mass: mass_out,
         constraints: constraints_out,
         sizes: Vec::new(),
         sets: Vec::new(),
@@ -328,6 +339,32 @@ fn der_of_time(at: Span) -> Diagnostic {
         .hint("`der` takes a state declared with `state`")
 }
 
+/// The state `name` names (in `der(name)` or a `mass` item), or `None` with the error
+/// reported (nothing more for a name declared twice, already reported).
+fn state_named(
+    scope: &Scope<'_>,
+    name: &crate::ast::Ident,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<resolve::Entry> {
+    let (text, at) = (name.name.as_str(), name.span);
+    match scope.names.get(text) {
+        Some(e) if e.kind == Kind::State => Some(*e),
+        Some(_) if scope.duplicated.contains(text) => None,
+        Some(e) => {
+            diags.push(der_of_non_state(text, at, e.kind.words(), e.span));
+            None
+        }
+        None => {
+            diags.push(if text == "t" {
+                der_of_time(at)
+            } else {
+                scope.unknown_name(text, at)
+            });
+            None
+        }
+    }
+}
+
 /// The `der` equations, one per state (indexed like `states`).
 fn ders(
     m: &ModelAst,
@@ -346,22 +383,8 @@ fn ders(
         };
         let expr = scope.resolve(rhs, Ctx::Equation, diags);
         let name = target.name.as_str();
-        let entry = match scope.names.get(name) {
-            Some(e) if e.kind == Kind::State => *e,
-            // `der` of a name declared twice, once as a state: already reported.
-            Some(_) if scope.duplicated.contains(name) => continue,
-            Some(e) => {
-                diags.push(der_of_non_state(name, target.span, e.kind.words(), e.span));
-                continue;
-            }
-            None => {
-                diags.push(if name == "t" {
-                    der_of_time(target.span)
-                } else {
-                    scope.unknown_name(name, target.span)
-                });
-                continue;
-            }
+        let Some(entry) = state_named(scope, target, diags) else {
+            continue;
         };
         if let Some(first) = first_span[entry.index] {
             diags.push(

@@ -300,6 +300,7 @@ pub fn expand(m: &Model, inst: &Instance) -> Expanded {
             algs,
             lets,
             ders: ders.into_iter().flatten().collect(),
+            mass: Vec::new(),
             constraints,
             sizes: Vec::new(),
             sets: Vec::new(),

@@ -54,6 +54,7 @@ pub(super) fn significant<'i>(p: Pair<'i, Rule>) -> impl Iterator<Item = Pair<'i
                 | Rule::kw_let
                 | Rule::kw_der
                 | Rule::kw_constraint
+                | Rule::kw_mass
                 | Rule::kw_size
                 | Rule::kw_set
                 | Rule::kw_map
@@ -179,6 +180,21 @@ impl Builder {
                         span: item_span,
                     },
                     _ => Item::Let(self.missing(item_span), item_span),
+                }
+            }
+            Rule::mass_item => {
+                let mut states = Vec::new();
+                let mut rows = Vec::new();
+                for part in parts {
+                    match part.as_rule() {
+                        Rule::ident => states.push(ident(part)),
+                        _ => rows.push(significant(part).map(|e| self.expr(e).0).collect()),
+                    }
+                }
+                Item::Mass {
+                    states,
+                    rows,
+                    span: item_span,
                 }
             }
             Rule::size_item => {

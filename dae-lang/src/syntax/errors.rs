@@ -47,9 +47,15 @@ const ITEM_KEYWORDS: [Rule; 6] = [
     Rule::kw_constraint,
 ];
 
-/// The item keywords of version 2: folded into "an item" with the six above (the message
-/// names the version-1 items; the hint lists these too).
-const FAMILY_ITEM_KEYWORDS: [Rule; 4] = [Rule::kw_size, Rule::kw_set, Rule::kw_map, Rule::kw_input];
+/// The other item keywords (`mass`, and those of version 2): folded into "an item" with
+/// the six above (the message names those; the hint lists these too).
+const OTHER_ITEM_KEYWORDS: [Rule; 5] = [
+    Rule::kw_mass,
+    Rule::kw_size,
+    Rule::kw_set,
+    Rule::kw_map,
+    Rule::kw_input,
+];
 
 fn expected_of(rule: Rule) -> Option<Expected> {
     Some(match rule {
@@ -60,6 +66,7 @@ fn expected_of(rule: Rule) -> Option<Expected> {
         Rule::let_item | Rule::kw_let => Expected::Keyword("let"),
         Rule::der_item | Rule::kw_der => Expected::Keyword("der"),
         Rule::constraint_item | Rule::kw_constraint => Expected::Keyword("constraint"),
+        Rule::mass_item | Rule::kw_mass => Expected::Keyword("mass"),
         Rule::size_item | Rule::kw_size => Expected::Keyword("size"),
         Rule::set_item | Rule::kw_set => Expected::Keyword("set"),
         Rule::map_item | Rule::kw_map => Expected::Keyword("map"),
@@ -89,7 +96,8 @@ fn expected_of(rule: Rule) -> Option<Expected> {
         | Rule::number
         | Rule::name
         | Rule::call
-        | Rule::neg => Expected::Expression,
+        | Rule::neg
+        | Rule::mass_row => Expected::Expression,
         Rule::lbrace => Expected::Token("{"),
         Rule::rbrace => Expected::Token("}"),
         Rule::lparen => Expected::Token("("),
@@ -120,12 +128,12 @@ fn expected_list(positives: &[Rule]) -> Vec<Expected> {
         .iter()
         .all(|&k| list.contains(&expected_of(k).unwrap_or(Expected::Item)))
     {
-        let is_family_kw = |e: &Expected| {
-            FAMILY_ITEM_KEYWORDS
+        let is_other_kw = |e: &Expected| {
+            OTHER_ITEM_KEYWORDS
                 .iter()
                 .any(|&k| expected_of(k) == Some(*e))
         };
-        list.retain(|e| !is_item_kw(e) && !is_family_kw(e));
+        list.retain(|e| !is_item_kw(e) && !is_other_kw(e));
         list.push(Expected::Item);
     }
     // After a name, `(` would start a call, `[` an element access and `.` a component;
@@ -270,8 +278,8 @@ fn hint(src: &str, pos: usize, expected: &[Expected]) -> String {
         return "the model is not closed: end it with `}`".into();
     }
     if expects(Expected::Item) {
-        return "a model holds items that start with `param`, `state`, `alg`, `let`, `der` \
-                or `constraint` (and, for families, `size`, `set`, `map` or `input`), each \
+        return "a model holds items that start with `param`, `state`, `alg`, `let`, `der`, \
+                `mass` or `constraint` (and, for families, `size`, `set`, `map` or `input`), each \
                 ending with `;`"
             .into();
     }

@@ -21,6 +21,8 @@ pub enum Rule {
     r#der_item,
     r#constraint_item,
     r#decl,
+    r#mass_item,
+    r#mass_row,
     r#size_item,
     r#set_item,
     r#map_item,
@@ -59,6 +61,7 @@ pub enum Rule {
     r#kw_let,
     r#kw_der,
     r#kw_constraint,
+    r#kw_mass,
     r#kw_size,
     r#kw_set,
     r#kw_map,
@@ -108,6 +111,8 @@ impl Rule {
             Rule::r#der_item,
             Rule::r#constraint_item,
             Rule::r#decl,
+            Rule::r#mass_item,
+            Rule::r#mass_row,
             Rule::r#size_item,
             Rule::r#set_item,
             Rule::r#map_item,
@@ -146,6 +151,7 @@ impl Rule {
             Rule::r#kw_let,
             Rule::r#kw_der,
             Rule::r#kw_constraint,
+            Rule::r#kw_mass,
             Rule::r#kw_size,
             Rule::r#kw_set,
             Rule::r#kw_map,
@@ -400,6 +406,7 @@ impl ::pest::Parser<Rule> for DaeParser {
                         .or_else(|state| { self::r#let_item(state) })
                         .or_else(|state| { self::r#der_item(state) })
                         .or_else(|state| { self::r#constraint_item(state) })
+                        .or_else(|state| { self::r#mass_item(state) })
                         .or_else(|state| { self::r#size_item(state) })
                         .or_else(|state| { self::r#set_item(state) })
                         .or_else(|state| { self::r#map_item(state) })
@@ -691,6 +698,154 @@ impl ::pest::Parser<Rule> for DaeParser {
                                             .and_then(|state| { self::r#assign(state) })
                                             .and_then(|state| { super::hidden::skip(state) })
                                             .and_then(|state| { self::r#expr(state) })
+                                    })
+                            },
+                        )
+                }
+                #[inline]
+                #[allow(non_snake_case, unused_variables)]
+                pub fn r#mass_item(
+                    state: ::std::boxed::Box<::pest::ParserState<'_, Rule>>,
+                ) -> ::pest::ParseResult<
+                    ::std::boxed::Box<::pest::ParserState<'_, Rule>>,
+                > {
+                    state
+                        .rule(
+                            Rule::r#mass_item,
+                            |state| {
+                                state
+                                    .sequence(|state| {
+                                        self::r#kw_mass(state)
+                                            .and_then(|state| { super::hidden::skip(state) })
+                                            .and_then(|state| { self::r#lbracket(state) })
+                                            .and_then(|state| { super::hidden::skip(state) })
+                                            .and_then(|state| { self::r#ident(state) })
+                                            .and_then(|state| { super::hidden::skip(state) })
+                                            .and_then(|state| {
+                                                state
+                                                    .sequence(|state| {
+                                                        state
+                                                            .optional(|state| {
+                                                                state
+                                                                    .sequence(|state| {
+                                                                        self::r#comma(state)
+                                                                            .and_then(|state| { super::hidden::skip(state) })
+                                                                            .and_then(|state| { self::r#ident(state) })
+                                                                    })
+                                                                    .and_then(|state| {
+                                                                        state
+                                                                            .repeat(|state| {
+                                                                                state
+                                                                                    .sequence(|state| {
+                                                                                        super::hidden::skip(state)
+                                                                                            .and_then(|state| {
+                                                                                                state
+                                                                                                    .sequence(|state| {
+                                                                                                        self::r#comma(state)
+                                                                                                            .and_then(|state| { super::hidden::skip(state) })
+                                                                                                            .and_then(|state| { self::r#ident(state) })
+                                                                                                    })
+                                                                                            })
+                                                                                    })
+                                                                            })
+                                                                    })
+                                                            })
+                                                    })
+                                            })
+                                            .and_then(|state| { super::hidden::skip(state) })
+                                            .and_then(|state| { self::r#rbracket(state) })
+                                            .and_then(|state| { super::hidden::skip(state) })
+                                            .and_then(|state| { self::r#assign(state) })
+                                            .and_then(|state| { super::hidden::skip(state) })
+                                            .and_then(|state| { self::r#lbracket(state) })
+                                            .and_then(|state| { super::hidden::skip(state) })
+                                            .and_then(|state| { self::r#mass_row(state) })
+                                            .and_then(|state| { super::hidden::skip(state) })
+                                            .and_then(|state| {
+                                                state
+                                                    .sequence(|state| {
+                                                        state
+                                                            .optional(|state| {
+                                                                state
+                                                                    .sequence(|state| {
+                                                                        self::r#semi(state)
+                                                                            .and_then(|state| { super::hidden::skip(state) })
+                                                                            .and_then(|state| { self::r#mass_row(state) })
+                                                                    })
+                                                                    .and_then(|state| {
+                                                                        state
+                                                                            .repeat(|state| {
+                                                                                state
+                                                                                    .sequence(|state| {
+                                                                                        super::hidden::skip(state)
+                                                                                            .and_then(|state| {
+                                                                                                state
+                                                                                                    .sequence(|state| {
+                                                                                                        self::r#semi(state)
+                                                                                                            .and_then(|state| { super::hidden::skip(state) })
+                                                                                                            .and_then(|state| { self::r#mass_row(state) })
+                                                                                                    })
+                                                                                            })
+                                                                                    })
+                                                                            })
+                                                                    })
+                                                            })
+                                                    })
+                                            })
+                                            .and_then(|state| { super::hidden::skip(state) })
+                                            .and_then(|state| { self::r#rbracket(state) })
+                                            .and_then(|state| { super::hidden::skip(state) })
+                                            .and_then(|state| { self::r#semi(state) })
+                                    })
+                            },
+                        )
+                }
+                #[inline]
+                #[allow(non_snake_case, unused_variables)]
+                pub fn r#mass_row(
+                    state: ::std::boxed::Box<::pest::ParserState<'_, Rule>>,
+                ) -> ::pest::ParseResult<
+                    ::std::boxed::Box<::pest::ParserState<'_, Rule>>,
+                > {
+                    state
+                        .rule(
+                            Rule::r#mass_row,
+                            |state| {
+                                state
+                                    .sequence(|state| {
+                                        self::r#expr(state)
+                                            .and_then(|state| { super::hidden::skip(state) })
+                                            .and_then(|state| {
+                                                state
+                                                    .sequence(|state| {
+                                                        state
+                                                            .optional(|state| {
+                                                                state
+                                                                    .sequence(|state| {
+                                                                        self::r#comma(state)
+                                                                            .and_then(|state| { super::hidden::skip(state) })
+                                                                            .and_then(|state| { self::r#expr(state) })
+                                                                    })
+                                                                    .and_then(|state| {
+                                                                        state
+                                                                            .repeat(|state| {
+                                                                                state
+                                                                                    .sequence(|state| {
+                                                                                        super::hidden::skip(state)
+                                                                                            .and_then(|state| {
+                                                                                                state
+                                                                                                    .sequence(|state| {
+                                                                                                        self::r#comma(state)
+                                                                                                            .and_then(|state| { super::hidden::skip(state) })
+                                                                                                            .and_then(|state| { self::r#expr(state) })
+                                                                                                    })
+                                                                                            })
+                                                                                    })
+                                                                            })
+                                                                    })
+                                                            })
+                                                    })
+                                            })
                                     })
                             },
                         )
@@ -1925,6 +2080,35 @@ impl ::pest::Parser<Rule> for DaeParser {
                 }
                 #[inline]
                 #[allow(non_snake_case, unused_variables)]
+                pub fn r#kw_mass(
+                    state: ::std::boxed::Box<::pest::ParserState<'_, Rule>>,
+                ) -> ::pest::ParseResult<
+                    ::std::boxed::Box<::pest::ParserState<'_, Rule>>,
+                > {
+                    state
+                        .rule(
+                            Rule::r#kw_mass,
+                            |state| {
+                                state
+                                    .atomic(
+                                        ::pest::Atomicity::Atomic,
+                                        |state| {
+                                            state
+                                                .sequence(|state| {
+                                                    state
+                                                        .match_string("mass")
+                                                        .and_then(|state| {
+                                                            state
+                                                                .lookahead(false, |state| { self::r#ident_char(state) })
+                                                        })
+                                                })
+                                        },
+                                    )
+                            },
+                        )
+                }
+                #[inline]
+                #[allow(non_snake_case, unused_variables)]
                 pub fn r#kw_size(
                     state: ::std::boxed::Box<::pest::ParserState<'_, Rule>>,
                 ) -> ::pest::ParseResult<
@@ -2646,6 +2830,8 @@ impl ::pest::Parser<Rule> for DaeParser {
                     Rule::r#der_item => rules::r#der_item(state),
                     Rule::r#constraint_item => rules::r#constraint_item(state),
                     Rule::r#decl => rules::r#decl(state),
+                    Rule::r#mass_item => rules::r#mass_item(state),
+                    Rule::r#mass_row => rules::r#mass_row(state),
                     Rule::r#size_item => rules::r#size_item(state),
                     Rule::r#set_item => rules::r#set_item(state),
                     Rule::r#map_item => rules::r#map_item(state),
@@ -2684,6 +2870,7 @@ impl ::pest::Parser<Rule> for DaeParser {
                     Rule::r#kw_let => rules::r#kw_let(state),
                     Rule::r#kw_der => rules::r#kw_der(state),
                     Rule::r#kw_constraint => rules::r#kw_constraint(state),
+                    Rule::r#kw_mass => rules::r#kw_mass(state),
                     Rule::r#kw_size => rules::r#kw_size(state),
                     Rule::r#kw_set => rules::r#kw_set(state),
                     Rule::r#kw_map => rules::r#kw_map(state),

@@ -25,6 +25,7 @@ impl Checker<'_> {
             self.resolve_let(d);
         }
         let ders = self.ders();
+        self.no_mass_matrix();
         let constraints = self.constraints();
         let let_order = self.order_lets();
         if !self.diags.is_empty() {
@@ -39,6 +40,26 @@ impl Checker<'_> {
         } else {
             diags.sort_by_key(|d| d.span.start);
             Err(diags)
+        }
+    }
+
+    /// A mass matrix is a version-1 item: a family's per-element matrices are not in the
+    /// language yet.
+    fn no_mass_matrix(&mut self) {
+        for item in &self.m.items {
+            if let Item::Mass { span, .. } = item {
+                self.diags.push(
+                    Diagnostic::new(
+                        "a mass matrix in a model with families",
+                        *span,
+                        "not available with families",
+                    )
+                    .hint(
+                        "`mass` is available in models without `size`, `set`, `map` and \
+                         `input`; in a family, divide by the mass in the `der` item",
+                    ),
+                );
+            }
         }
     }
 
@@ -538,6 +559,7 @@ impl Checker<'_> {
             algs: algs_out,
             lets: lets_out,
             ders: ders_out,
+            mass: Vec::new(),
             constraints: constraints_out,
             sizes: self.sizes,
             sets: self.sets,

@@ -31,6 +31,7 @@ pub(crate) fn uses_version_2(m: &ModelAst) -> bool {
         Item::Size { .. } | Item::Set { .. } | Item::Map { .. } | Item::Input(..) => true,
         Item::Param(ds, _) | Item::State(ds, _) | Item::Alg(ds, _) => ds.iter().any(decl_v2),
         Item::Let(d, _) => decl_v2(d),
+        Item::Mass { rows, .. } => rows.iter().flatten().any(expr_v2),
         Item::Der { elem, rhs, .. } => elem.is_some() || expr_v2(rhs),
         Item::Constraint {
             binder, lhs, rhs, ..
