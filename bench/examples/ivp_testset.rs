@@ -4,12 +4,14 @@
 //! index-1 form, by tolerance.
 //!
 //! ```text
-//! cargo run --release -p dae-bench --features bdf --example ivp_testset [car_axis|andrews]
+//! cargo run --release -p dae-bench --features bdf --example ivp_testset [car_axis|andrews|slider_crank]
 //! ```
 //!
 //! * the car axis (`examples/models/car_axis.dae`) to t = 3, its four positions;
 //! * Andrews' squeezing mechanism (`examples/models/andrews.dae`, written with its mass
-//!   matrix) to t = 0.03, its seven angles.
+//!   matrix) to t = 0.03, its seven angles;
+//! * the flexible slider crank (`examples/models/slider_crank.dae`, its mass matrix
+//!   depending on the rod's deformation) to t = 0.1, its seven coordinates.
 //!
 //! Prints one table per problem, a row per run: the method and its knob, whether it
 //! finished, the largest absolute error of the compared components at the end, the
@@ -17,9 +19,9 @@
 //! time of three.
 
 use dae_bench::{
-    baseline::consistent_alg, generated::Andrews, generated::CarAxis, harness::DbsmcStep,
-    harness::Method, harness::Scene, harness::designed_bounds, harness::pilot_beta_bound,
-    harness::run_method,
+    baseline::consistent_alg, generated::Andrews, generated::CarAxis, generated::SliderCrank,
+    harness::DbsmcStep, harness::Method, harness::Scene, harness::designed_bounds,
+    harness::pilot_beta_bound, harness::run_method,
 };
 use dae_runtime::{Model, Simulator, design::Online, trace::NoTrace};
 use std::time::Instant;
@@ -43,6 +45,17 @@ const ANDREWS_AT_003: [f64; 7] = [
     0.1048080741042263e+1,
 ];
 
+/// The test set's reference coordinates of the slider crank at t = 0.1 (`y(1..7)`).
+const SLIDER_CRANK_AT_01: [f64; 7] = [
+    0.1500000000000104e+2,
+    -0.331173498825626,
+    0.169737332842786,
+    0.1893192899613509e-3,
+    0.2375751249879174e-4,
+    -0.5323896770569702e-5,
+    -0.8363313279112129e-5,
+];
+
 /// One problem: its model, end time, reference, and the knobs of each method.
 struct Problem<'a> {
     name: &'a str,
@@ -58,6 +71,7 @@ struct Problem<'a> {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let only = std::env::args().nth(1);
     let (car, andrews) = (CarAxis::default(), Andrews::default());
+    let crank = SliderCrank::default();
     let problems = [
         Problem {
             name: "car_axis",
@@ -75,6 +89,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             truth: &ANDREWS_AT_003,
             mu: 1e-4,
             eps: &[1e-4, 1e-5, 1e-6, 1e-7, 1e-8],
+            tols: &[1e-4, 1e-6, 1e-8, 1e-10],
+        },
+        Problem {
+            name: "slider_crank",
+            model: &crank,
+            t_end: 0.1,
+            truth: &SLIDER_CRANK_AT_01,
+            mu: 1e-4,
+            eps: &[1e-4, 1e-5, 1e-6, 1e-7],
             tols: &[1e-4, 1e-6, 1e-8, 1e-10],
         },
     ];

@@ -8,3 +8,4 @@ dae_runtime::dae_file!("../examples/models/chain3_planar.dae");
 dae_runtime::dae_file!("../examples/models/car_axis.dae");
 dae_runtime::dae_file!("../examples/models/andrews.dae");
 dae_runtime::dae_file!("../examples/models/cart_pendulum.dae");
+dae_runtime::dae_file!("../examples/models/slider_crank.dae");

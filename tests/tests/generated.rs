@@ -21,6 +21,7 @@ mod generated {
     dae_runtime::dae_file!("../examples/models/double_pendulum_3d.dae");
     dae_runtime::dae_file!("../examples/models/double_pendulum_planar.dae");
     dae_runtime::dae_file!("../examples/models/integrator_chain_index4.dae");
+    dae_runtime::dae_file!("../examples/models/slider_crank.dae");
     dae_runtime::dae_file!("../examples/models/tank_level_index2.dae");
 }
 
@@ -36,6 +37,7 @@ fn generated(stem: &str) -> Box<dyn Model> {
         "double_pendulum_3d" => Box::new(generated::DoublePendulum3D::default()),
         "double_pendulum_planar" => Box::new(generated::DoublePendulum::default()),
         "integrator_chain_index4" => Box::new(generated::IntegratorChain::default()),
+        "slider_crank" => Box::new(generated::SliderCrank::default()),
         "tank_level_index2" => Box::new(generated::TankLevel::default()),
         other => panic!("example `{other}` is not compiled in this test: add it above"),
     }
@@ -46,7 +48,7 @@ fn pairs() -> Vec<(String, Box<dyn Model>, dae_runtime::family::Interpreted)> {
     let sources = scalar_example_sources();
     assert_eq!(
         sources.len(),
-        10,
+        11,
         "a new example model: add it to this test"
     );
     sources
