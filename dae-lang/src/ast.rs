@@ -118,8 +118,9 @@ pub enum Item {
     /// `mass [v1, v2] = [m11, m12; m21, m22];`: the derivatives of the listed states
     /// solve `M der(v) = rhs`, where `rhs` are the right-hand sides of their `der` items.
     Mass {
-        /// The states whose derivatives the matrix multiplies, in its column order.
-        states: Vec<Ident>,
+        /// The states whose derivatives the matrix multiplies, in its column order, each
+        /// with the element it is named at in a family model (`v[p]`).
+        states: Vec<(Ident, Option<Ident>)>,
         /// The rows of the matrix, as written.
         rows: Vec<Vec<Expr>>,
         /// The whole item.
@@ -392,7 +393,12 @@ impl Item {
             }
             Item::Mass { states, rows, span } => {
                 *span = Span::default();
-                states.iter_mut().for_each(|s| s.span = Span::default());
+                for (name, elem) in states {
+                    name.span = Span::default();
+                    if let Some(e) = elem {
+                        e.span = Span::default();
+                    }
+                }
                 rows.iter_mut().flatten().for_each(Expr::erase_spans);
             }
             Item::Size { name, value, span } => {

@@ -268,6 +268,8 @@ pub struct MassDef {
     /// `M`, row-major, `n x n`: expressions over the parameters, the states, the lets
     /// and `t` (never an algebraic unknown).
     pub entries: Vec<RExpr>,
+    /// Where each entry is written (same order).
+    pub entry_spans: Vec<Span>,
     /// The whole item.
     pub span: Span,
 }

@@ -355,3 +355,19 @@ fn sums_into_one_codomain_share_an_accumulator_and_agree_with_the_expansion() {
         compare(src, &spec, 300 + n as u64, 3);
     }
 }
+
+/// A 2 x 2 mass matrix per element: the templates eliminate it once, the expansion
+/// gives one matrix per particle to the version-1 pipeline.
+#[test]
+fn per_element_mass_matrices_agree_with_the_expansion() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/models/beads_mass.dae");
+    let src = std::fs::read_to_string(path).expect("the model");
+    for n in 1..=4 {
+        let spec = Spec {
+            sizes: vec![("N".into(), n)],
+            ..Spec::default()
+        };
+        compare(&src, &spec, 61 + n as u64, 3);
+    }
+}

@@ -114,20 +114,54 @@ fn a_matrix_singular_at_the_initial_point_is_reported_with_its_pivot() {
     assert!(e[0].0.contains("pivot 1 (the row of `der(v)`)"), "{e:?}");
 }
 
-#[test]
-fn a_family_model_cannot_have_a_mass_matrix_yet() {
-    let src = "model Fam {
+/// A family with a vector state: `MASS` is replaced by the item under test.
+const FAMILY: &str = "model Fam {
     size N = 2;
     set P = N;
-    state x[p in P] = 0, v[p in P] = 0;
+    set Q = 1;
+    param m[p in P] = 1 + p;
+    state x[p in P]: vec2 = vec2(p, 0), v[p in P]: vec2 = vec2(0, 0);
+    state y[q in Q] = 0, w[q in Q] = 0;
+    alg z[p in P] = 0;
     der(x[p]) = v[p];
-    der(v[p]) = -x[p];
-    mass [v] = [2];
+    der(y[q]) = w[q];
+    der(w[q]) = 0;
+    MASS
+    der(v[p]) = vec2(-x[p].x, z[p]);
+    constraint c[p in P]: x[p].y = 0;
 }";
-    let e = errors(src);
+
+#[test]
+fn a_family_lists_its_states_at_an_element_one_matrix_per_element() {
+    let src = FAMILY.replace("MASS", "mass [v[p]] = [m[p], 0.5; 0.5, m[p]];");
+    let m = check_source(&src).expect("checks").remove(0);
+    assert_eq!(m.mass.len(), 1);
+    // The two components of v, in order.
+    let idx: Vec<usize> = m.mass[0].states.iter().map(|s| s.index()).collect();
+    assert_eq!(idx, [2, 3]);
+    assert_eq!(m.mass[0].entries.len(), 4);
+}
+
+#[test]
+fn a_family_state_in_a_mass_matrix_is_named_at_an_element_of_one_set() {
+    let with = |mass: &str| FAMILY.replace("MASS", mass);
+    let e = errors(&with("mass [v] = [1, 0; 0, 1];"));
     assert_eq!(e.len(), 1, "{e:?}");
-    assert_eq!(e[0].0, "a mass matrix in a model with families");
-    assert_eq!(e[0].1, (7, 5));
+    assert_eq!(e[0].0, "`v` is a family over `P`");
+    assert_eq!(e[0].1, (12, 11));
+    let e = errors(&with("mass [v[p], w[q]] = [1, 0, 0; 0, 1, 0; 0, 0, 1];"));
+    assert_eq!(e.len(), 1, "{e:?}");
+    assert_eq!(e[0].0, "`w` is not over the set of the first state listed");
+    let e = errors(&with("mass [v[p]] = [1, z[p]; 0, 1];"));
+    assert_eq!(e.len(), 1, "{e:?}");
+    assert_eq!(
+        e[0].0,
+        "a mass matrix entry depends on the algebraic unknown `z`"
+    );
+    let e = errors(&with("mass [v[p]] = [1, 0];"));
+    assert_eq!(e[0].0, "the mass matrix over 2 states has 1 row");
+    let e = errors(&with("mass [v[p]] = [x[p], 0; 0, 1];"));
+    assert_eq!(e[0].0, "a mass matrix entry is a vec2");
 }
 
 #[test]

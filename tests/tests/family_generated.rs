@@ -16,6 +16,7 @@ mod generated {
     dae_runtime::dae_file!("../examples/models/double_pendulum_family.dae");
     dae_runtime::dae_file!("../examples/models/hair.dae");
     dae_runtime::dae_file!("models/yz_chain.dae");
+    dae_runtime::dae_file!("models/beads_mass.dae");
 }
 
 /// The compiled family model of an example file.
@@ -214,6 +215,21 @@ fn yz_chain_kernels_that_read_from_the_second_component_agree_with_the_interpret
         &f,
         &generated::YzChain::kernels(),
         &sizes("N", 300),
+        3,
+    );
+}
+
+/// A 2 x 2 mass matrix per element (`tests/models/beads_mass.dae`): the eliminated
+/// derivatives in the kernels.
+#[test]
+fn per_element_mass_matrix_kernels_agree_with_the_interpreter() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/beads_mass.dae");
+    let f = compiled_at(&path);
+    agree_on(
+        "beads_mass",
+        &f,
+        &generated::Beads::kernels(),
+        &sizes("N", 100),
         3,
     );
 }

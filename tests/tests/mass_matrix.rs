@@ -3,7 +3,8 @@
 //! `tests/models/cart_pendulum_explicit.dae` (Cramer's rule on the same 2 x 2 matrix).
 //! Every quantity the runtime evaluates, `f`, `w`, `s`, `alpha_hat`, `J_Omega` and
 //! `beta` (the last two through `M^-1`), agrees at random points, interpreted and
-//! generated.
+//! generated. The same for a family with a 2 x 2 matrix per element
+//! (`tests/models/beads_mass.dae` against `beads_explicit.dae`).
 
 use dae_runtime::Model;
 use dae_tests::{Rng, close, models_dir};
@@ -11,6 +12,12 @@ use dae_tests::{Rng, close, models_dir};
 mod generated {
     dae_runtime::dae_file!("../examples/models/cart_pendulum.dae");
     dae_runtime::dae_file!("models/cart_pendulum_explicit.dae");
+}
+
+fn here(file: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("models")
+        .join(file)
 }
 
 fn interpreted(path: std::path::PathBuf) -> dae_runtime::family::Interpreted {
@@ -38,9 +45,7 @@ fn evaluate(m: &dyn Model, t: f64, x: &[f64], z: &[f64], mu: &[f64]) -> Vec<f64>
 #[test]
 fn a_mass_matrix_model_equals_its_explicit_form() {
     let mass = interpreted(models_dir().join("cart_pendulum.dae"));
-    let explicit = interpreted(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/cart_pendulum_explicit.dae"),
-    );
+    let explicit = interpreted(here("cart_pendulum_explicit.dae"));
     let code = generated::CartPendulum::default();
     assert_eq!(mass.indices(), explicit.indices());
     assert_eq!(mass.jacobian_pattern(), explicit.jacobian_pattern());
@@ -72,5 +77,31 @@ fn a_mass_matrix_model_equals_its_explicit_form() {
         .zip(evaluate(&code, 0.4, &x, &z, &mu))
     {
         assert!(close(*a, b, 1e-11), "{a:e} vs {b:e}");
+    }
+}
+
+#[test]
+fn a_per_element_mass_matrix_equals_its_explicit_form() {
+    let mass = interpreted(here("beads_mass.dae"));
+    let explicit = interpreted(here("beads_explicit.dae"));
+    assert_eq!(mass.indices(), explicit.indices());
+    assert_eq!(mass.jacobian_pattern(), explicit.jacobian_pattern());
+    let (n, k) = (mass.n_states(), mass.n_constraints());
+    let mut x0 = vec![0.0; n];
+    mass.initial_state(&mut x0);
+    let mut rng = Rng::new(52);
+    for _ in 0..200 {
+        let t = rng.uniform(0.0, 5.0);
+        let x: Vec<f64> = x0.iter().map(|v| v + rng.uniform(-0.3, 0.3)).collect();
+        let z: Vec<f64> = (0..k).map(|_| rng.uniform(-20.0, 20.0)).collect();
+        let mu: Vec<f64> = (0..k).map(|_| rng.uniform(0.01, 1.0)).collect();
+        let a = evaluate(&mass, t, &x, &z, &mu);
+        let b = evaluate(&explicit, t, &x, &z, &mu);
+        for (i, (a, b)) in a.iter().zip(&b).enumerate() {
+            assert!(
+                close(*a, *b, 1e-11),
+                "output {i} at x = {x:?}: mass {a:e}, explicit {b:e}"
+            );
+        }
     }
 }

@@ -64,7 +64,7 @@ pub(super) fn check(
                     .collect();
                 if let Some(k) = values.and_then(|a| super::mass::zero_pivot(a, states.len())) {
                     w.diags
-                        .push(singular_mass(states[k].name.as_str(), k, *span));
+                        .push(singular_mass(states[k].0.name.as_str(), k, *span));
                 }
             }
             Item::Constraint { lhs, rhs, span, .. } => {

@@ -3,26 +3,26 @@
 //! `der` items. Checked here: the names are distinct states in at most one matrix,
 //! the matrix is n x n, and no entry depends on an algebraic unknown (directly or
 //! through a `let`), so that `J_Omega`, `beta` and `alpha` stay what docs/method.md
-//! derives through `M^-1`.
+//! derives through `M^-1`. The family checker lists its states at an element and
+//! shares the rest.
 
-use super::resolve::{Ctx, Kind, Scope};
+use super::resolve::{Ctx, Scope};
 use super::state_named;
-use crate::StateId;
-use crate::ast::{Expr, Item, ModelAst, Span};
+use crate::ast::{Expr, Ident, Item, ModelAst, Span};
 use crate::diag::Diagnostic;
-use crate::model::{MassDef, RExpr};
+use crate::model::{MassDef, Model, RExpr};
+use crate::{StateId, VarRef};
+use std::collections::HashMap;
 
-/// The mass matrices of a model, in the order written (`None` where one is in error,
-/// already reported). `let_uses_alg[j]`: whether `let` number `j` (by declaration)
-/// depends on an algebraic unknown.
+/// The mass matrices of a version-1 model, in the order written (`None` where one is
+/// in error, already reported). That no entry reads an algebraic unknown is checked on
+/// the built model ([`algebraic_entries`]).
 pub(super) fn mass_matrices(
     m: &ModelAst,
     scope: &Scope<'_>,
-    let_uses_alg: &[bool],
     diags: &mut Vec<Diagnostic>,
 ) -> Vec<Option<MassDef>> {
-    // The matrix that lists each state, with the span of its name there.
-    let mut owner: Vec<Option<Span>> = Vec::new();
+    let mut listed = Listed::default();
     let mut out = Vec::new();
     for item in &m.items {
         let Item::Mass { states, rows, span } = item else {
@@ -30,68 +30,69 @@ pub(super) fn mass_matrices(
         };
         let before = diags.len();
         let mut ids = Vec::with_capacity(states.len());
-        for s in states {
-            let name = s.name.as_str();
+        for (s, _) in states {
             let Some(entry) = state_named(scope, s, diags) else {
                 continue;
             };
-            if owner.len() <= entry.index {
-                owner.resize(entry.index + 1, None);
+            if listed.first_time(entry.index, s, diags) {
+                ids.push(StateId::new(entry.index));
             }
-            if let Some(first) = owner[entry.index] {
-                diags.push(
-                    Diagnostic::new(
-                        format!("state `{name}` is listed twice in mass matrices"),
-                        s.span,
-                        "listed again",
-                    )
-                    .related(first, "first listed here")
-                    .hint("each state's derivative is multiplied by one row of one mass matrix"),
-                );
-                continue;
-            }
-            owner[entry.index] = Some(s.span);
-            ids.push(StateId::new(entry.index));
         }
-        let n = states.len();
-        let shape_ok = check_shape(n, rows, *span, diags);
-        let mut entries = Vec::with_capacity(n * n);
+        let shape_ok = check_shape(states.len(), rows, *span, diags);
+        let mut entries = Vec::new();
+        let mut entry_spans = Vec::new();
         for e in rows.iter().flatten() {
-            let Some(r) = scope.resolve(e, Ctx::Equation, diags) else {
-                continue;
-            };
-            if let Some(what) = alg_use(&r, scope, let_uses_alg) {
-                diags.push(
-                    Diagnostic::new(
-                        format!("a mass matrix entry depends on {what}"),
-                        e.span,
-                        "depends on an algebraic unknown",
-                    )
-                    .hint(
-                        "the mass matrix may depend on the parameters, the states and t: \
-                         move the terms with algebraic unknowns to the right-hand side of \
-                         the `der` items",
-                    ),
-                );
-                continue;
+            if let Some(r) = scope.resolve(e, Ctx::Equation, diags) {
+                entries.push(r);
+                entry_spans.push(e.span);
             }
-            entries.push(r);
         }
-        if shape_ok && diags.len() == before {
-            out.push(Some(MassDef {
-                states: ids,
-                entries,
-                span: *span,
-            }));
-        } else {
-            out.push(None);
-        }
+        out.push((shape_ok && diags.len() == before).then_some(MassDef {
+            states: ids,
+            entries,
+            entry_spans,
+            span: *span,
+        }));
     }
     out
 }
 
+/// The states listed so far in the mass matrices of a model, with where.
+#[derive(Default)]
+pub(super) struct Listed(HashMap<usize, Span>);
+
+impl Listed {
+    /// Records state `index` listed at `name`; reports it listed before.
+    pub(super) fn first_time(
+        &mut self,
+        index: usize,
+        name: &Ident,
+        diags: &mut Vec<Diagnostic>,
+    ) -> bool {
+        if let Some(&first) = self.0.get(&index) {
+            diags.push(
+                Diagnostic::new(
+                    format!("state `{}` is listed twice in mass matrices", name.name),
+                    name.span,
+                    "listed again",
+                )
+                .related(first, "first listed here")
+                .hint("each state's derivative is multiplied by one row of one mass matrix"),
+            );
+            return false;
+        }
+        self.0.insert(index, name.span);
+        true
+    }
+}
+
 /// Reports a matrix that is not `n x n`.
-fn check_shape(n: usize, rows: &[Vec<Expr>], at: Span, diags: &mut Vec<Diagnostic>) -> bool {
+pub(super) fn check_shape(
+    n: usize,
+    rows: &[Vec<Expr>],
+    at: Span,
+    diags: &mut Vec<Diagnostic>,
+) -> bool {
     let mut ok = true;
     if rows.len() != n {
         diags.push(
@@ -137,24 +138,55 @@ fn plural(n: usize) -> &'static str {
     if n == 1 { "" } else { "s" }
 }
 
-/// The first algebraic unknown `e` reads, directly or through a `let`, in words.
-fn alg_use(e: &RExpr, scope: &Scope<'_>, let_uses_alg: &[bool]) -> Option<String> {
+/// Reports every mass matrix entry of a checked model that reads an algebraic unknown,
+/// directly or through a `let` (the model's lets each use only earlier ones).
+pub(crate) fn algebraic_entries(model: &Model, diags: &mut Vec<Diagnostic>) {
+    if model.mass.is_empty() {
+        return;
+    }
+    let mut let_alg: Vec<bool> = Vec::with_capacity(model.lets.len());
+    for l in &model.lets {
+        let found = first_alg(&l.expr, model, &let_alg).is_some();
+        let_alg.push(found);
+    }
+    for m in &model.mass {
+        for (e, &at) in m.entries.iter().zip(&m.entry_spans) {
+            if let Some(what) = first_alg(e, model, &let_alg) {
+                diags.push(
+                    Diagnostic::new(
+                        format!("a mass matrix entry depends on {what}"),
+                        at,
+                        "depends on an algebraic unknown",
+                    )
+                    .hint(
+                        "the mass matrix may depend on the parameters, the states and t: \
+                         move the terms with algebraic unknowns to the right-hand side of \
+                         the `der` items",
+                    ),
+                );
+            }
+        }
+    }
+}
+
+/// The first algebraic unknown `e` reads, in words: directly, or through a `let` that
+/// reads one (`let_alg`, by the model's let order).
+fn first_alg(e: &RExpr, model: &Model, let_alg: &[bool]) -> Option<String> {
     let mut found = None;
     e.visit(&mut |x| {
         if found.is_some() {
             return;
         }
         match x {
-            RExpr::Var(crate::VarRef::Alg(k)) => {
-                found = Some(format!(
-                    "the algebraic unknown `{}`",
-                    alg_name(scope, k.index())
-                ));
+            RExpr::Var(VarRef::Alg(k)) => {
+                let name = model.algs.get(k.index()).map_or("?", |a| a.name.as_str());
+                found = Some(format!("the algebraic unknown `{}`", family_name(name)));
             }
-            RExpr::Let(l) if let_uses_alg.get(l.index()).copied().unwrap_or(false) => {
+            RExpr::Let(l) if let_alg.get(l.index()).copied().unwrap_or(false) => {
+                let name = model.lets.get(l.index()).map_or("?", |d| d.name.as_str());
                 found = Some(format!(
                     "the `let` `{}`, which reads an algebraic unknown",
-                    let_name(scope, l.index())
+                    family_name(name)
                 ));
             }
             _ => {}
@@ -163,43 +195,9 @@ fn alg_use(e: &RExpr, scope: &Scope<'_>, let_uses_alg: &[bool]) -> Option<String
     found
 }
 
-fn alg_name(scope: &Scope<'_>, index: usize) -> String {
-    name_of(scope, Kind::Alg, index)
-}
-
-fn let_name(scope: &Scope<'_>, index: usize) -> String {
-    name_of(scope, Kind::Let, index)
-}
-
-fn name_of(scope: &Scope<'_>, kind: Kind, index: usize) -> String {
-    scope
-        .ordered
-        .iter()
-        .find(|n| {
-            scope
-                .names
-                .get(**n)
-                .is_some_and(|e| e.kind == kind && e.index == index)
-        })
-        .map_or_else(|| "?".to_string(), |n| n.to_string())
-}
-
-/// Whether each `let` (by declaration) reads an algebraic unknown, directly or through
-/// earlier lets; `order` lists the lets so that each comes after those it reads.
-pub(super) fn lets_using_algs(exprs: &[Option<RExpr>], order: &[usize]) -> Vec<bool> {
-    let mut uses = vec![false; exprs.len()];
-    for &i in order {
-        let mut found = false;
-        if let Some(e) = &exprs[i] {
-            e.visit(&mut |x| match x {
-                RExpr::Var(crate::VarRef::Alg(_)) => found = true,
-                RExpr::Let(l) => found |= uses.get(l.index()).copied().unwrap_or(false),
-                _ => {}
-            });
-        }
-        uses[i] = found;
-    }
-    uses
+/// `pin` for the component `pin.x`.
+fn family_name(name: &str) -> &str {
+    name.split('.').next().unwrap_or(name)
 }
 
 /// The elimination of `M x = b` in the written order without row exchanges, on the
@@ -207,7 +205,7 @@ pub(super) fn lets_using_algs(exprs: &[Option<RExpr>], order: &[usize]) -> Vec<b
 /// zero to round-off (at most `1e-14` of the largest entry), or `None`. This is the
 /// elimination the compiler writes symbolically (a symmetric positive definite matrix,
 /// as the mass matrices of mechanics are, has positive pivots in any order).
-pub(super) fn zero_pivot(mut a: Vec<f64>, n: usize) -> Option<usize> {
+pub(crate) fn zero_pivot(mut a: Vec<f64>, n: usize) -> Option<usize> {
     let scale = a.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     for k in 0..n {
         let p = a[k * n + k];

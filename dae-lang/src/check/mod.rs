@@ -9,7 +9,7 @@ mod domain;
 mod eval;
 mod family;
 mod lets;
-mod mass;
+pub(crate) mod mass;
 mod names;
 mod resolve;
 
@@ -135,8 +135,7 @@ pub(crate) fn check_model_with(m: &ModelAst, at_start: bool) -> Result<Model, Ve
     let let_order = order_lets(&decls.lets, &let_exprs, &mut diags);
 
     let ders = ders(m, &scope, &decls.states, &mut diags);
-    let let_uses_alg = mass::lets_using_algs(&let_exprs, &let_order);
-    let mass = mass::mass_matrices(m, &scope, &let_uses_alg, &mut diags);
+    let mass = mass::mass_matrices(m, &scope, &mut diags);
     let constraints = constraints(m, &scope, &mut diags);
     if decls.algs.len() != constraints.len() {
         diags.push(count_mismatch(m, decls.algs.len(), constraints.len()));
@@ -207,7 +206,7 @@ pub(crate) fn check_model_with(m: &ModelAst, at_start: bool) -> Result<Model, Ve
         .iter_mut()
         .flat_map(|m| &mut m.entries)
         .for_each(|e| lets::renumber(e, &new_index));
-    Ok(Model {
+    let model = Model {
         name: m.name.name.clone(),
         span: m.name.span,
         params: decls
@@ -235,7 +234,13 @@ pub(crate) fn check_model_with(m: &ModelAst, at_start: bool) -> Result<Model, Ve
         sets: Vec::new(),
         maps: Vec::new(),
         inputs: Vec::new(),
-    })
+    };
+    mass::algebraic_entries(&model, &mut diags);
+    if diags.is_empty() {
+        Ok(model)
+    } else {
+        Err(diags)
+    }
 }
 
 /// Registers every declared name; reports reserved words and names declared twice.

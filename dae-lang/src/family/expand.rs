@@ -13,7 +13,9 @@
 
 use super::construct::Instance;
 use crate::ast::{BinOp, Span};
-use crate::model::{ConstraintDef, DerDef, Family, LetDef, Model, ParamDef, RExpr, VarDef};
+use crate::model::{
+    ConstraintDef, DerDef, Family, LetDef, MassDef, Model, ParamDef, RExpr, VarDef,
+};
 use crate::{AlgId, LetId, ParamId, StateId, VarRef};
 
 /// A family model written out at the sizes of an instance.
@@ -272,6 +274,26 @@ pub fn expand(m: &Model, inst: &Instance) -> Expanded {
             });
         }
     }
+    // A mass matrix over a set: one matrix per element.
+    let mut mass = Vec::new();
+    for d in &m.mass {
+        let over = d
+            .states
+            .first()
+            .and_then(|s| m.states[s.index()].family.over);
+        for e in 0..inst.set_size(over) {
+            mass.push(MassDef {
+                states: d
+                    .states
+                    .iter()
+                    .map(|s| StateId::new(l.states[s.index()].at(e)))
+                    .collect(),
+                entries: d.entries.iter().map(|x_| x.expr(x_, e)).collect(),
+                entry_spans: d.entry_spans.clone(),
+                span: d.span,
+            });
+        }
+    }
     let mut constraints = Vec::with_capacity(l.n_rows);
     for c in &m.constraints {
         for e in 0..inst.set_size(c.over) {
@@ -300,7 +322,7 @@ pub fn expand(m: &Model, inst: &Instance) -> Expanded {
             algs,
             lets,
             ders: ders.into_iter().flatten().collect(),
-            mass: Vec::new(),
+            mass,
             constraints,
             sizes: Vec::new(),
             sets: Vec::new(),

@@ -187,7 +187,14 @@ impl Builder {
                 let mut rows = Vec::new();
                 for part in parts {
                     match part.as_rule() {
-                        Rule::ident => states.push(ident(part)),
+                        Rule::mass_state => {
+                            let mut it = significant(part);
+                            let name = it.next().map(ident);
+                            let elem = it.next().and_then(|e| significant(e).next()).map(ident);
+                            if let Some(name) = name {
+                                states.push((name, elem));
+                            }
+                        }
                         _ => rows.push(significant(part).map(|e| self.expr(e).0).collect()),
                     }
                 }

@@ -77,7 +77,7 @@ fn expected_of(rule: Rule) -> Option<Expected> {
         Rule::kw_derivatives | Rule::kw_derivative => Expected::Keyword("derivatives"),
         Rule::kw_then => Expected::Keyword("then"),
         Rule::kw_else => Expected::Keyword("else"),
-        Rule::ident | Rule::decl | Rule::input_decl => Expected::Name,
+        Rule::ident | Rule::decl | Rule::input_decl | Rule::mass_state => Expected::Name,
         Rule::integer => Expected::Integer,
         Rule::expr
         | Rule::if_expr

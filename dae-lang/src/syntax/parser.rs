@@ -22,6 +22,7 @@ pub enum Rule {
     r#constraint_item,
     r#decl,
     r#mass_item,
+    r#mass_state,
     r#mass_row,
     r#size_item,
     r#set_item,
@@ -112,6 +113,7 @@ impl Rule {
             Rule::r#constraint_item,
             Rule::r#decl,
             Rule::r#mass_item,
+            Rule::r#mass_state,
             Rule::r#mass_row,
             Rule::r#size_item,
             Rule::r#set_item,
@@ -719,7 +721,7 @@ impl ::pest::Parser<Rule> for DaeParser {
                                             .and_then(|state| { super::hidden::skip(state) })
                                             .and_then(|state| { self::r#lbracket(state) })
                                             .and_then(|state| { super::hidden::skip(state) })
-                                            .and_then(|state| { self::r#ident(state) })
+                                            .and_then(|state| { self::r#mass_state(state) })
                                             .and_then(|state| { super::hidden::skip(state) })
                                             .and_then(|state| {
                                                 state
@@ -730,7 +732,7 @@ impl ::pest::Parser<Rule> for DaeParser {
                                                                     .sequence(|state| {
                                                                         self::r#comma(state)
                                                                             .and_then(|state| { super::hidden::skip(state) })
-                                                                            .and_then(|state| { self::r#ident(state) })
+                                                                            .and_then(|state| { self::r#mass_state(state) })
                                                                     })
                                                                     .and_then(|state| {
                                                                         state
@@ -743,7 +745,7 @@ impl ::pest::Parser<Rule> for DaeParser {
                                                                                                     .sequence(|state| {
                                                                                                         self::r#comma(state)
                                                                                                             .and_then(|state| { super::hidden::skip(state) })
-                                                                                                            .and_then(|state| { self::r#ident(state) })
+                                                                                                            .and_then(|state| { self::r#mass_state(state) })
                                                                                                     })
                                                                                             })
                                                                                     })
@@ -796,6 +798,28 @@ impl ::pest::Parser<Rule> for DaeParser {
                                             .and_then(|state| { self::r#rbracket(state) })
                                             .and_then(|state| { super::hidden::skip(state) })
                                             .and_then(|state| { self::r#semi(state) })
+                                    })
+                            },
+                        )
+                }
+                #[inline]
+                #[allow(non_snake_case, unused_variables)]
+                pub fn r#mass_state(
+                    state: ::std::boxed::Box<::pest::ParserState<'_, Rule>>,
+                ) -> ::pest::ParseResult<
+                    ::std::boxed::Box<::pest::ParserState<'_, Rule>>,
+                > {
+                    state
+                        .rule(
+                            Rule::r#mass_state,
+                            |state| {
+                                state
+                                    .sequence(|state| {
+                                        self::r#ident(state)
+                                            .and_then(|state| { super::hidden::skip(state) })
+                                            .and_then(|state| {
+                                                state.optional(|state| { self::r#der_elem(state) })
+                                            })
                                     })
                             },
                         )
@@ -2831,6 +2855,7 @@ impl ::pest::Parser<Rule> for DaeParser {
                     Rule::r#constraint_item => rules::r#constraint_item(state),
                     Rule::r#decl => rules::r#decl(state),
                     Rule::r#mass_item => rules::r#mass_item(state),
+                    Rule::r#mass_state => rules::r#mass_state(state),
                     Rule::r#mass_row => rules::r#mass_row(state),
                     Rule::r#size_item => rules::r#size_item(state),
                     Rule::r#set_item => rules::r#set_item(state),

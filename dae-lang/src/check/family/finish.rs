@@ -9,7 +9,8 @@ use crate::ast::{BinOp, Item, Span};
 use crate::check::{NamedConstraint, der_of_non_state, der_of_time, lets, named_constraints};
 use crate::diag::Diagnostic;
 use crate::model::{
-    ConstraintDef, DerDef, Family, InputDef, LetDef, MapKind, Model, ParamDef, RExpr, VarDef,
+    ConstraintDef, DerDef, Family, InputDef, LetDef, MapKind, MassDef, Model, ParamDef, RExpr,
+    VarDef,
 };
 
 impl Checker<'_> {
@@ -25,41 +26,31 @@ impl Checker<'_> {
             self.resolve_let(d);
         }
         let ders = self.ders();
-        self.no_mass_matrix();
+        let mass = self.mass_matrices();
         let constraints = self.constraints();
         let let_order = self.order_lets();
         if !self.diags.is_empty() {
             self.diags.sort_by_key(|d| d.span.start);
             return Err(self.diags);
         }
-        let mut model = self.build(params, states, algs, inputs, ders, constraints, &let_order);
+        let mut model = self.build(
+            params,
+            states,
+            algs,
+            inputs,
+            ders,
+            mass,
+            constraints,
+            &let_order,
+        );
         let mut diags = Vec::new();
+        crate::check::mass::algebraic_entries(&model, &mut diags);
         crate::family::check_at_default_sizes(&mut model, &mut diags);
         if diags.is_empty() {
             Ok(model)
         } else {
             diags.sort_by_key(|d| d.span.start);
             Err(diags)
-        }
-    }
-
-    /// A mass matrix is a version-1 item: a family's per-element matrices are not in the
-    /// language yet.
-    fn no_mass_matrix(&mut self) {
-        for item in &self.m.items {
-            if let Item::Mass { span, .. } = item {
-                self.diags.push(
-                    Diagnostic::new(
-                        "a mass matrix in a model with families",
-                        *span,
-                        "not available with families",
-                    )
-                    .hint(
-                        "`mass` is available in models without `size`, `set`, `map` and \
-                         `input`; in a family, divide by the mass in the `der` item",
-                    ),
-                );
-            }
         }
     }
 
@@ -475,6 +466,7 @@ impl Checker<'_> {
         algs: Vec<Option<RExpr>>,
         inputs: Vec<Option<RExpr>>,
         ders: Vec<Option<DerDef>>,
+        mut mass: Vec<MassDef>,
         constraints: Vec<Option<ConstraintDef>>,
         let_order: &[usize],
     ) -> Model {
@@ -509,6 +501,9 @@ impl Checker<'_> {
         }
         let mut ders_out: Vec<DerDef> = ders.into_iter().flatten().collect();
         ders_out.iter_mut().for_each(|d| renumber(&mut d.expr));
+        mass.iter_mut()
+            .flat_map(|m| &mut m.entries)
+            .for_each(&renumber);
         let mut constraints_out: Vec<ConstraintDef> = constraints.into_iter().flatten().collect();
         constraints_out
             .iter_mut()
@@ -559,7 +554,7 @@ impl Checker<'_> {
             algs: algs_out,
             lets: lets_out,
             ders: ders_out,
-            mass: Vec::new(),
+            mass,
             constraints: constraints_out,
             sizes: self.sizes,
             sets: self.sets,

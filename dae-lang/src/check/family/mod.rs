@@ -15,6 +15,7 @@ mod access;
 mod decl;
 mod expr;
 mod finish;
+mod mass;
 mod name;
 
 use std::collections::{HashMap, HashSet};
@@ -31,7 +32,9 @@ pub(crate) fn uses_version_2(m: &ModelAst) -> bool {
         Item::Size { .. } | Item::Set { .. } | Item::Map { .. } | Item::Input(..) => true,
         Item::Param(ds, _) | Item::State(ds, _) | Item::Alg(ds, _) => ds.iter().any(decl_v2),
         Item::Let(d, _) => decl_v2(d),
-        Item::Mass { rows, .. } => rows.iter().flatten().any(expr_v2),
+        Item::Mass { states, rows, .. } => {
+            states.iter().any(|(_, elem)| elem.is_some()) || rows.iter().flatten().any(expr_v2)
+        }
         Item::Der { elem, rhs, .. } => elem.is_some() || expr_v2(rhs),
         Item::Constraint {
             binder, lhs, rhs, ..
