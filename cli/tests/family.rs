@@ -545,3 +545,19 @@ fn the_family_examples_of_the_user_docs_are_what_daec_prints_and_reads() {
     let fixture = std::fs::read_to_string(fixture("star.topo")).unwrap();
     assert_eq!(topology, &fixture);
 }
+
+/// A family whose mass matrix is singular at the start (every bead's 2 x 2 has equal
+/// entries): `daec check` names the first derivative that is not finite and the mass
+/// matrix as a cause, instead of a non-finite `J_Omega`.
+#[test]
+fn a_singular_mass_matrix_at_the_start_is_named_by_its_derivative() {
+    let o = daec(&["check", &fixture("beads_singular_mass.dae")]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("the derivative of `v[0].x` in `Beads` is NaN")
+            && err.contains("at t = 0 with the default sizes (N = 3)")
+            && err.contains("a mass matrix it is listed in is singular there"),
+        "{err}"
+    );
+}
