@@ -6,7 +6,10 @@
 //! turned back into the cheapest binary operations: `a - b` rather than `a + (-1) b`,
 //! a quotient of products rather than negative powers, `powi` for integer exponents and
 //! `sqrt` for half-integer ones. Powers of one base that occur in several places of a
-//! function (`l^-1`, `l^-3`, ...) share their `sqrt` and `powi` slots.
+//! function (`l^-1`, `l^-3`, ...) share their `sqrt` and `powi` slots, and an
+//! instruction already on the tape with the same operands (`m * l` at the head of two
+//! products, `a * b` and `b * a`) is not written again: the n-ary nodes share no
+//! partial products in the arena, so this is where they are found.
 
 use std::collections::HashMap;
 
@@ -16,12 +19,7 @@ use crate::sym::{Arena, Id, Node};
 
 /// Emit the nodes reachable from `roots` as one tape whose outputs are the roots.
 pub(crate) fn emit(arena: &Arena, roots: &[Id]) -> Tape {
-    let mut e = Emitter {
-        arena,
-        tape: Tape::new(),
-        done: HashMap::new(),
-        powers: HashMap::new(),
-    };
+    let mut e = Emitter::new(arena);
     for &id in &arena.reachable(roots) {
         let o = e.node(id);
         e.done.insert(id, o);
@@ -43,6 +41,36 @@ pub(crate) struct Emitter<'a> {
     /// `(base, 2 * exponent)` -> operand, for powers with a half-integer or integer
     /// exponent, so that `sqrt(b)` and `b^k` are computed once per tape.
     powers: HashMap<(Id, i64), Operand>,
+    /// The instructions on the tape by what they compute (see [`Key`]).
+    written: HashMap<Key, Operand>,
+}
+
+/// What an instruction computes: its operation and operands, the two operands of `+`
+/// and `*` in a fixed order (both orders give the same bits). Instructions reading
+/// scratch arrays are never shared: only operands whose value is fixed for the whole
+/// tape have a key.
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+enum Key {
+    Unary(UnaryOp, OperandKey),
+    Binary(BinaryOp, OperandKey, OperandKey),
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+enum OperandKey {
+    Const(u64),
+    Input(crate::VarRef),
+    Slot(u32),
+    Gather(crate::VarRef, crate::MapId),
+}
+
+fn operand_key(o: Operand) -> Option<OperandKey> {
+    Some(match o {
+        Operand::Const(c) => OperandKey::Const(c.to_bits()),
+        Operand::Input(v) => OperandKey::Input(v),
+        Operand::Slot(s) => OperandKey::Slot(s),
+        Operand::Gather(v, m) => OperandKey::Gather(v, m),
+        Operand::Array(_) | Operand::ArrayAt(..) => return None,
+    })
 }
 
 impl<'a> Emitter<'a> {
@@ -53,6 +81,7 @@ impl<'a> Emitter<'a> {
             tape: Tape::new(),
             done: HashMap::new(),
             powers: HashMap::new(),
+            written: HashMap::new(),
         }
     }
 }
@@ -63,11 +92,33 @@ impl Emitter<'_> {
     }
 
     fn un(&mut self, op: UnaryOp, a: Operand) -> Operand {
-        self.tape.push(Instr::Unary(op, a))
+        let key = operand_key(a).map(|a| Key::Unary(op, a));
+        self.write(key, Instr::Unary(op, a))
     }
 
     fn bin(&mut self, op: BinaryOp, a: Operand, b: Operand) -> Operand {
-        self.tape.push(Instr::Binary(op, a, b))
+        let key = match (operand_key(a), operand_key(b)) {
+            (Some(x), Some(y)) if matches!(op, BinaryOp::Add | BinaryOp::Mul) => {
+                Some(Key::Binary(op, x.min(y), x.max(y)))
+            }
+            (Some(x), Some(y)) => Some(Key::Binary(op, x, y)),
+            _ => None,
+        };
+        self.write(key, Instr::Binary(op, a, b))
+    }
+
+    /// `instr` on the tape, or the slot of the same computation written before.
+    fn write(&mut self, key: Option<Key>, instr: Instr) -> Operand {
+        if let Some(k) = key
+            && let Some(&o) = self.written.get(&k)
+        {
+            return o;
+        }
+        let o = self.tape.push(instr);
+        if let Some(k) = key {
+            self.written.insert(k, o);
+        }
+        o
     }
 
     /// Emits node `id` (its children are in `done`); its operand.
@@ -203,5 +254,50 @@ impl Emitter<'_> {
             return o;
         }
         self.bin(BinaryOp::Call(Func::Pow), base, Operand::Const(e))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::emit;
+    use crate::sym::Arena;
+    use crate::tape::{Inputs, Instr};
+    use crate::{Func, StateId, VarRef};
+
+    /// Two products with the head `x0 * x1` (two n-ary nodes of the arena, which
+    /// shares no partial products): the head is on the tape once, and every output is
+    /// what the expressions say.
+    #[test]
+    fn an_instruction_already_on_the_tape_is_not_written_again() {
+        let mut a = Arena::new();
+        let x: Vec<_> = (0..3)
+            .map(|i| a.var(VarRef::State(StateId::new(i))))
+            .collect();
+        let head = a.mul(x[0], x[1]);
+        let p = a.mul(head, x[2]);
+        let s = a.call(Func::Sin, &[x[2]]);
+        let q = a.mul(head, s);
+        let tape = emit(&a, &[p, q]);
+        // x0 * x1 once, then * x2 and * sin(x2).
+        let muls = tape
+            .instrs()
+            .iter()
+            .filter(|i| matches!(i, Instr::Binary(super::BinaryOp::Mul, ..)))
+            .count();
+        assert_eq!(muls, 3);
+        let states = [0.7, -1.3, 2.1];
+        let inputs = Inputs {
+            params: &[],
+            states: &states,
+            algs: &[],
+            mu: &[],
+            t: 0.0,
+        };
+        let mut slots = vec![0.0; tape.n_slots()];
+        let mut out = vec![0.0; 2];
+        tape.eval(&inputs, &mut slots, &mut out);
+        let [x0, x1, x2] = states;
+        assert_eq!(out[0], x0 * x1 * x2);
+        assert_eq!(out[1], x0 * x1 * x2.sin());
     }
 }
