@@ -51,6 +51,16 @@ fn check_invariants(m: &Model) {
         assert_eq!(m.constraints.len(), m.algs.len());
         assert!(m.params.iter().all(|p| p.default.is_finite()));
     }
+    // Each mass matrix is square over distinct states of the model, each in one matrix.
+    let mut listed = std::collections::HashSet::new();
+    for mass in &m.mass {
+        let n = mass.states.len();
+        assert_eq!(mass.entries.len(), n * n, "a mass matrix over {n} states");
+        assert_eq!(mass.entry_spans.len(), n * n);
+        for s in &mass.states {
+            assert!(s.index() < m.states.len() && listed.insert(s.index()));
+        }
+    }
     for (i, l) in m.lets.iter().enumerate() {
         assert!(
             max_let(&l.expr).is_none_or(|j| j < i),

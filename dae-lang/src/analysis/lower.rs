@@ -51,6 +51,19 @@ pub fn lower(model: &Model, simplify: bool) -> Lowered {
             .iter()
             .map(|e| lowering.expr(&mut arena, e))
             .collect();
+        // A matrix that breaks the checked-model contract (not square over its states,
+        // a state out of range) gives NaN derivatives, which the initial-point check
+        // reports, rather than a panic.
+        let n = m.states.len();
+        if entries.len() != n * n || m.states.iter().any(|s| s.index() >= f.len()) {
+            let nan = arena.num(f64::NAN);
+            for s in &m.states {
+                if let Some(slot) = f.get_mut(s.index()) {
+                    *slot = nan;
+                }
+            }
+            continue;
+        }
         let rhs: Vec<Id> = m.states.iter().map(|s| f[s.index()]).collect();
         for (s, x) in m.states.iter().zip(solve(&mut arena, entries, rhs)) {
             f[s.index()] = x;
@@ -233,6 +246,23 @@ impl<'a> Lowering<'a> {
 mod tests {
     use super::solve;
     use crate::sym::Arena;
+
+    /// A mass matrix that breaks the checked-model contract (built by hand, one entry
+    /// short) is an error at the initial point, not a panic.
+    #[test]
+    fn a_mass_matrix_that_is_not_square_is_reported_not_read() {
+        let src = "model M { state x = 0, v = 1; alg z = 0; der(x) = v; \
+                   mass [v] = [2]; der(v) = z; constraint c: x = 0; }";
+        let mut model = crate::check_source(src).expect("checks").remove(0);
+        model.mass[0].entries.clear();
+        // `der(v)` lowers to NaN: the constraint then never reaches `z`.
+        let errs = crate::analyze(&model, &crate::AnalysisOptions::default())
+            .expect_err("a NaN derivative");
+        assert!(
+            errs[0].message.contains("constraint `c` has no index"),
+            "{errs:?}"
+        );
+    }
 
     /// `solve` on numbers (the arena folds them) against `M x = b` multiplied out: a
     /// dense non-symmetric matrix and one with structural zeros, which are skipped.

@@ -206,6 +206,9 @@ fn family_name(name: &str) -> &str {
 /// elimination the compiler writes symbolically (a symmetric positive definite matrix,
 /// as the mass matrices of mechanics are, has positive pivots in any order).
 pub(crate) fn zero_pivot(mut a: Vec<f64>, n: usize) -> Option<usize> {
+    if a.len() != n * n {
+        return None;
+    }
     let scale = a.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     for k in 0..n {
         let p = a[k * n + k];
