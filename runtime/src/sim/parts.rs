@@ -122,6 +122,8 @@ pub(super) struct RunState {
     pub(super) force_update: bool,
     /// Steps in a row that made almost no progress (the progress guard of `step`).
     pub(super) short_steps: u32,
+    /// Steps in a row that made none to rounding (the progress guard of `step`).
+    pub(super) tiny_steps: u32,
 }
 
 impl RunState {
@@ -139,6 +141,7 @@ impl RunState {
             update_requested: false,
             force_update: false,
             short_steps: 0,
+            tiny_steps: 0,
         }
     }
 }

@@ -12,10 +12,18 @@ use crate::{Model, SimError};
 /// may reach (`s'` drifts within an interval, so the crossing lands somewhat before or
 /// after the prediction).
 const AIM_PAST_CROSSING: f64 = 1.3;
-/// A step shorter than this fraction of the reference step makes no progress.
+/// A step shorter than this fraction of the reference step makes almost no progress:
+/// after [`SHORT_STEPS`] such steps in a row the next step is neither aimed nor cut.
+/// Events of several variables a few `eps`-scaled moments apart make legitimate steps
+/// this short (Andrews' mechanism at eps = 1e-10: 2e-10 s against a reference step of
+/// 2e-3 s), hence the many in a row; a variable held on its layer by rounding (Zeno)
+/// makes them shrink to nothing, which [`TINY_FRACTION`] catches at once.
 const STALL_FRACTION: f64 = 1e-6;
-/// After this many such steps in a row, the next step is neither aimed nor cut.
-const STALL_STEPS: u32 = 2;
+const SHORT_STEPS: u32 = 64;
+/// A step shorter than this fraction of the reference step makes no progress but
+/// rounding: after [`TINY_STEPS`] in a row the next step is neither aimed nor cut.
+const TINY_FRACTION: f64 = 1e-12;
+const TINY_STEPS: u32 = 2;
 /// Retries of a fixed step shortened for its error in `s` (each at most a tenth of the
 /// last): the estimate follows `h^4` (RK4) or `h^2` (Euler), so one or two suffice; the
 /// rest guards a model whose `s` is not smooth.
@@ -123,12 +131,12 @@ impl<M: Model> Simulator<M> {
         self.stats.steps += 1;
         // Progress guard: aimed and cut steps shrink without bound when a variable sits
         // on its watch level with a rate lost in rounding (Zeno); after two steps
-        // shorter than a millionth of the reference step, the next is taken whole.
-        if self.pt.t - t0 < STALL_FRACTION * self.reference_step() {
-            self.run.short_steps += 1;
-        } else {
-            self.run.short_steps = 0;
-        }
+        // shorter than 1e-12 of the reference step, or 64 shorter than a millionth of
+        // it, the next is taken whole.
+        let (h, reference) = (self.pt.t - t0, self.reference_step());
+        let count = |n: &mut u32, short: bool| *n = if short { *n + 1 } else { 0 };
+        count(&mut self.run.short_steps, h < STALL_FRACTION * reference);
+        count(&mut self.run.tiny_steps, h < TINY_FRACTION * reference);
         Ok(())
     }
 
@@ -544,7 +552,7 @@ impl<M: Model> Simulator<M> {
 
     /// Whether the last steps stalled (see the progress guard in [`Self::step`]).
     pub(super) fn stalled(&self) -> bool {
-        self.run.short_steps >= STALL_STEPS
+        self.run.short_steps >= SHORT_STEPS || self.run.tiny_steps >= TINY_STEPS
     }
 
     /// The true `s_i` at `t0 + theta h` along the dense output of `x` (which starts at
