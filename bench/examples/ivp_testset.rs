@@ -26,35 +26,7 @@ use dae_bench::{
 use dae_runtime::{Model, Simulator, design::Online, trace::NoTrace};
 use std::time::Instant;
 
-/// The test set's reference positions `xl, yl, xr, yr` of the car axis at t = 3.
-const CAR_AXIS_AT_3: [f64; 4] = [
-    0.4934557842755629e-1,
-    0.4969894602303324,
-    1.0417425248854,
-    0.3739110272652214,
-];
-
-/// The test set's reference angles of Andrews' mechanism at t = 0.03 (`y(1..7)`).
-const ANDREWS_AT_003: [f64; 7] = [
-    0.1581077119629904e+2,
-    -0.1575637105984298e+2,
-    0.4082224013073101e-1,
-    -0.5347301163226948,
-    0.5244099658805304,
-    0.5347301163226948,
-    0.1048080741042263e+1,
-];
-
-/// The test set's reference coordinates of the slider crank at t = 0.1 (`y(1..7)`).
-const SLIDER_CRANK_AT_01: [f64; 7] = [
-    0.1500000000000104e+2,
-    -0.331173498825626,
-    0.169737332842786,
-    0.1893192899613509e-3,
-    0.2375751249879174e-4,
-    -0.5323896770569702e-5,
-    -0.8363313279112129e-5,
-];
+include!("../../examples/models/ivp_references.rs");
 
 /// One problem: its model, end time, reference, and the knobs of each method.
 struct Problem<'a> {
@@ -161,7 +133,7 @@ fn run(p: &Problem<'_>) -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     for &eps in p.eps {
-        online(p, eps);
+        online(&scene, eps);
     }
     println!();
     Ok(())
@@ -170,39 +142,33 @@ fn run(p: &Problem<'_>) -> Result<(), Box<dyn std::error::Error>> {
 /// A row of DBSMC as `daec run FILE --t-end T --eps E` runs it (the runtime's online
 /// design from eps and t_end alone), on the generated code: the best wall time of three,
 /// design included.
-fn online(p: &Problem<'_>, eps: f64) {
-    let m = p.model.n_constraints();
+fn online<M: Model + ?Sized>(scene: &Scene<'_, M>, eps: f64) {
+    let (model, t_end) = (scene.model, scene.t_end);
+    let eps_all = vec![eps; model.n_constraints()];
     let mut best = f64::INFINITY;
-    let mut last = None;
+    let mut run = Err(String::new());
     for _ in 0..3 {
         let start = Instant::now();
-        let run = Online::default()
-            .design(p.model, &vec![eps; m], p.t_end)
+        run = Online::default()
+            .design(model, &eps_all, t_end)
             .map_err(|e| e.to_string())
-            .and_then(|s| Simulator::new(p.model, s).map_err(|e| e.to_string()))
+            .and_then(|s| Simulator::new(model, s).map_err(|e| e.to_string()))
             .and_then(|mut sim| sim.run(&mut NoTrace).map_err(|e| e.to_string()));
         best = best.min(start.elapsed().as_secs_f64());
-        last = Some(run);
     }
-    match last {
-        Some(Ok(s)) => {
-            let err = p
-                .truth
-                .iter()
-                .zip(&s.x)
-                .map(|(r, x)| (x - r).abs())
-                .fold(0.0, f64::max);
+    match run {
+        Ok(s) => {
             let w = s.seen_max_abs_w.iter().fold(0.0_f64, |a, &b| a.max(b));
             println!(
-                "| DBSMC online (daec run) | eps={eps:.1e} | yes | {err:.2e} | {w:.2e} | {} | {} | {:.2} |",
+                "| DBSMC online (daec run) | eps={eps:.1e} | yes | {:.2e} | {w:.2e} | {} | {} | {:.2} |",
+                scene.position_error(&s.x),
                 s.f_evals,
                 s.solver.factorisations + s.solver.solves,
                 best * 1e3
             );
         }
-        Some(Err(e)) => {
+        Err(e) => {
             println!("| DBSMC online (daec run) | eps={eps:.1e} | {e} | NaN | NaN | 0 | 0 | NaN |")
         }
-        None => {}
     }
 }

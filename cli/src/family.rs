@@ -572,10 +572,10 @@ pub(crate) fn at_default_sizes(
     let mut z = vec![0.0; m];
     model.initial_state(&mut x);
     model.initial_alg(&mut z);
+    let which = if given { "given" } else { "default" };
     let mut dx = vec![0.0; n];
     model.rhs(0.0, &x, &z, &mut dx);
     if let Some(k) = dx.iter().position(|v| !v.is_finite()) {
-        let which = if given { "given" } else { "default" };
         error!(
             "the derivative of `{}` in `{name}` is {} at t = 0 with the {which} sizes ({sizes})\n  hint: an operation of its `der` item has no finite value at the start (a division by zero?), or a mass matrix it is listed in is singular there",
             model.state_name(k),
@@ -615,7 +615,6 @@ pub(crate) fn at_default_sizes(
             solver: solver_name,
         })),
         Err(dae_runtime::solve::SolveError::Singular { constraints }) => {
-            let which = if given { "given" } else { "default" };
             let at = format!("t = 0 with the {which} sizes ({sizes})");
             match Redundant::at(&model, 0.0, &x, &z) {
                 Some(r) => {

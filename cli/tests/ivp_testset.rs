@@ -5,6 +5,8 @@ mod common;
 
 use common::{daec, example};
 
+include!("../../examples/models/ivp_references.rs");
+
 /// The `--json` summary of `daec run` of an example to `t_end` with `--eps eps` and
 /// everything else chosen, which must hold its bound.
 fn run_json(file: &str, t_end: &str, eps: &str) -> serde_json::Value {
@@ -25,15 +27,6 @@ fn run_json(file: &str, t_end: &str, eps: &str) -> serde_json::Value {
     );
     serde_json::from_slice(&o.stdout).expect("the JSON summary")
 }
-
-/// The car axis problem's positions `xl, yl, xr, yr` at t = 3 (the test set's reference
-/// solution, `y(1..4)`).
-const CAR_AXIS_AT_3: [f64; 4] = [
-    0.4934557842755629e-1,
-    0.4969894602303324,
-    1.0417425248854,
-    0.3739110272652214,
-];
 
 /// The largest relative error of the positions at t = 3 of `daec run` with `--eps eps`
 /// and everything else chosen.
@@ -58,18 +51,6 @@ fn the_car_axis_ends_at_the_test_set_s_reference_to_its_eps() {
     assert!(fine < 2e-6, "eps 1e-6: {fine:e}");
 }
 
-/// Andrews' squeezing mechanism's angles at t = 0.03 (the test set's reference
-/// solution, `y(1..7)`, computed by PSIDE with tolerances 1e-14).
-const ANDREWS_AT_003: [f64; 7] = [
-    0.1581077119629904e+2,
-    -0.1575637105984298e+2,
-    0.4082224013073101e-1,
-    -0.5347301163226948,
-    0.5244099658805304,
-    0.5347301163226948,
-    0.1048080741042263e+1,
-];
-
 /// Written with its mass matrix (`examples/models/andrews.dae`), designed and run by
 /// `daec run` alone. Measured: 2.3e-5 at eps = 1e-6 and 2.0e-6 at 1e-7
 /// (docs/work-precision.md); the target is 1e-4.
@@ -85,19 +66,6 @@ fn andrews_squeezer_ends_at_the_test_set_s_reference_within_1e_4() {
         );
     }
 }
-
-/// The slider crank's coordinates at t = 0.1 (the test set's reference solution,
-/// `y(1..7)`, computed by MEBDFI with tolerances 1e-14): the rigid `p1, p2, x3`, then
-/// the rod's elastic coordinates `q1 .. q4` (metres, of order 1e-5).
-const SLIDER_CRANK_AT_01: [f64; 7] = [
-    0.1500000000000104e+2,
-    -0.331173498825626,
-    0.169737332842786,
-    0.1893192899613509e-3,
-    0.2375751249879174e-4,
-    -0.5323896770569702e-5,
-    -0.8363313279112129e-5,
-];
 
 /// Written with its 7 x 7 mass matrix (`examples/models/slider_crank.dae`). Measured at
 /// eps = 1e-6: the rigid coordinates within 5.3e-8 relative, the elastic ones within

@@ -13,7 +13,7 @@
 
 use std::collections::HashMap;
 
-use super::{BinaryOp, Instr, Operand, Tape, UnaryOp};
+use super::{BinaryOp, Instr, Operand, OperandKey, Tape, UnaryOp};
 use crate::Func;
 use crate::sym::{Arena, Id, Node};
 
@@ -46,31 +46,11 @@ pub(crate) struct Emitter<'a> {
 }
 
 /// What an instruction computes: its operation and operands, the two operands of `+`
-/// and `*` in a fixed order (both orders give the same bits). Instructions reading
-/// scratch arrays are never shared: only operands whose value is fixed for the whole
-/// tape have a key.
+/// and `*` in a fixed order (both orders give the same bits).
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
 enum Key {
     Unary(UnaryOp, OperandKey),
     Binary(BinaryOp, OperandKey, OperandKey),
-}
-
-#[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-enum OperandKey {
-    Const(u64),
-    Input(crate::VarRef),
-    Slot(u32),
-    Gather(crate::VarRef, crate::MapId),
-}
-
-fn operand_key(o: Operand) -> Option<OperandKey> {
-    Some(match o {
-        Operand::Const(c) => OperandKey::Const(c.to_bits()),
-        Operand::Input(v) => OperandKey::Input(v),
-        Operand::Slot(s) => OperandKey::Slot(s),
-        Operand::Gather(v, m) => OperandKey::Gather(v, m),
-        Operand::Array(_) | Operand::ArrayAt(..) => return None,
-    })
 }
 
 impl<'a> Emitter<'a> {
@@ -92,32 +72,26 @@ impl Emitter<'_> {
     }
 
     fn un(&mut self, op: UnaryOp, a: Operand) -> Operand {
-        let key = operand_key(a).map(|a| Key::Unary(op, a));
-        self.write(key, Instr::Unary(op, a))
+        self.write(Key::Unary(op, a.key()), Instr::Unary(op, a))
     }
 
     fn bin(&mut self, op: BinaryOp, a: Operand, b: Operand) -> Operand {
-        let key = match (operand_key(a), operand_key(b)) {
-            (Some(x), Some(y)) if matches!(op, BinaryOp::Add | BinaryOp::Mul) => {
-                Some(Key::Binary(op, x.min(y), x.max(y)))
-            }
-            (Some(x), Some(y)) => Some(Key::Binary(op, x, y)),
-            _ => None,
+        let (x, y) = (a.key(), b.key());
+        let key = if matches!(op, BinaryOp::Add | BinaryOp::Mul) {
+            Key::Binary(op, x.min(y), x.max(y))
+        } else {
+            Key::Binary(op, x, y)
         };
         self.write(key, Instr::Binary(op, a, b))
     }
 
     /// `instr` on the tape, or the slot of the same computation written before.
-    fn write(&mut self, key: Option<Key>, instr: Instr) -> Operand {
-        if let Some(k) = key
-            && let Some(&o) = self.written.get(&k)
-        {
+    fn write(&mut self, key: Key, instr: Instr) -> Operand {
+        if let Some(&o) = self.written.get(&key) {
             return o;
         }
         let o = self.tape.push(instr);
-        if let Some(k) = key {
-            self.written.insert(k, o);
-        }
+        self.written.insert(key, o);
         o
     }
 

@@ -39,6 +39,31 @@ pub enum Operand {
     ArrayAt(ArrayId, MapId),
 }
 
+/// An operand as a key of a hash map: what it reads, a literal by its bits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub(crate) enum OperandKey {
+    Const(u64),
+    Input(VarRef),
+    Slot(u32),
+    Gather(VarRef, MapId),
+    Array(ArrayId),
+    ArrayAt(ArrayId, MapId),
+}
+
+impl Operand {
+    /// This operand as a key ([`OperandKey`]).
+    pub(crate) fn key(self) -> OperandKey {
+        match self {
+            Operand::Const(c) => OperandKey::Const(c.to_bits()),
+            Operand::Input(v) => OperandKey::Input(v),
+            Operand::Slot(k) => OperandKey::Slot(k),
+            Operand::Gather(v, m) => OperandKey::Gather(v, m),
+            Operand::Array(a) => OperandKey::Array(a),
+            Operand::ArrayAt(a, m) => OperandKey::ArrayAt(a, m),
+        }
+    }
+}
+
 /// One-operand operations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum UnaryOp {

@@ -2,28 +2,11 @@
 
 use std::collections::HashMap;
 
-use super::{BinaryOp, Instr, Operand, Tape};
-use crate::{ArrayId, MapId, VarRef};
+use super::{BinaryOp, Instr, Operand, OperandKey, Tape};
 
-/// An operand that is not a literal, as a key.
-#[derive(Clone, Copy, PartialEq, Eq, Hash)]
-enum Key {
-    Input(VarRef),
-    Slot(u32),
-    Gather(VarRef, MapId),
-    Array(ArrayId),
-    ArrayAt(ArrayId, MapId),
-}
-
-fn key(o: Operand) -> Option<Key> {
-    match o {
-        Operand::Const(_) => None,
-        Operand::Input(v) => Some(Key::Input(v)),
-        Operand::Slot(k) => Some(Key::Slot(k)),
-        Operand::Gather(v, m) => Some(Key::Gather(v, m)),
-        Operand::Array(a) => Some(Key::Array(a)),
-        Operand::ArrayAt(a, m) => Some(Key::ArrayAt(a, m)),
-    }
+/// A divisor that is not a literal, as a key.
+fn key(o: Operand) -> Option<OperandKey> {
+    (!matches!(o, Operand::Const(_))).then(|| o.key())
 }
 
 impl Tape {
@@ -35,7 +18,7 @@ impl Tape {
     /// rounding (the two roundings of `a * (1 / b)` against the one of `a / b`); a
     /// divisor used once keeps its division. Linear in the length of the tape.
     pub fn with_shared_reciprocals(&self) -> Tape {
-        let mut uses: HashMap<Key, u32> = HashMap::new();
+        let mut uses: HashMap<OperandKey, u32> = HashMap::new();
         for instr in &self.instrs {
             if let Instr::Binary(BinaryOp::Div, _, b) = *instr {
                 if let Some(k) = key(b) {
@@ -49,7 +32,7 @@ impl Tape {
         let mut out = Tape::new();
         // The operand of the new tape that holds each slot of this one.
         let mut moved: Vec<Operand> = Vec::with_capacity(self.instrs.len());
-        let mut reciprocal: HashMap<Key, Operand> = HashMap::new();
+        let mut reciprocal: HashMap<OperandKey, Operand> = HashMap::new();
         let at = |o: Operand, moved: &[Operand]| match o {
             Operand::Slot(k) => moved[k as usize],
             o => o,
@@ -87,7 +70,7 @@ impl Tape {
 mod tests {
     use super::*;
     use crate::tape::Inputs;
-    use crate::{ParamId, StateId};
+    use crate::{ParamId, StateId, VarRef};
 
     fn state(i: usize) -> Operand {
         Operand::Input(VarRef::State(StateId::new(i)))

@@ -18,7 +18,7 @@ const AIM_PAST_CROSSING: f64 = 1.3;
 /// this short (Andrews' mechanism at eps = 1e-10: 2e-10 s against a reference step of
 /// 2e-3 s), hence the many in a row; a variable held on its layer by rounding (Zeno)
 /// makes them shrink to nothing, which [`TINY_FRACTION`] catches at once.
-const STALL_FRACTION: f64 = 1e-6;
+const SHORT_FRACTION: f64 = 1e-6;
 const SHORT_STEPS: u32 = 64;
 /// A step shorter than this fraction of the reference step makes no progress but
 /// rounding: after [`TINY_STEPS`] in a row the next step is neither aimed nor cut.
@@ -135,7 +135,7 @@ impl<M: Model> Simulator<M> {
         // it, the next is taken whole.
         let (h, reference) = (self.pt.t - t0, self.reference_step());
         let count = |n: &mut u32, short: bool| *n = if short { *n + 1 } else { 0 };
-        count(&mut self.run.short_steps, h < STALL_FRACTION * reference);
+        count(&mut self.run.short_steps, h < SHORT_FRACTION * reference);
         count(&mut self.run.tiny_steps, h < TINY_FRACTION * reference);
         Ok(())
     }

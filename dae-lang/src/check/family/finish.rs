@@ -4,8 +4,8 @@
 use std::collections::HashMap;
 
 use super::expr::{Env, Ty, Val, Where};
-use super::{Checker, Component, Kind, LET_STRIDE, LetState};
-use crate::ast::{BinOp, Item, Span};
+use super::{Checker, Component, Entry, Kind, LET_STRIDE, LetState};
+use crate::ast::{BinOp, Ident, Item, Span};
 use crate::check::{NamedConstraint, der_of_non_state, der_of_time, lets, named_constraints};
 use crate::diag::Diagnostic;
 use crate::model::{
@@ -192,6 +192,29 @@ impl Checker<'_> {
     }
 
     /// The `der` equations, per state component.
+    /// The state `name` names (in `der(name)` or a `mass` item), or `None` with the
+    /// error reported (nothing more for a name declared twice, already reported).
+    pub(super) fn state_named(&mut self, name: &Ident) -> Option<Entry> {
+        let text = name.name.as_str();
+        match self.names.get(text) {
+            Some(e) if e.kind == Kind::State => Some(*e),
+            Some(_) if self.duplicated.contains(text) => None,
+            Some(e) => {
+                let d = der_of_non_state(text, name.span, e.kind.words(), e.span);
+                self.diags.push(d);
+                None
+            }
+            None => {
+                if text == "t" {
+                    self.diags.push(der_of_time(name.span));
+                } else {
+                    self.unknown_name(text, name.span);
+                }
+                None
+            }
+        }
+    }
+
     fn ders(&mut self) -> Vec<Option<DerDef>> {
         let m = self.m;
         let mut out: Vec<Option<DerDef>> = vec![None; self.states.len()];
@@ -207,22 +230,8 @@ impl Checker<'_> {
                 continue;
             };
             let name = target.name.as_str();
-            let entry = match self.names.get(name) {
-                Some(e) if e.kind == Kind::State => *e,
-                Some(_) if self.duplicated.contains(name) => continue,
-                Some(e) => {
-                    let d = der_of_non_state(name, target.span, e.kind.words(), e.span);
-                    self.diags.push(d);
-                    continue;
-                }
-                None => {
-                    if name == "t" {
-                        self.diags.push(der_of_time(target.span));
-                    } else {
-                        self.unknown_name(name, target.span);
-                    }
-                    continue;
-                }
+            let Some(entry) = self.state_named(target) else {
+                continue;
             };
             let mut env = Env {
                 ctx: entry.over,

@@ -3,8 +3,8 @@
 //! entries resolved in that element's context. The version-1 checker's rules apply
 //! (`crate::check::mass`): distinct states, a square matrix, no algebraic unknown.
 
+use super::Checker;
 use super::expr::{Binding, Env, Ty, Via, Where};
-use super::{Checker, Kind};
 use crate::StateId;
 use crate::ast::{Ident, Item};
 use crate::check::mass::{Listed, check_shape};
@@ -104,19 +104,7 @@ impl Checker<'_> {
         elem: Option<&Ident>,
     ) -> Option<(usize, usize, Option<crate::SetId>)> {
         let text = name.name.as_str();
-        let entry = match self.names.get(text) {
-            Some(e) if e.kind == Kind::State => *e,
-            Some(_) if self.duplicated.contains(text) => return None,
-            Some(e) => {
-                let d = crate::check::der_of_non_state(text, name.span, e.kind.words(), e.span);
-                self.diags.push(d);
-                return None;
-            }
-            None => {
-                self.unknown_name(text, name.span);
-                return None;
-            }
-        };
+        let entry = self.state_named(name)?;
         match (entry.over, elem) {
             (Some(set), None) => {
                 let s = &self.sets[set.index()];
