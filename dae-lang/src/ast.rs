@@ -293,7 +293,7 @@ pub enum ExprKind {
 
 impl ExprKind {
     /// Whether this form is version 2's alone (element access, components, sums and the
-    /// construction-time forms): the version-1 checker never sees one.
+    /// construction-time forms): a model with one is checked as a version-2 model.
     pub(crate) fn is_version_2(&self) -> bool {
         match self {
             ExprKind::Num(_)

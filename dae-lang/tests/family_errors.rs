@@ -371,7 +371,7 @@ fn a_let_family_that_uses_itself() {
                           + vec3(0, 0, -g));
     constraint link[l in L]: norm(d[l]) = L0;",
     );
-    error_at(&src, "uses itself", "u[l in L]", "let u");
+    error_at(&src, "form a cycle: u -> u", "u[l in L]", "let u");
 }
 
 #[test]

@@ -10,7 +10,6 @@
 //! the same value everywhere, so one that is not finite (`0/0`, `1/0`) is an error of
 //! the model, not only of its start.
 
-use super::resolve::{Kind, Scope};
 use crate::Func;
 use crate::ast::{BinOp, Decl, Expr, ExprKind, Item, ModelAst, Span};
 use crate::diag::Diagnostic;
@@ -22,6 +21,15 @@ struct Val {
     constant: bool,
 }
 
+/// What a declared name is, with its position among the declarations of its kind.
+#[derive(Clone, Copy)]
+pub(super) enum Named {
+    Param(usize),
+    State(usize),
+    Alg(usize),
+    Let(usize),
+}
+
 /// The values of the declared names at the initial point (`None`: unknown or not
 /// finite, and already reported).
 pub(super) struct Start<'a> {
@@ -30,26 +38,34 @@ pub(super) struct Start<'a> {
     pub algs: Vec<Option<f64>>,
 }
 
+/// A `let`'s value at the initial point, computed on first use.
+#[derive(Clone, Copy)]
+enum LetValue {
+    Todo,
+    Done(Option<Val>),
+}
+
 /// Reports every operation of the model's equations whose value at the initial point is
 /// not finite, with its operands all finite (the first operation that fails, not those
-/// that inherit its value). `lets` are the `let` declarations and `let_order` an order
-/// in which each uses only earlier ones.
+/// that inherit its value). `names` tells what a name declares (every name is resolved
+/// already); `lets` are the `let` declarations, each evaluated once, before its first
+/// use.
 pub(super) fn check(
     m: &ModelAst,
-    scope: &Scope<'_>,
+    names: &dyn Fn(&str) -> Option<Named>,
     start: Start<'_>,
     lets: &[&Decl],
-    let_order: &[usize],
     diags: &mut Vec<Diagnostic>,
 ) {
     let mut w = Walk {
-        scope,
+        names,
         start,
-        lets: vec![None; lets.len()],
+        decls: lets,
+        lets: vec![LetValue::Todo; lets.len()],
         diags,
     };
-    for &i in let_order {
-        w.lets[i] = w.eval(&lets[i].value);
+    for i in 0..lets.len() {
+        w.let_value(i);
     }
     for item in &m.items {
         match item {
@@ -87,15 +103,28 @@ pub(super) fn check(
     }
 }
 
-struct Walk<'s, 'n, 'p, 'd> {
-    scope: &'s Scope<'n>,
+struct Walk<'n, 'p, 'l, 'd> {
+    names: &'n dyn Fn(&str) -> Option<Named>,
     start: Start<'p>,
+    decls: &'l [&'l Decl],
     /// Values of the lets, by declaration.
-    lets: Vec<Option<Val>>,
+    lets: Vec<LetValue>,
     diags: &'d mut Vec<Diagnostic>,
 }
 
 impl Walk<'_, '_, '_, '_> {
+    /// The value of `let` declaration `i`, evaluated on first use (the checker has
+    /// ruled out cycles).
+    fn let_value(&mut self, i: usize) -> Option<Val> {
+        if let LetValue::Done(v) = *self.lets.get(i)? {
+            return v;
+        }
+        let decls = self.decls;
+        let v = self.eval(&decls[i].value);
+        self.lets[i] = LetValue::Done(v);
+        v
+    }
+
     fn eval(&mut self, e: &Expr) -> Option<Val> {
         let variable = |v: Option<f64>| v.map(|v| Val { v, constant: false });
         match &e.kind {
@@ -106,12 +135,11 @@ impl Walk<'_, '_, '_, '_> {
             ExprKind::Time => variable(Some(0.0)),
             ExprKind::Name(n) => {
                 // Resolved by the checker already; an unknown name is not reached.
-                let entry = self.scope.names.get(n.as_str())?;
-                match entry.kind {
-                    Kind::Param => variable(*self.start.params.get(entry.index)?),
-                    Kind::State => variable(*self.start.states.get(entry.index)?),
-                    Kind::Alg => variable(*self.start.algs.get(entry.index)?),
-                    Kind::Let => *self.lets.get(entry.index)?,
+                match (self.names)(n.as_str())? {
+                    Named::Param(i) => variable(*self.start.params.get(i)?),
+                    Named::State(i) => variable(*self.start.states.get(i)?),
+                    Named::Alg(i) => variable(*self.start.algs.get(i)?),
+                    Named::Let(i) => self.let_value(i),
                 }
             }
             ExprKind::Neg(a) => {
@@ -164,8 +192,8 @@ impl Walk<'_, '_, '_, '_> {
                 };
                 self.report(e.span, constant, what, v)
             }
-            // The forms of version 2 (element access, sums, vectors, `if`): a model that
-            // uses one goes to the family checker, never here.
+            // The forms of version 2 (element access, sums, vectors, `if`): the checker
+            // walks only models without them.
             _ => None,
         }
     }

@@ -1,5 +1,5 @@
-//! Evaluation of constant expressions: parameter defaults and initial values, which use
-//! only numbers and parameters.
+//! Evaluation of constant expressions: the parameter defaults and initial values of a
+//! model that uses nothing of version 2, which use only numbers and parameters.
 
 use crate::VarRef;
 use crate::ast::BinOp;
@@ -11,8 +11,8 @@ pub(super) fn eval(e: &RExpr, params: &[Option<f64>]) -> Option<f64> {
     Some(match e {
         RExpr::Num(v) => *v,
         RExpr::Var(VarRef::Param(i)) => (*params.get(i.index())?)?,
-        // The version-1 checker evaluates only what it resolves (the family checker has
-        // its own construction-time evaluator).
+        // A version-1 value reads only numbers and parameters (a model over sets is
+        // evaluated by its construction, `crate::family::ceval`).
         RExpr::Var(_)
         | RExpr::Let(_)
         | RExpr::Gather(..)

@@ -3,58 +3,150 @@
 //! `der` items. Checked here: the names are distinct states in at most one matrix,
 //! the matrix is n x n, and no entry depends on an algebraic unknown (directly or
 //! through a `let`), so that `J_Omega`, `beta` and `alpha` stay what docs/method.md
-//! derives through `M^-1`. The family checker lists its states at an element and
-//! shares the rest.
+//! derives through `M^-1`. In a model over sets a matrix is one per element of the set
+//! its listed states are families over (a vector state lists its components in order),
+//! its entries resolved in that element's context.
 
-use super::resolve::{Ctx, Scope};
-use super::state_named;
-use crate::ast::{Expr, Ident, Item, ModelAst, Span};
+use super::Checker;
+use super::expr::{Binding, Env, Ty, Via, Where};
+use crate::ast::{Expr, Ident, Item, Span};
 use crate::diag::Diagnostic;
 use crate::model::{MassDef, Model, RExpr};
 use crate::{StateId, VarRef};
 use std::collections::HashMap;
 
-/// The mass matrices of a version-1 model, in the order written (`None` where one is
-/// in error, already reported). That no entry reads an algebraic unknown is checked on
-/// the built model ([`algebraic_entries`]).
-pub(super) fn mass_matrices(
-    m: &ModelAst,
-    scope: &Scope<'_>,
-    diags: &mut Vec<Diagnostic>,
-) -> Vec<Option<MassDef>> {
-    let mut listed = Listed::default();
-    let mut out = Vec::new();
-    for item in &m.items {
-        let Item::Mass { states, rows, span } = item else {
-            continue;
-        };
-        let before = diags.len();
-        let mut ids = Vec::with_capacity(states.len());
-        for (s, _) in states {
-            let Some(entry) = state_named(scope, s, diags) else {
+impl Checker<'_> {
+    /// The mass matrices, in the order written (the ones in error reported and left out).
+    pub(super) fn mass_matrices(&mut self) -> Vec<MassDef> {
+        let mut listed = Listed::default();
+        let mut out = Vec::new();
+        for item in &self.m.items {
+            let Item::Mass { states, rows, span } = item else {
                 continue;
             };
-            if listed.first_time(entry.index, s, diags) {
-                ids.push(StateId::new(entry.index));
+            let before = self.diags.len();
+            let mut env = Env {
+                ctx: None,
+                binders: Vec::new(),
+                place: Where::Equation,
+                owner: "the mass matrix".to_string(),
+            };
+            let mut ids = Vec::new();
+            for (k, (name, elem)) in states.iter().enumerate() {
+                let Some((first, dim, over)) = self.mass_state(name, elem.as_ref()) else {
+                    continue;
+                };
+                if k == 0 {
+                    env.ctx = over;
+                } else if over != env.ctx {
+                    self.diags.push(
+                        Diagnostic::new(
+                            format!("`{}` is not over the set of the first state listed", name.name),
+                            name.span,
+                            "another set",
+                        )
+                        .hint("the states of one mass matrix are families over one set (one matrix per element), or all scalars"),
+                    );
+                    continue;
+                }
+                if let (Some(set), Some(e)) = (over, elem) {
+                    env.binders.push(Binding {
+                        name: e.name.clone(),
+                        set,
+                        via: Via::Here,
+                    });
+                }
+                for c in 0..dim {
+                    if listed.first_time(first + c, name, &mut self.diags) {
+                        ids.push(StateId::new(first + c));
+                    }
+                }
             }
-        }
-        let shape_ok = check_shape(states.len(), rows, *span, diags);
-        let mut entries = Vec::new();
-        let mut entry_spans = Vec::new();
-        for e in rows.iter().flatten() {
-            if let Some(r) = scope.resolve(e, Ctx::Equation, diags) {
-                entries.push(r);
+            // In a version-1 model the shape is checked against the names written and the
+            // entries' own errors are reported, whatever the names.
+            let listed_ok = self.diags.len() == before;
+            let n = if listed_ok { ids.len() } else { states.len() };
+            let shape_ok =
+                (listed_ok || self.version1) && check_shape(n, rows, *span, &mut self.diags);
+            if !(listed_ok && shape_ok) {
+                if self.version1 {
+                    for e in rows.iter().flatten() {
+                        self.expr(e, &env);
+                    }
+                }
+                continue;
+            }
+            let mut entries = Vec::new();
+            let mut entry_spans = Vec::new();
+            for e in rows.iter().flatten() {
+                let Some(v) = self.expr(e, &env) else {
+                    continue;
+                };
+                if v.dim() != 1 || v.ty == Ty::Bool {
+                    self.diags.push(
+                        Diagnostic::new(
+                            format!("a mass matrix entry is {}", v.ty.words()),
+                            e.span,
+                            "not a number",
+                        )
+                        .hint("each entry is one number: a vector state lists its components as rows and columns of their own"),
+                    );
+                    continue;
+                }
+                entries.extend(v.comps);
                 entry_spans.push(e.span);
             }
+            if self.diags.len() == before {
+                out.push(MassDef {
+                    states: ids,
+                    entries,
+                    entry_spans,
+                    span: *span,
+                });
+            }
         }
-        out.push((shape_ok && diags.len() == before).then_some(MassDef {
-            states: ids,
-            entries,
-            entry_spans,
-            span: *span,
-        }));
+        out
     }
-    out
+
+    /// The first component, dimension and set of the state `name` listed in a mass
+    /// matrix at the element `elem` (which a family must name and a scalar must not).
+    fn mass_state(
+        &mut self,
+        name: &Ident,
+        elem: Option<&Ident>,
+    ) -> Option<(usize, usize, Option<crate::SetId>)> {
+        let text = name.name.as_str();
+        let entry = self.state_named(name)?;
+        match (entry.over, elem) {
+            (Some(set), None) => {
+                let s = &self.sets[set.index()];
+                self.diags.push(
+                    Diagnostic::new(
+                        format!("`{text}` is a family over `{}`", s.name),
+                        name.span,
+                        "which element?",
+                    )
+                    .hint(format!(
+                        "name the element: `mass [{text}[{}]] = ...;`",
+                        s.elem
+                    )),
+                );
+                None
+            }
+            (None, Some(e)) => {
+                self.diags.push(
+                    Diagnostic::new(
+                        format!("`{text}[{}]`: `{text}` is not a family", e.name),
+                        e.span,
+                        "no element",
+                    )
+                    .hint(format!("write `{text}` alone")),
+                );
+                None
+            }
+            _ => Some((entry.first, entry.dim as usize, entry.over)),
+        }
+    }
 }
 
 /// The states listed so far in the mass matrices of a model, with where.

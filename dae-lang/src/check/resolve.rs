@@ -1,310 +1,305 @@
-//! Name resolution of expressions, with the rules of each place an expression can be:
-//! parameter defaults use numbers and earlier parameters, initial values use numbers and
-//! parameters, and the equations (`let`, `der`, `constraint`) may use everything.
+//! Names in expressions: what a bare name stands for (an element, a size, a variable, a
+//! `let`), the components it reads at the element at hand, and a declaration's
+//! environment.
 
-use super::names::{KEYWORDS, Suggestions};
-use crate::ast::{Expr, ExprKind, Span};
+use super::expr::{Binding, Env, Ty, Val, Via, Where, func_signature};
+use super::{Checker, Kind, LET_STRIDE, LetState};
+use crate::ast::Span;
+use crate::check::names::Suggestions;
 use crate::diag::Diagnostic;
 use crate::model::RExpr;
-use crate::{AlgId, Func, LetId, ParamId, StateId, VarRef};
-use std::cell::RefCell;
-use std::collections::{HashMap, HashSet};
+use crate::{AlgId, Func, InputId, LetId, ParamId, SetId, StateId, VarRef};
 
-/// What a declared name is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Kind {
-    Param,
-    State,
-    Alg,
-    Let,
-}
-
-impl Kind {
-    pub(super) fn words(self) -> &'static str {
-        match self {
-            Kind::Param => "a parameter",
-            Kind::State => "a state",
-            Kind::Alg => "an algebraic variable",
-            Kind::Let => "a `let` definition",
+impl Checker<'_> {
+    /// A bare name.
+    pub(super) fn name(&mut self, n: &str, span: Span, env: &Env) -> Option<Val> {
+        if let Some(b) = env.binding(n) {
+            let b = b.clone();
+            let elem = RExpr::Var(VarRef::Elem(b.set));
+            return match b.via {
+                Via::Here => Some(Val::scalar(elem, Ty::Int)),
+                Via::Map(m) => Some(Val::scalar(RExpr::Gather(m, Box::new(elem)), Ty::Int)),
+                Via::Undetermined(sum) => self.undetermined(n, span, sum),
+            };
         }
-    }
-}
-
-/// A declared name: its kind, its index among the declarations of that kind (source
-/// order) and the span of the name where it was declared.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Entry {
-    pub kind: Kind,
-    pub index: usize,
-    pub span: Span,
-}
-
-/// Where an expression stands, which decides what it may refer to.
-#[derive(Clone, Copy)]
-pub(super) enum Ctx<'a> {
-    /// `let`, `der` and `constraint`: everything, and time.
-    Equation,
-    /// The default of parameter number `index`, called `name`.
-    ParamDefault { index: usize, name: &'a str },
-    /// The initial value of the state or algebraic variable `name`.
-    Init { name: &'a str },
-}
-
-/// The names of a model, first declaration of each.
-pub(super) struct Scope<'a> {
-    pub names: HashMap<&'a str, Entry>,
-    /// Declared names in source order (for suggestions that do not depend on hashing).
-    pub ordered: Vec<&'a str>,
-    /// Names declared more than once (already reported), to avoid follow-up errors.
-    pub duplicated: HashSet<&'a str>,
-    pub model_name: &'a str,
-    /// "Did you mean" among `ordered`, made at the first unknown name.
-    pub suggestions: RefCell<Option<Suggestions<'a>>>,
-    /// "Did you mean" among the built-in functions, made at the first unknown function.
-    pub function_suggestions: RefCell<Option<Suggestions<'static>>>,
-}
-
-/// How to call each function, for hints.
-fn signature(f: Func) -> String {
-    match f {
-        Func::Atan2 => "atan2(y, x)".into(),
-        Func::Pow => "pow(a, b)".into(),
-        Func::Min | Func::Max => format!("{}(a, b)", f.name()),
-        _ => format!("{}(x)", f.name()),
-    }
-}
-
-impl Scope<'_> {
-    /// Resolves `e`, pushing a diagnostic for every error; `None` if there was one.
-    pub(super) fn resolve(
-        &self,
-        e: &Expr,
-        ctx: Ctx<'_>,
-        diags: &mut Vec<Diagnostic>,
-    ) -> Option<RExpr> {
-        match &e.kind {
-            ExprKind::Num(v) => Some(RExpr::Num(*v)),
-            ExprKind::Time => self.time(e.span, ctx, diags),
-            ExprKind::Name(n) => self.name(n, e.span, ctx, diags),
-            ExprKind::Neg(a) => Some(RExpr::Neg(Box::new(self.resolve(a, ctx, diags)?))),
-            ExprKind::Binary(op, a, b) => {
-                let a = self.resolve(a, ctx, diags);
-                let b = self.resolve(b, ctx, diags);
-                Some(RExpr::Binary(*op, Box::new(a?), Box::new(b?)))
-            }
-            ExprKind::Call(f, args) => {
-                let resolved: Vec<Option<RExpr>> =
-                    args.iter().map(|a| self.resolve(a, ctx, diags)).collect();
-                let func = self.function(&f.name, f.span, args.len(), e.span, diags)?;
-                resolved
-                    .into_iter()
-                    .collect::<Option<Vec<_>>>()
-                    .map(|a| RExpr::Call(func, a))
-            }
-            // Version-2 forms (`ExprKind::is_version_2`) never reach the version-1
-            // checker (`uses_version_2`).
-            _ => None,
-        }
-    }
-
-    fn time(&self, span: Span, ctx: Ctx<'_>, diags: &mut Vec<Diagnostic>) -> Option<RExpr> {
-        let (message, hint) = match ctx {
-            Ctx::Equation => return Some(RExpr::Var(VarRef::Time)),
-            Ctx::ParamDefault { name, .. } => (
-                format!("the default of parameter `{name}` uses time `t`"),
-                "parameters are constants: use numbers and parameters declared before it",
+        let Some(entry) = self.names.get(n).copied() else {
+            return self.unknown_name(n, span);
+        };
+        match entry.kind {
+            Kind::Size => Some(Val::scalar(RExpr::Var(VarRef::Size(crate::SizeId::new(entry.first))), Ty::Int)),
+            Kind::Set => self.err(
+                Diagnostic::new(format!("`{n}` is a set, not a number"), span, "a set")
+                    .hint("to use the number of elements, declare a size and write the set's size with it"),
             ),
-            Ctx::Init { name } => (
-                format!("the initial value of `{name}` uses time `t`"),
-                "initial values are computed before the simulation starts: use numbers and \
-                 parameters",
-            ),
-        };
-        diags.push(Diagnostic::new(message, span, "time is not allowed here").hint(hint));
-        None
-    }
-
-    fn name(
-        &self,
-        n: &str,
-        span: Span,
-        ctx: Ctx<'_>,
-        diags: &mut Vec<Diagnostic>,
-    ) -> Option<RExpr> {
-        let Some(entry) = self.names.get(n) else {
-            diags.push(self.unknown_name(n, span));
-            return None;
-        };
-        let resolved = match entry.kind {
-            Kind::Param => RExpr::Var(VarRef::Param(ParamId::new(entry.index))),
-            Kind::State => RExpr::Var(VarRef::State(StateId::new(entry.index))),
-            Kind::Alg => RExpr::Var(VarRef::Alg(AlgId::new(entry.index))),
-            Kind::Let => RExpr::Let(LetId::new(entry.index)),
-        };
-        match ctx {
-            Ctx::Equation => Some(resolved),
-            Ctx::ParamDefault { index, name } => {
-                if entry.kind != Kind::Param {
-                    diags.push(
+            Kind::Map => {
+                let dom = entry.over.map_or(String::new(), |s| self.sets[s.index()].elem.clone());
+                self.err(
+                    Diagnostic::new(format!("`{n}` is a map: it needs an element"), span, "a map")
+                        .hint(format!("write `{n}[{dom}]` for the image of an element")),
+                )
+            }
+            _ => {
+                if let Some(set) = entry.over {
+                    let s = &self.sets[set.index()];
+                    let suggestion = match env.binders.iter().rev().find(|b| b.set == set) {
+                        Some(b) => format!("write `{n}[{}]`", b.name),
+                        None => format!("write `{n}[...]` with an element of `{}`", s.name),
+                    };
+                    return self.err(
                         Diagnostic::new(
-                            format!("the default of parameter `{name}` uses `{n}`, {}", entry.kind.words()),
+                            format!("`{n}` is a family over `{}`: it needs an element", s.name),
                             span,
-                            entry.kind.words(),
+                            format!("one value per element of `{}`", s.name),
                         )
-                        .hint("a parameter default may use only numbers and parameters declared before it"),
+                        .hint(suggestion),
                     );
-                    None
-                } else if entry.index >= index {
-                    let d = if n == name {
+                }
+                self.leaf(n, entry, span, env)
+            }
+        }
+    }
+
+    /// The components of a variable or `let` (read at the element at hand), after the
+    /// rules of the place.
+    pub(super) fn leaf(
+        &mut self,
+        n: &str,
+        entry: super::Entry,
+        span: Span,
+        env: &Env,
+    ) -> Option<Val> {
+        let allowed = match (entry.kind, env.place) {
+            (_, Where::Equation) => true,
+            (Kind::Param, Where::Init) => true,
+            (Kind::Param, Where::Param(i)) => {
+                if entry.decl >= i {
+                    let d = if self.param_decl.get(entry.first) == Some(&i) {
                         Diagnostic::new(
-                            format!("parameter `{name}` is defined in terms of itself"),
+                            format!("parameter `{}` is defined in terms of itself", env.owner),
                             span,
                             "used in its own default",
                         )
-                        .hint("give the parameter a value made of numbers and earlier parameters")
+                        .hint(if self.version1 {
+                            "give the parameter a value made of numbers and earlier parameters"
+                        } else {
+                            "give the parameter a value made of numbers, sizes and earlier parameters"
+                        })
                     } else {
                         Diagnostic::new(
-                            format!("the default of parameter `{name}` uses `{n}`, which is declared after it"),
+                            format!(
+                                "the default of parameter `{}` uses `{n}`, which is declared after it",
+                                env.owner
+                            ),
                             span,
                             "declared later",
                         )
                         .related(entry.span, format!("`{n}` is declared here"))
-                        .hint(format!("declare `{n}` before `{name}`"))
+                        .hint(format!("declare `{n}` before `{}`", env.owner))
                     };
-                    diags.push(d);
-                    None
-                } else {
-                    Some(resolved)
+                    return self.err(d);
                 }
+                true
             }
-            Ctx::Init { name } => {
-                if entry.kind == Kind::Param {
-                    Some(resolved)
-                } else {
-                    diags.push(
-                        Diagnostic::new(
-                            format!(
-                                "the initial value of `{name}` uses `{n}`, {}",
-                                entry.kind.words()
-                            ),
-                            span,
-                            entry.kind.words(),
-                        )
-                        .hint("initial values may use only numbers and parameters"),
-                    );
-                    None
+            _ => false,
+        };
+        if !allowed {
+            return self.not_here(&format!("`{n}`, {}", entry.kind.words()), span, env);
+        }
+        // A `let`'s type is its value's: resolve it first.
+        let dim = if entry.kind == Kind::Let {
+            self.resolve_let(entry.first)?
+        } else {
+            entry.dim
+        };
+        let comps: Vec<RExpr> = (0..dim as usize)
+            .map(|c| {
+                let i = entry.first + c;
+                match entry.kind {
+                    Kind::Param => RExpr::Var(VarRef::Param(ParamId::new(i))),
+                    Kind::State => RExpr::Var(VarRef::State(StateId::new(i))),
+                    Kind::Alg => RExpr::Var(VarRef::Alg(AlgId::new(i))),
+                    Kind::Input => RExpr::Var(VarRef::Input(InputId::new(i), 0)),
+                    _ => RExpr::Let(LetId::new(entry.first * LET_STRIDE + c)),
                 }
+            })
+            .collect();
+        let ty = if dim == 1 { Ty::Real } else { Ty::Vec(dim) };
+        Some(Val { comps, ty })
+    }
+
+    /// Resolves `let` declaration `d` if not done yet; its dimension.
+    pub(super) fn resolve_let(&mut self, d: usize) -> Option<u8> {
+        match &self.let_state[d] {
+            LetState::Done(Some(c)) => return Some(c.len() as u8),
+            LetState::Done(None) => return None,
+            // Resolving `d` needs `d`: a cycle through the `let`s. Reported here, since
+            // the `let`s on it get no value and so no uses for the ordering to see.
+            LetState::InProgress => {
+                let from = self.let_stack.iter().position(|&l| l == d).unwrap_or(0);
+                let cycle = self.let_stack[from..].to_vec();
+                self.diags
+                    .push(crate::check::lets::cycle_error(&cycle, &self.lets));
+                return None;
             }
+            LetState::Todo => {}
+        }
+        self.let_state[d] = LetState::InProgress;
+        self.let_stack.push(d);
+        let decl = self.lets[d];
+        let set = self.let_sets[d];
+        let env = self.decl_env(decl, set, Where::Equation);
+        let v = self.expr(&decl.value, &env);
+        let v = v.and_then(|v| {
+            if v.ty == Ty::Bool {
+                self.mismatch(
+                    &format!("`let {}`", decl.name.name),
+                    &v,
+                    decl.value.span,
+                    "a number or a vector",
+                )
+            } else {
+                self.check_declared_type(decl, &v)
+            }
+        });
+        self.let_stack.pop();
+        let dim = v.as_ref().map(Val::dim);
+        self.let_state[d] = LetState::Done(v.map(|v| v.comps));
+        dim
+    }
+
+    /// A value against the declaration's type annotation (a number without one).
+    pub(super) fn check_declared_type(&mut self, decl: &crate::ast::Decl, v: &Val) -> Option<Val> {
+        let declared = match decl.ty.as_ref().map(|t| t.name.as_str()) {
+            Some("vec2") => Some(2),
+            Some("vec3") => Some(3),
+            Some(_) => return None, // unknown type: reported at the declaration
+            None => None,
+        };
+        // A `let` without a type takes the type of its value.
+        let lets = self
+            .names
+            .get(decl.name.name.as_str())
+            .is_some_and(|e| e.kind == Kind::Let);
+        let want = declared.unwrap_or(if lets { v.dim() } else { 1 });
+        if v.dim() != want || v.ty == Ty::Bool {
+            let what = if want == 1 {
+                "a number".to_string()
+            } else {
+                format!("a vec{want}")
+            };
+            return self.err(
+                Diagnostic::new(
+                    format!(
+                        "`{}` is {what}, but its value is {}",
+                        decl.name.name,
+                        v.ty.words()
+                    ),
+                    decl.value.span,
+                    "vector/scalar mismatch",
+                )
+                .hint(if want == 1 {
+                    "declare a vector with its type, e.g. `state x[p in P]: vec3 = vec3(0, 0, 0);`"
+                        .to_string()
+                } else {
+                    format!("give it a vec{want}, e.g. `vec{want}(...)`")
+                }),
+            );
+        }
+        Some(v.clone())
+    }
+
+    /// The environment of a declaration's value: its set's element is at hand, named by
+    /// its binder.
+    pub(super) fn decl_env(
+        &self,
+        decl: &crate::ast::Decl,
+        set: Option<SetId>,
+        place: Where,
+    ) -> Env {
+        let mut binders = Vec::new();
+        if let (Some(set), Some(b)) = (set, decl.binder.as_ref()) {
+            if let Some(e) = &b.elem {
+                binders.push(Binding {
+                    name: e.name.clone(),
+                    set,
+                    via: Via::Here,
+                });
+            }
+        }
+        Env {
+            ctx: set,
+            binders,
+            place,
+            owner: decl.name.name.clone(),
         }
     }
 
-    /// The diagnostic for a name that is not declared.
-    pub(super) fn unknown_name(&self, n: &str, span: Span) -> Diagnostic {
+    fn undetermined(&mut self, n: &str, span: Span, sum: Span) -> Option<Val> {
+        self.err(
+            Diagnostic::new(
+                format!("`{n}` is not determined inside this sum"),
+                span,
+                "which element?",
+            )
+            .related(sum, "the sum")
+            .hint(format!(
+                "inside `sum(k in K where m[k] == {n}) ...` the element `{n}` is `m[k]`; a full sum, \
+                 or a sum whose condition does not name `{n}` directly, cannot use it"
+            )),
+        )
+    }
+
+    pub(super) fn unknown_name(&mut self, n: &str, span: Span) -> Option<Val> {
         if let Some(f) = Func::from_name(n) {
-            return Diagnostic::new(
-                format!("function `{n}` used without arguments"),
-                span,
-                "a function",
-            )
-            .hint(format!("call it: `{}`", signature(f)));
+            return self.err(
+                Diagnostic::new(
+                    format!("function `{n}` used without arguments"),
+                    span,
+                    "a function",
+                )
+                .hint(format!("call it: `{}`", func_signature(f))),
+            );
         }
-        if KEYWORDS.contains(&n) {
-            return Diagnostic::new(
-                format!("reserved word `{n}` cannot be used in an expression"),
-                span,
-                "reserved word",
-            )
-            .hint("reserved words are `model param state alg let der constraint t` and the function names");
+        if super::decl::is_reserved(n, self.version1) {
+            let words = if self.version1 {
+                "reserved words are `model param state alg let der constraint t` and the function names"
+            } else {
+                "reserved words are `model param state alg let der constraint t if then else and or not` and the function names"
+            };
+            return self.err(
+                Diagnostic::new(
+                    format!("reserved word `{n}` cannot be used in an expression"),
+                    span,
+                    "reserved word",
+                )
+                .hint(words),
+            );
         }
         let d = Diagnostic::new(
             format!("unknown name `{n}`"),
             span,
-            format!("not declared in model `{}`", self.model_name),
+            format!("not declared in model `{}`", self.m.name.name),
         );
+        let names = self.ordered.len();
+        if self
+            .suggestions
+            .as_ref()
+            .is_none_or(|(built, _)| *built != names)
+        {
+            let all = Suggestions::new(self.ordered.iter().copied());
+            self.suggestions = Some((names, all));
+        }
         let suggestion = self
             .suggestions
-            .borrow_mut()
-            .get_or_insert_with(|| Suggestions::new(self.ordered.iter().copied()))
-            .suggest(n);
-        match suggestion {
+            .as_mut()
+            .and_then(|(_, all)| all.suggest(n));
+        let d = match suggestion {
             Some(s) => d.hint(format!("did you mean `{s}`?")),
-            None => d.hint("declare it with `param`, `state`, `alg` or `let`"),
-        }
-    }
-
-    /// The function called `name` with `nargs` arguments, or a diagnostic.
-    fn function(
-        &self,
-        name: &str,
-        name_span: Span,
-        nargs: usize,
-        call_span: Span,
-        diags: &mut Vec<Diagnostic>,
-    ) -> Option<Func> {
-        if let Some(f) = Func::from_name(name) {
-            if f.arity() == nargs {
-                return Some(f);
-            }
-            let plural = |k: usize| if k == 1 { "argument" } else { "arguments" };
-            diags.push(
-                Diagnostic::new(
-                    format!(
-                        "function `{name}` takes {} {} but {nargs} {} given",
-                        f.arity(),
-                        plural(f.arity()),
-                        if nargs == 1 { "was" } else { "were" }
-                    ),
-                    call_span,
-                    format!("{nargs} {}", plural(nargs)),
-                )
-                .hint(format!("call it as `{}`", signature(f))),
-            );
-            return None;
-        }
-        let d = if let Some(entry) = self.names.get(name) {
-            Diagnostic::new(
-                format!("`{name}` is not a function"),
-                name_span,
-                entry.kind.words(),
-            )
-            .hint(format!("to multiply, write `{name} * (...)`"))
-        } else if name == "t" {
-            Diagnostic::new("`t` (time) is not a function", name_span, "time")
-                .hint("to multiply, write `t * (...)`")
-        } else if name == "der" {
-            Diagnostic::new(
-                "`der` is allowed only at the start of an equation",
-                name_span,
-                "here",
-            )
-            .hint("write `der(x) = ...;` as an item of its own")
-        } else if KEYWORDS.contains(&name) {
-            Diagnostic::new(
-                format!("reserved word `{name}` is not a function"),
-                name_span,
-                "reserved word",
-            )
-            .hint("see docs/language.md for the built-in functions")
-        } else {
-            let d = Diagnostic::new(
-                format!("unknown function `{name}`"),
-                name_span,
-                "unknown function",
-            );
-            let suggestion = self
-                .function_suggestions
-                .borrow_mut()
-                .get_or_insert_with(|| Suggestions::new(Func::ALL.map(Func::name)))
-                .suggest(name);
-            match suggestion {
-                Some(s) => d.hint(format!("did you mean `{s}`?")),
-                None => d.hint(
-                    "the functions are sin cos tan asin acos atan sinh cosh tanh exp ln sqrt abs \
-                     sign atan2 pow min max",
-                ),
-            }
+            None if self.version1 => d.hint("declare it with `param`, `state`, `alg` or `let`"),
+            None => d.hint(
+                "declare it with `param`, `state`, `alg`, `let`, `input`, `size`, `set` or `map`",
+            ),
         };
-        diags.push(d);
-        None
+        self.err(d)
     }
 }

@@ -11,12 +11,13 @@ use crate::model::{Family, MapDef, MapKind, SetDef, SizeDef};
 /// models (besides the version-1 keywords and the function names).
 pub(super) const FAMILY_KEYWORDS: [&str; 6] = ["if", "then", "else", "and", "or", "not"];
 
-/// Whether `name` is reserved in a version-2 model.
-pub(super) fn is_reserved(name: &str) -> bool {
-    names::is_reserved(name) || FAMILY_KEYWORDS.contains(&name)
+/// Whether `name` is a reserved word (`version1`: of a model that uses nothing of
+/// version 2, where the words of version 2 are names like any other).
+pub(super) fn is_reserved(name: &str, version1: bool) -> bool {
+    names::is_reserved(name) || (!version1 && FAMILY_KEYWORDS.contains(&name))
 }
 
-fn reserved_message(name: &str) -> (String, String) {
+pub(super) fn reserved_message(name: &str) -> (String, String) {
     if FAMILY_KEYWORDS.contains(&name) {
         (
             format!("reserved word `{name}` cannot be used as a name (`{name}` is a keyword)"),
@@ -30,7 +31,7 @@ fn reserved_message(name: &str) -> (String, String) {
 impl<'a> Checker<'a> {
     pub(super) fn declare(&mut self) {
         let m = self.m;
-        if is_reserved(&m.name.name) {
+        if is_reserved(&m.name.name, self.version1) {
             let (message, hint) = reserved_message(&m.name.name);
             self.diags
                 .push(Diagnostic::new(message, m.name.span, "reserved word").hint(hint));
@@ -145,7 +146,7 @@ impl<'a> Checker<'a> {
         dim: u8,
     ) -> bool {
         let n = name.name.as_str();
-        if is_reserved(n) {
+        if is_reserved(n, self.version1) {
             let (message, hint) = reserved_message(n);
             self.diags
                 .push(Diagnostic::new(message, name.span, "reserved word").hint(hint));

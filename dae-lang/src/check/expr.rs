@@ -10,7 +10,7 @@
 use super::Checker;
 use super::decl::COMPONENTS;
 use crate::ast::{BinOp, Expr, ExprKind, Span};
-use crate::check::names::{KEYWORDS, suggest};
+use crate::check::names::suggest;
 use crate::diag::Diagnostic;
 use crate::model::{IntOp, RExpr};
 use crate::{Func, MapId, SetId, VarRef};
@@ -382,7 +382,33 @@ impl Checker<'_> {
             Where::Init => format!("the initial value of `{owner}` uses {what}"),
             Where::Equation => format!("`{owner}` uses {what}"),
         };
-        self.err(Diagnostic::new(message, span, "not allowed here").hint(hint))
+        let (label, hint) = match (self.version1, env.place) {
+            // The words of version 1, where they have always been.
+            (true, Where::Param(_) | Where::Init) => {
+                let time = what == "time `t`";
+                let hint = match (env.place, time) {
+                    (Where::Param(_), true) => {
+                        "parameters are constants: use numbers and parameters declared before it"
+                    }
+                    (Where::Param(_), false) => {
+                        "a parameter default may use only numbers and parameters declared before it"
+                    }
+                    (_, true) => {
+                        "initial values are computed before the simulation starts: use numbers \
+                         and parameters"
+                    }
+                    _ => "initial values may use only numbers and parameters",
+                };
+                let label = match what.split_once(", ") {
+                    _ if time => "time is not allowed here",
+                    Some((_, kind)) => kind,
+                    None => "not allowed here",
+                };
+                (label, hint)
+            }
+            _ => ("not allowed here", hint),
+        };
+        self.err(Diagnostic::new(message, span, label).hint(hint))
     }
 
     fn binary(&mut self, op: BinOp, a: Val, b: Val, span: Span, env: &Env) -> Option<Val> {
@@ -622,7 +648,17 @@ impl Checker<'_> {
         let d = if let Some(e) = self.names.get(name) {
             Diagnostic::new(format!("`{name}` is not a function"), span, e.kind.words())
                 .hint(format!("to multiply, write `{name} * (...)`"))
-        } else if KEYWORDS.contains(&name) || super::decl::FAMILY_KEYWORDS.contains(&name) {
+        } else if name == "t" {
+            Diagnostic::new("`t` (time) is not a function", span, "time")
+                .hint("to multiply, write `t * (...)`")
+        } else if name == "der" {
+            Diagnostic::new(
+                "`der` is allowed only at the start of an equation",
+                span,
+                "here",
+            )
+            .hint("write `der(x) = ...;` as an item of its own")
+        } else if super::decl::is_reserved(name, self.version1) && Func::from_name(name).is_none() {
             Diagnostic::new(
                 format!("reserved word `{name}` is not a function"),
                 span,
@@ -630,10 +666,15 @@ impl Checker<'_> {
             )
             .hint("see docs/language.md for the built-in functions")
         } else {
+            let version2 = if self.version1 {
+                &[][..]
+            } else {
+                &super::FAMILY_FUNCTIONS[..]
+            };
             let all: Vec<&str> = Func::ALL
                 .iter()
                 .map(|f| f.name())
-                .chain(super::FAMILY_FUNCTIONS)
+                .chain(version2.iter().copied())
                 .collect();
             let d = Diagnostic::new(
                 format!("unknown function `{name}`"),
@@ -642,6 +683,10 @@ impl Checker<'_> {
             );
             match suggest(name, all.iter().copied()) {
                 Some(s) => d.hint(format!("did you mean `{s}`?")),
+                None if self.version1 => d.hint(
+                    "the functions are sin cos tan asin acos atan sinh cosh tanh exp ln sqrt abs \
+                     sign atan2 pow min max",
+                ),
                 None => d.hint(
                     "the functions are sin cos tan asin acos atan sinh cosh tanh exp ln sqrt abs \
                      sign atan2 pow min max, and vec2 vec3 dot norm cross div mod",

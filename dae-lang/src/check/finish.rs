@@ -29,6 +29,9 @@ impl Checker<'_> {
         let mass = self.mass_matrices();
         let constraints = self.constraints();
         let let_order = self.order_lets();
+        let start = self
+            .version1
+            .then(|| self.check_start(&params, &states, &algs));
         if !self.diags.is_empty() {
             self.diags.sort_by_key(|d| d.span.start);
             return Err(self.diags);
@@ -45,7 +48,15 @@ impl Checker<'_> {
         );
         let mut diags = Vec::new();
         crate::check::mass::algebraic_entries(&model, &mut diags);
-        crate::family::check_at_default_sizes(&mut model, &mut diags);
+        match start {
+            // Every value is known: an unknown one came with an error.
+            Some(values) => {
+                for (p, v) in model.params.iter_mut().zip(values) {
+                    p.default = v.unwrap_or(f64::NAN);
+                }
+            }
+            None => crate::family::check_at_default_sizes(&mut model, &mut diags),
+        }
         if diags.is_empty() {
             Ok(model)
         } else {
@@ -231,6 +242,16 @@ impl Checker<'_> {
             };
             let name = target.name.as_str();
             let Some(entry) = self.state_named(target) else {
+                if elem.is_none() {
+                    // The right-hand side's own errors are reported all the same.
+                    let env = Env {
+                        ctx: None,
+                        binders: Vec::new(),
+                        place: Where::Equation,
+                        owner: format!("der({name})"),
+                    };
+                    self.expr(rhs, &env);
+                }
                 continue;
             };
             let mut env = Env {
@@ -362,17 +383,10 @@ impl Checker<'_> {
                 rhs,
                 span,
             } = constraint;
-            if written && super::decl::is_reserved(&cname) {
-                self.diags.push(
-                    Diagnostic::new(
-                        format!("reserved word `{cname}` cannot be used as a name"),
-                        cspan,
-                        "reserved word",
-                    )
-                    .hint(format!(
-                        "choose another name, e.g. `{cname}_` or `{cname}1`"
-                    )),
-                );
+            if written && super::decl::is_reserved(&cname, self.version1) {
+                let (message, hint) = super::decl::reserved_message(&cname);
+                self.diags
+                    .push(Diagnostic::new(message, cspan, "reserved word").hint(hint));
             }
             if let Some(first) = seen.get(&cname) {
                 self.diags.push(
