@@ -7,7 +7,7 @@
 //! parameters, implementing `::dae_runtime::Model` with straight-line code on
 //! fixed-size arrays (the layout and the entries of `J_Omega` fixed at generation; no
 //! allocation, shared sub-expressions computed once; `beta` and `omega_rate` from the
-//! rate program, the initial values from the model's initial-value tapes).
+//! rate program, the initial values the construction's formulas over the fields).
 //!
 //! It also holds everything that turns Rust tokens or files into that code, so that the
 //! proc-macro crate `dae-macros` stays a thin shim (as `pest_derive` over
@@ -105,12 +105,13 @@ pub use literals::rust_ident;
 pub use tokens::TokenSource;
 
 /// The tokens of the generated type and its `Model` implementation (a model without
-/// sets, from its tapes); for a family model, the kernels type implementing
+/// sets); for a family model, the kernels type implementing
 /// `dae_runtime::family::Kernels` (see the crate documentation).
 pub fn generate(model: &CompiledModel) -> TokenStream {
-    match &model.tapes {
-        Some(tapes) => rust::generate_scalar(model, tapes),
-        None => family::generate_family(model, &model.programs),
+    if model.is_family() {
+        family::generate_family(model, &model.programs)
+    } else {
+        rust::generate_scalar(model)
     }
 }
 

@@ -7,8 +7,8 @@
 //! fixed at generation (the model has no sizes to wait for): one `let` per instruction,
 //! so the common sub-expressions shared by the outputs of a function are computed once.
 //! `beta` is the rate program at `z' = 0`, and `omega_rate` the rate program itself.
-//! The initial values are the tapes of [`Tapes`] (they read the parameters' current
-//! values). Vectors are read and written through fixed-size array views (`&[f64; N]`),
+//! The initial values are the construction's formulas over the parameters (they read
+//! the fields' current values), computed as the construction computes them. Vectors are read and written through fixed-size array views (`&[f64; N]`),
 //! which removes bounds checks, and nothing is allocated.
 //!
 //! The generated code names the runtime by absolute path (`::dae_runtime::Model`), so it
@@ -17,15 +17,17 @@
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 
+use dae_lang::ast::BinOp;
 use dae_lang::family::{Dest, Factor, Instance, Program, Sink, Slot, Spec, construct};
-use dae_lang::tape::{Operand, Tape};
-use dae_lang::{CompiledModel, Tapes, VarRef};
+use dae_lang::model::{RExpr, VarDef};
+use dae_lang::tape::Operand;
+use dae_lang::{CompiledModel, VarRef};
 
-use crate::literals::{lets, number, rust_ident, slot, usize_lit};
+use crate::literals::{lang, lets, number, rust_ident, slot, usize_lit};
 
 /// The tokens of the generated type of a version-1 model and its `Model`
 /// implementation.
-pub(crate) fn generate_scalar(model: &CompiledModel, tapes: &Tapes) -> TokenStream {
+pub(crate) fn generate_scalar(model: &CompiledModel) -> TokenStream {
     let inst = match construct(&model.programs.construction, &Spec::default()) {
         Ok(inst) => inst,
         Err(e) => {
@@ -83,8 +85,9 @@ pub(crate) fn generate_scalar(model: &CompiledModel, tapes: &Tapes) -> TokenStre
         inst: &inst,
         fields: &fields,
     };
-    let init_state = at.initial(&tapes.init_state, quote!(x), &inst.layout.states);
-    let init_alg = at.initial(&tapes.init_alg, quote!(z), &inst.layout.algs);
+    let c = &p.construction;
+    let init_state = at.initial(&c.states, quote!(x), &inst.layout.states);
+    let init_alg = at.initial(&c.algs, quote!(z), &inst.layout.algs);
     let rhs = at.program(&p.rhs, Rates::Absent, &[quote!(dx)]);
     let sliding = at.program(
         &p.sliding,
@@ -284,16 +287,53 @@ impl Places<'_> {
         }
     }
 
-    /// The initial-value tape `tape` (it reads the parameters' fields), writing its
-    /// output `i` to `out` at `slots[i]`.
-    fn initial(&self, tape: &Tape, out: TokenStream, slots: &[Slot]) -> TokenStream {
-        let read = |o| self.operand(o, Rates::Absent);
-        let lets = lets(tape, &read);
-        let stores = tape.outputs().iter().zip(slots).map(|(&o, slot)| {
-            let (e, k) = (read(o), usize_lit(slot.offset));
+    /// The initial values of `defs` (formulas over the parameters' fields), the value
+    /// of `defs[i]` written to `out` at `slots[i]`.
+    fn initial(&self, defs: &[VarDef], out: TokenStream, slots: &[Slot]) -> TokenStream {
+        let stores = defs.iter().zip(slots).map(|(d, slot)| {
+            let (e, k) = (self.formula(&d.init), usize_lit(slot.offset));
             quote!(#out[#k] = #e;)
         });
-        quote!(#lets #(#stores)*)
+        quote!(#(#stores)*)
+    }
+
+    /// A formula over the parameters as Rust, each operation as the construction
+    /// evaluates it (`dae_lang::family::construct`: `powf` for `^`, the built-in
+    /// functions through `Func`), so that the generated type starts where the
+    /// interpreter does, to the bit. The construction at generation refused anything
+    /// else (a variable, a construction-time form).
+    fn formula(&self, e: &RExpr) -> TokenStream {
+        match e {
+            RExpr::Num(v) => number(*v),
+            RExpr::Var(VarRef::Param(p)) => match self.fields.get(p.index()) {
+                Some(f) => quote!(self.#f),
+                None => quote!(f64::NAN),
+            },
+            RExpr::Neg(a) => {
+                let a = self.formula(a);
+                quote!((-#a))
+            }
+            RExpr::Binary(op, a, b) => {
+                let (a, b) = (self.formula(a), self.formula(b));
+                match op {
+                    BinOp::Add => quote!((#a + #b)),
+                    BinOp::Sub => quote!((#a - #b)),
+                    BinOp::Mul => quote!((#a * #b)),
+                    BinOp::Div => quote!((#a / #b)),
+                    BinOp::Pow => quote!(f64::powf(#a, #b)),
+                }
+            }
+            RExpr::Call(f, args) => {
+                let (lang, func) = (lang(), format_ident!("{f:?}"));
+                let args: Vec<TokenStream> = args.iter().map(|a| self.formula(a)).collect();
+                match args.as_slice() {
+                    [a] => quote!(#lang::Func::#func.apply1(#a)),
+                    [a, b] => quote!(#lang::Func::#func.apply2(#a, #b)),
+                    _ => quote!(f64::NAN),
+                }
+            }
+            _ => quote!(f64::NAN),
+        }
     }
 
     /// The straight-line code of program `p`: its groups in order (each run once),

@@ -1,16 +1,14 @@
 //! From the analysis to the compiled form: the programs over sets of every model
-//! (`crate::family`) and, for a model without sets, its initial values emitted as tapes
-//! (`crate::tape::emit`).
+//! (`crate::family`).
 
 use crate::analysis::{ConstraintAnalysis, SymbolicModel};
-use crate::compiled::{CompiledModel, Tapes};
+use crate::compiled::CompiledModel;
 use crate::model::Model;
-use crate::tape::emit::emit;
 
 /// Build the compiled form of an analysed model: `sym` holds its expressions and
 /// `constraints` the constraints' names and indices. Of `model` only the declarations
-/// are read: every expression, the initial values included, was lowered once by the
-/// analysis.
+/// are read: every expression was lowered once by the analysis (the initial values are
+/// the construction's, `crate::family::Construction`).
 pub(crate) fn compile(
     model: &Model,
     constraints: &[ConstraintAnalysis],
@@ -30,14 +28,6 @@ pub(crate) fn compile(
         constraints: model.constraints.iter().map(|c| c.name.clone()).collect(),
         indices: constraints.iter().map(|c| c.index).collect(),
         programs: Box::new(programs),
-        tapes: (!model.is_family()).then(|| Box::new(tapes(sym))),
-    }
-}
-
-/// The initial-value tapes of a model without sets.
-fn tapes(sym: &SymbolicModel) -> Tapes {
-    Tapes {
-        init_state: emit(&sym.arena, &sym.init_state),
-        init_alg: emit(&sym.arena, &sym.init_alg),
+        family: model.is_family(),
     }
 }

@@ -1,5 +1,4 @@
-//! The compiled form of a model: names, structure, the programs every back end runs
-//! and, for a model without sets, its initial values as [`Tape`]s.
+//! The compiled form of a model: names, structure and the programs every back end runs.
 //!
 //! This is the hand-off between the analysis and its back ends: the interpreter (which
 //! runs the programs) and the Rust code generator (crate `dae-codegen`). Both implement
@@ -7,7 +6,6 @@
 //! against each other.
 
 use crate::family::FamilyModel;
-use crate::tape::Tape;
 
 /// A model without sets with at most this many constraints lists every entry of
 /// `J_Omega` (structural zeros included); larger ones list only the structural nonzeros.
@@ -33,29 +31,18 @@ pub struct CompiledModel {
     /// declarations, couplings of `J_Omega`): what the interpreter runs at any sizes. A
     /// model without sets has programs of one group each, run once.
     pub programs: Box<FamilyModel>,
-    /// A model without sizes, sets or inputs (language version 1): its initial values as
-    /// straight-line tapes over the parameters, which the analysis checks at the
-    /// initial point and the code generator prints (so that they follow the fields of
-    /// the generated type). `None` for a family model, whose initial values are
-    /// computed at construction.
-    pub tapes: Option<Box<Tapes>>,
-}
-
-/// The initial values of a model without sets as straight-line programs over its
-/// parameters (see [`CompiledModel::tapes`]).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Tapes {
-    /// Initial states from parameters (outputs: one per state).
-    pub init_state: Tape,
-    /// Initial algebraic guesses from parameters (outputs: one per algebraic).
-    pub init_alg: Tape,
+    /// A family model: one with sizes, sets or inputs, or initial values that need the
+    /// construction-time forms ([`crate::model::Model::is_family`]). A model without
+    /// (language version 1) is analysed at its initial point and generated as a type
+    /// whose fields are its parameters; its initial values are the construction's
+    /// formulas over them ([`crate::family::Construction`]).
+    pub family: bool,
 }
 
 impl CompiledModel {
-    /// Whether this is a family model: one that needs sizes to be evaluated (it has no
-    /// [`CompiledModel::tapes`]).
+    /// Whether this is a family model ([`CompiledModel::family`]).
     pub fn is_family(&self) -> bool {
-        self.tapes.is_none()
+        self.family
     }
 
     /// Total length of the flat w-derivative array (`sum r_i`) of a model without

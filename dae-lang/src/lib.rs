@@ -31,9 +31,9 @@
 //! ([`family::FamilyModel`]: `rhs`, `sliding`, `jacobian` and the rate `Omega'`, with the
 //! data construction needs), which the runtime's interpreter runs at any sizes and the
 //! `dae-codegen` crate prints as the Rust type implementing `dae_runtime::Model` that
-//! `dae!`, `dae_file!` and build scripts compile (for a family model a `Kernels` type),
-//! and for a model without sets also its initial values as straight-line
-//! [`tape::Tape`]s over the parameters ([`CompiledModel::tapes`]).
+//! `dae!`, `dae_file!` and build scripts compile (for a family model a `Kernels` type).
+//! The initial values of every model are the construction's formulas over the
+//! parameters ([`family::Construction`]).
 //!
 //! ```
 //! let src = "
@@ -134,7 +134,7 @@ pub use sym::{
     jacobian_terms,
 };
 
-pub use compiled::{CompiledModel, DENSE_JACOBIAN_MAX, Tapes};
+pub use compiled::{CompiledModel, DENSE_JACOBIAN_MAX};
 
 /// Analyse a checked model: index, `J_Omega`, `beta`, `s`, `alpha`, `alpha_hat`, its
 /// compiled form, and the checks at the initial point. Every problem found is returned,

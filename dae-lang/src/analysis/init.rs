@@ -2,48 +2,24 @@
 //!
 //! The values are those of the compiled programs, the code that will run (the
 //! interpreter runs exactly these, the generated Rust is printed from them), not of a
-//! separate evaluator; the initial values are those of the initial-value tapes, which
-//! the generated code prints.
+//! separate evaluator; the initial values are the construction's, which the
+//! interpreter starts from and the generated code prints.
 
 use nalgebra::DMatrix;
 
 use super::{ConstraintAnalysis, InitialPoint, text::wname};
 use crate::analysis::AnalysisOptions;
 use crate::ast::Span;
-use crate::compiled::{CompiledModel, Tapes};
+use crate::compiled::CompiledModel;
 use crate::diag::Diagnostic;
 use crate::family::{Program, Scratch, Spec, Values, construct};
-use crate::model::{Model, VarDef};
-use crate::tape::{Inputs, Tape};
+use crate::model::Model;
 
 /// What the initial point showed, for the [`super::Analysis`].
 pub(super) struct AtInitial {
     pub point: InitialPoint,
     pub jacobian: Vec<f64>,
     pub condition_number: f64,
-}
-
-/// The outputs of `tape` at `inputs`.
-fn run_tape(tape: &Tape, inputs: &Inputs<'_>) -> Vec<f64> {
-    let mut slots = vec![0.0; tape.n_slots()];
-    let mut out = vec![0.0; tape.outputs().len()];
-    tape.eval(inputs, &mut slots, &mut out);
-    out
-}
-
-/// Report the non-finite initial values of states or algebraic unknowns.
-fn check_finite(values: &[f64], defs: &[VarDef], what: &str, errors: &mut Vec<Diagnostic>) {
-    for (v, d) in values.iter().zip(defs) {
-        if !v.is_finite() {
-            errors.push(Diagnostic {
-                message: format!("the {what} of `{}` is {v}", d.name),
-                span: d.span,
-                label: "not a finite number".into(),
-                hint: Some("initial values must be finite; check the parameters used".into()),
-                related: vec![],
-            });
-        }
-    }
 }
 
 fn non_finite(span: Span, what: String, v: f64) -> Diagnostic {
@@ -63,31 +39,18 @@ pub(super) fn check_initial_point(
     model: &Model,
     constraints: &[ConstraintAnalysis],
     compiled: &CompiledModel,
-    tapes: &Tapes,
     opts: &AnalysisOptions,
 ) -> Result<AtInitial, Vec<Diagnostic>> {
     let mut errors = Vec::new();
-    let (n, m) = (model.states.len(), model.algs.len());
+    let m = model.algs.len();
     let params: Vec<f64> = compiled.params.iter().map(|p| p.1).collect();
-    // The initial values read only parameters; the rest is NaN so that a value that
-    // reads anything else is reported, not read out of bounds.
-    let (no_x, no_z, no_mu) = (vec![f64::NAN; n], vec![f64::NAN; m], vec![f64::NAN; m]);
-    let before = Inputs {
-        params: &params,
-        states: &no_x,
-        algs: &no_z,
-        mu: &no_mu,
-        t: 0.0,
-    };
-    let states = run_tape(&tapes.init_state, &before);
-    let algs = run_tape(&tapes.init_alg, &before);
-    check_finite(&states, &model.states, "initial value", &mut errors);
-    check_finite(&algs, &model.algs, "initial guess", &mut errors);
-    if !errors.is_empty() {
-        return Err(errors);
-    }
+    // The construction evaluates the initial values (and refuses one that is not
+    // finite, or that reads anything but parameters), as the interpreter and the
+    // generated code do.
     let inst = construct(&compiled.programs.construction, &Spec::default())
         .map_err(|e| vec![e.to_diagnostic()])?;
+    let (states, algs) = (inst.states.clone(), inst.algs.clone());
+    let no_mu = vec![f64::NAN; m];
     let l = &inst.layout;
     // `mu` is not part of the initial point: it enters only `s` and `alpha_hat`, which
     // are not checked here.

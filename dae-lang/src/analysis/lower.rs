@@ -129,23 +129,6 @@ pub(crate) fn leaf_sets(model: &Model) -> LeafSets {
     }
 }
 
-/// Lower the initial values of the states and the initial guesses of the algebraic
-/// unknowns (expressions over the parameters) into `arena`.
-pub(crate) fn lower_initial(arena: &mut Arena, model: &Model) -> (Vec<Id>, Vec<Id>) {
-    let mut lowering = Lowering::new(model, &[]);
-    let states = model
-        .states
-        .iter()
-        .map(|s| lowering.expr(arena, &s.init))
-        .collect();
-    let algs = model
-        .algs
-        .iter()
-        .map(|a| lowering.expr(arena, &a.init))
-        .collect();
-    (states, algs)
-}
-
 /// What an expression of `model` may refer to: its variables, and the lets lowered so
 /// far. A reference the checked-model contract rules out (a variable out of range, a
 /// realization parameter, a later let, a wrong arity) lowers to NaN, which the

@@ -124,10 +124,6 @@ pub struct SymbolicModel {
     pub lets: Vec<Id>,
     /// Names of the lets (same order).
     pub let_names: Vec<String>,
-    /// Initial value of each state (an expression over the parameters).
-    pub init_state: Vec<Id>,
-    /// Initial guess of each algebraic unknown (an expression over the parameters).
-    pub init_alg: Vec<Id>,
     /// One entry per constraint, in declaration order.
     pub constraints: Vec<ConstraintExprs>,
 }
@@ -224,24 +220,17 @@ pub(crate) fn derive(
     if !errors.is_empty() {
         return Err(errors);
     }
-    // Lowered last, so that the nodes above keep the ids (and the tapes the order) they
-    // have without them. A family model's initial values need its sizes: construction
-    // evaluates them.
-    let (init_state, init_alg) = if is_family {
-        (Vec::new(), Vec::new())
-    } else {
-        let init = lower::lower_initial(&mut arena, model);
+    // Initial values are the construction's (evaluated by `crate::family::construct`,
+    // at the default sizes here), not lowered.
+    if !is_family {
         scalar_programs_exprs(&mut arena, &mut derivatives, model, &mut exprs);
-        init
-    };
+    }
     let symbolic = SymbolicModel {
         arena,
         names,
         f,
         lets,
         let_names: model.lets.iter().map(|l| l.name.clone()).collect(),
-        init_state,
-        init_alg,
         constraints: exprs,
     };
     if is_family {
@@ -252,7 +241,7 @@ pub(crate) fn derive(
 
 impl Analysis {
     /// The analysis of `model` from its derivation and its compiled form: for a
-    /// version-1 model the tapes that will run are evaluated at the initial point, where
+    /// version-1 model the programs that will run are evaluated at the initial point, where
     /// non-finite values and a singular or ill-conditioned `J_Omega` are errors. A
     /// family model's initial point needs an instance and is checked at construction
     /// (the runtime), so `initial` and `jacobian_at_initial` are empty and
@@ -264,19 +253,16 @@ impl Analysis {
         compiled: CompiledModel,
         opts: &AnalysisOptions,
     ) -> Result<Analysis, Vec<Diagnostic>> {
-        let (initial, jacobian_at_initial, condition_number) = match &compiled.tapes {
-            None => {
-                let empty = InitialPoint {
-                    params: Vec::new(),
-                    states: Vec::new(),
-                    algs: Vec::new(),
-                };
-                (empty, Vec::new(), f64::NAN)
-            }
-            Some(tapes) => {
-                let at = init::check_initial_point(model, &constraints, &compiled, tapes, opts)?;
-                (at.point, at.jacobian, at.condition_number)
-            }
+        let (initial, jacobian_at_initial, condition_number) = if compiled.is_family() {
+            let empty = InitialPoint {
+                params: Vec::new(),
+                states: Vec::new(),
+                algs: Vec::new(),
+            };
+            (empty, Vec::new(), f64::NAN)
+        } else {
+            let at = init::check_initial_point(model, &constraints, &compiled, opts)?;
+            (at.point, at.jacobian, at.condition_number)
         };
         Ok(Analysis {
             model_name: model.name.clone(),
@@ -374,10 +360,10 @@ fn realize(
     Ok((summary, exprs))
 }
 
-/// What the programs of a version-1 model need beyond its tapes: `Omega'` of every
+/// What the programs of a version-1 model need beyond the derivation: `Omega'` of every
 /// constraint and its row of `J_Omega` as kernels of one term each (the entry times 1,
-/// rows and columns meeting in the unit). Built after everything the tapes and the
-/// derivation text read, so that their nodes keep their ids.
+/// rows and columns meeting in the unit). Built after everything the derivation text
+/// reads, so that its nodes keep their ids.
 fn scalar_programs_exprs(
     arena: &mut Arena,
     derivatives: &mut DiffContext,

@@ -423,34 +423,56 @@ fn double_pendulum_jacobian_matches_the_closed_form() {
 }
 
 /// The initial point is checked on the compiled form, the code that runs: the initial
-/// values are what the initial-value tapes compute and `J_Omega` what the jacobian
-/// program (run by the interpreter, printed by the code generator) computes, bit for bit
-/// (dense `J_Omega` of the pendulum, sparse one of a 10-link chain).
+/// values are the model's formulas over the parameters (evaluated here on their own)
+/// and `J_Omega` what the jacobian program (run by the interpreter, printed by the code
+/// generator) computes, bit for bit (dense `J_Omega` of the pendulum, sparse one of a
+/// 10-link chain).
 #[test]
 fn the_initial_point_is_what_the_compiled_form_computes() {
+    use crate::VarRef;
+    use crate::ast::BinOp;
     use crate::family::{Scratch, Spec, Values, construct};
-    use crate::tape::{Inputs, Tape};
-    let run = |tape: &Tape, inputs: &Inputs<'_>| {
-        let mut slots = vec![0.0; tape.n_slots()];
-        let mut out = vec![0.0; tape.outputs().len()];
-        tape.eval(inputs, &mut slots, &mut out);
-        out
-    };
+    use crate::model::RExpr;
+    fn formula(e: &RExpr, params: &[f64]) -> f64 {
+        match e {
+            RExpr::Num(v) => *v,
+            RExpr::Var(VarRef::Param(p)) => params[p.index()],
+            RExpr::Neg(a) => -formula(a, params),
+            RExpr::Binary(op, a, b) => {
+                let (a, b) = (formula(a, params), formula(b, params));
+                match op {
+                    BinOp::Add => a + b,
+                    BinOp::Sub => a - b,
+                    BinOp::Mul => a * b,
+                    BinOp::Div => a / b,
+                    BinOp::Pow => a.powf(b),
+                }
+            }
+            RExpr::Call(f, args) => match args.as_slice() {
+                [a] => f.apply1(formula(a, params)),
+                [a, b] => f.apply2(formula(a, params), formula(b, params)),
+                _ => f64::NAN,
+            },
+            other => panic!("not an initial value of a model without sets: {other:?}"),
+        }
+    }
     for model in [double_pendulum_3d(), planar_chain(10)] {
         let a = analyze(&model, &opts()).unwrap();
         let c = crate::compile(&a);
-        let tapes = c.tapes.as_deref().unwrap();
         let m = a.constraints.len();
         let p = &a.initial;
-        let inputs = Inputs {
-            params: &p.params,
-            states: &p.states,
-            algs: &p.algs,
-            mu: &vec![f64::NAN; m],
-            t: 0.0,
-        };
-        assert_eq!(run(&tapes.init_state, &inputs), p.states);
-        assert_eq!(run(&tapes.init_alg, &inputs), p.algs);
+        let states: Vec<f64> = model
+            .states
+            .iter()
+            .map(|s| formula(&s.init, &p.params))
+            .collect();
+        let algs: Vec<f64> = model
+            .algs
+            .iter()
+            .map(|z| formula(&z.init, &p.params))
+            .collect();
+        assert_eq!(states, p.states, "{}", model.name);
+        assert_eq!(algs, p.algs, "{}", model.name);
         let inst = construct(&c.programs.construction, &Spec::default()).unwrap();
         let at = Values {
             params: &p.params,
@@ -480,7 +502,8 @@ fn the_initial_point_is_what_the_compiled_form_computes() {
 /// A hand-built model may break the checked-model contract (a variable that does not
 /// exist, a realization parameter in an equation, an initial value that reads a state):
 /// the reference lowers to NaN and is reported at the initial point, never read outside
-/// the tapes' inputs.
+/// the tapes' inputs; an initial value that reads a variable is refused by the
+/// construction.
 #[test]
 fn references_outside_the_model_are_reported_not_read() {
     use crate::model::RExpr;
@@ -500,11 +523,15 @@ fn references_outside_the_model_are_reported_not_read() {
     let cases = [
         ("der(x) is NaN", der_reads(VarRef::Param(ParamId::new(3)))),
         ("der(x) is NaN", der_reads(VarRef::Mu(ConstraintId::new(0)))),
-        ("the initial value of `x`", {
-            let mut m = good.clone();
-            m.states[0].init = x.0.clone();
-            m
-        }),
+        // An initial value is the construction's, which names the breach.
+        (
+            "internal error: a construction-time expression reads a variable",
+            {
+                let mut m = good.clone();
+                m.states[0].init = x.0.clone();
+                m
+            },
+        ),
     ];
     for (what, model) in cases {
         let errs = analyze(&model, &opts()).unwrap_err();

@@ -16,9 +16,9 @@
 //!   gathers, scatter-adds and the kernel loops of `J_Omega`. [`Program::eval`] is the
 //!   vectorised interpreter (each instruction over chunks of elements).
 //!
-//! The layout of the runtime's vectors is [`Layout`]. A model without sets also keeps
-//! its functions as tapes ([`CompiledModel::tapes`](crate::CompiledModel::tapes)), for
-//! the code generator.
+//! The layout of the runtime's vectors is [`Layout`]. A model without sets is the case
+//! whose groups run once; its initial values, like every model's, are the
+//! construction's ([`Construction`]).
 //!
 //! [`expand`] is the oracle of the tests: a family model at given sizes and maps
 //! written out as the equivalent scalar (version-1) model.

@@ -18,6 +18,7 @@ use crate::Func;
 use crate::sym::{Arena, Id, Node};
 
 /// Emit the nodes reachable from `roots` as one tape whose outputs are the roots.
+#[cfg(test)]
 pub(crate) fn emit(arena: &Arena, roots: &[Id]) -> Tape {
     let mut e = Emitter::new(arena);
     for &id in &arena.reachable(roots) {
