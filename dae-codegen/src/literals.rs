@@ -210,14 +210,7 @@ pub(crate) fn instr(i: &Instr, operand: &impl Fn(Operand) -> TokenStream) -> Tok
             match op {
                 UnaryOp::Neg => quote!(-#a),
                 UnaryOp::Powi(n) => quote!(f64::powi(#a, #n)),
-                UnaryOp::Call(Func::Sign) => quote!({
-                    let a: f64 = #a;
-                    if a > 0.0 { 1.0 } else if a < 0.0 { -1.0 } else { a * 0.0 }
-                }),
-                UnaryOp::Call(f) => {
-                    let name = call_name(f);
-                    quote!(f64::#name(#a))
-                }
+                UnaryOp::Call(f) => call1(f, a),
             }
         }
         Instr::Binary(op, a, b) => {
@@ -230,6 +223,30 @@ pub(crate) fn instr(i: &Instr, operand: &impl Fn(Operand) -> TokenStream) -> Tok
                 BinaryOp::Div => quote!(#a / #b),
                 BinaryOp::Call(f) => call2(f, a, b),
             }
+        }
+    }
+}
+
+/// A call of a built-in with the value [`Func::apply1`] or [`Func::apply2`] defines
+/// (NaN for another number of arguments, which no checked model has).
+pub(crate) fn call(f: Func, args: &[TokenStream]) -> TokenStream {
+    match args {
+        [a] => call1(f, a.clone()),
+        [a, b] => call2(f, a.clone(), b.clone()),
+        _ => quote!(f64::NAN),
+    }
+}
+
+/// A one-argument built-in, with the value [`Func::apply1`] defines.
+fn call1(f: Func, a: TokenStream) -> TokenStream {
+    match f {
+        Func::Sign => quote!({
+            let a: f64 = #a;
+            if a > 0.0 { 1.0 } else if a < 0.0 { -1.0 } else { a * 0.0 }
+        }),
+        _ => {
+            let name = call_name(f);
+            quote!(f64::#name(#a))
         }
     }
 }

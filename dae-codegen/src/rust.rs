@@ -8,8 +8,9 @@
 //! so the common sub-expressions shared by the outputs of a function are computed once.
 //! `beta` is the rate program at `z' = 0`, and `omega_rate` the rate program itself.
 //! The initial values are the construction's formulas over the parameters (they read
-//! the fields' current values), computed as the construction computes them. Vectors are read and written through fixed-size array views (`&[f64; N]`),
-//! which removes bounds checks, and nothing is allocated.
+//! the fields' current values), computed as the construction computes them. Vectors
+//! are read and written through fixed-size array views (`&[f64; N]`), which removes
+//! bounds checks, and nothing is allocated.
 //!
 //! The generated code names the runtime by absolute path (`::dae_runtime::Model`), so it
 //! compiles in any crate that depends on `dae-runtime`.
@@ -23,7 +24,7 @@ use dae_lang::model::{RExpr, VarDef};
 use dae_lang::tape::Operand;
 use dae_lang::{CompiledModel, VarRef};
 
-use crate::literals::{lang, lets, number, rust_ident, slot, usize_lit};
+use crate::literals::{call, lets, number, rust_ident, slot, usize_lit};
 
 /// The tokens of the generated type of a version-1 model and its `Model`
 /// implementation.
@@ -299,7 +300,7 @@ impl Places<'_> {
 
     /// A formula over the parameters as Rust, each operation as the construction
     /// evaluates it (`dae_lang::family::construct`: `powf` for `^`, the built-in
-    /// functions through `Func`), so that the generated type starts where the
+    /// functions as `Func` defines them), so that the generated type starts where the
     /// interpreter does, to the bit. The construction at generation refused anything
     /// else (a variable, a construction-time form).
     fn formula(&self, e: &RExpr) -> TokenStream {
@@ -324,13 +325,8 @@ impl Places<'_> {
                 }
             }
             RExpr::Call(f, args) => {
-                let (lang, func) = (lang(), format_ident!("{f:?}"));
                 let args: Vec<TokenStream> = args.iter().map(|a| self.formula(a)).collect();
-                match args.as_slice() {
-                    [a] => quote!(#lang::Func::#func.apply1(#a)),
-                    [a, b] => quote!(#lang::Func::#func.apply2(#a, #b)),
-                    _ => quote!(f64::NAN),
-                }
+                call(*f, &args)
             }
             _ => quote!(f64::NAN),
         }

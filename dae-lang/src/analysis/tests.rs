@@ -423,39 +423,18 @@ fn double_pendulum_jacobian_matches_the_closed_form() {
 }
 
 /// The initial point is checked on the compiled form, the code that runs: the initial
-/// values are the model's formulas over the parameters (evaluated here on their own)
-/// and `J_Omega` what the jacobian program (run by the interpreter, printed by the code
-/// generator) computes, bit for bit (dense `J_Omega` of the pendulum, sparse one of a
-/// 10-link chain).
+/// values are the model's formulas over the parameters (as the checker's evaluator of
+/// constant expressions computes them, not the construction's) and `J_Omega` what the
+/// jacobian program (run by the interpreter, printed by the code generator) computes,
+/// bit for bit (dense `J_Omega` of the pendulum, sparse one of a 10-link chain).
 #[test]
 fn the_initial_point_is_what_the_compiled_form_computes() {
-    use crate::VarRef;
-    use crate::ast::BinOp;
+    use crate::check::eval::eval;
     use crate::family::{Scratch, Spec, Values, construct};
-    use crate::model::RExpr;
-    fn formula(e: &RExpr, params: &[f64]) -> f64 {
-        match e {
-            RExpr::Num(v) => *v,
-            RExpr::Var(VarRef::Param(p)) => params[p.index()],
-            RExpr::Neg(a) => -formula(a, params),
-            RExpr::Binary(op, a, b) => {
-                let (a, b) = (formula(a, params), formula(b, params));
-                match op {
-                    BinOp::Add => a + b,
-                    BinOp::Sub => a - b,
-                    BinOp::Mul => a * b,
-                    BinOp::Div => a / b,
-                    BinOp::Pow => a.powf(b),
-                }
-            }
-            RExpr::Call(f, args) => match args.as_slice() {
-                [a] => f.apply1(formula(a, params)),
-                [a, b] => f.apply2(formula(a, params), formula(b, params)),
-                _ => f64::NAN,
-            },
-            other => panic!("not an initial value of a model without sets: {other:?}"),
-        }
-    }
+    let formula = |e: &crate::model::RExpr, params: &[f64]| {
+        let params: Vec<Option<f64>> = params.iter().copied().map(Some).collect();
+        eval(e, &params).expect("an initial value over the parameters")
+    };
     for model in [double_pendulum_3d(), planar_chain(10)] {
         let a = analyze(&model, &opts()).unwrap();
         let c = crate::compile(&a);

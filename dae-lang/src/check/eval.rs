@@ -7,7 +7,7 @@ use crate::model::RExpr;
 
 /// Evaluates `e` given the parameter values; `None` if it uses anything else or a
 /// parameter whose value is unknown (because its own default was in error).
-pub(super) fn eval(e: &RExpr, params: &[Option<f64>]) -> Option<f64> {
+pub(crate) fn eval(e: &RExpr, params: &[Option<f64>]) -> Option<f64> {
     Some(match e {
         RExpr::Num(v) => *v,
         RExpr::Var(VarRef::Param(i)) => (*params.get(i.index())?)?,

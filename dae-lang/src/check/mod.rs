@@ -19,7 +19,7 @@
 mod access;
 mod decl;
 mod domain;
-mod eval;
+pub(crate) mod eval;
 mod expr;
 mod finish;
 mod lets;

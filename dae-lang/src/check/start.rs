@@ -4,7 +4,7 @@
 //! (`check::domain`). A model over sets is checked by its construction at the default
 //! sizes instead (`crate::family::check_at_default_sizes`).
 
-use super::{Checker, Kind};
+use super::{Checker, Component, Kind};
 use crate::check::domain::{self, Named, Start};
 use crate::check::eval::eval;
 use crate::check::{count_mismatch, named_constraints, not_finite};
@@ -38,12 +38,8 @@ impl Checker<'_> {
             });
             values.push(v);
         }
-        let mut initial = |kind: Kind, exprs: &[Option<RExpr>]| -> Vec<Option<f64>> {
-            let comps = if kind == Kind::State {
-                &self.states
-            } else {
-                &self.algs
-            };
+        let diags = &mut self.diags;
+        let mut initial = |comps: &[Component<'_>], exprs: &[Option<RExpr>]| {
             comps
                 .iter()
                 .zip(exprs)
@@ -51,16 +47,16 @@ impl Checker<'_> {
                     let v = eval(e.as_ref()?, &values)?;
                     if !v.is_finite() {
                         let what = format!("the initial value of `{}`", c.decl.name.name);
-                        self.diags.push(not_finite(&what, v, c.decl));
+                        diags.push(not_finite(&what, v, c.decl));
                     }
                     Some(v)
                 })
-                .collect()
+                .collect::<Vec<Option<f64>>>()
         };
         let start = Start {
             params: &values,
-            states: initial(Kind::State, states),
-            algs: initial(Kind::Alg, algs),
+            states: initial(&self.states, states),
+            algs: initial(&self.algs, algs),
         };
         if !self.diags.is_empty() || !self.at_start {
             return values;
